@@ -1,0 +1,1 @@
+#include "invfem/core/types.hpp"

@@ -1,0 +1,32 @@
+#pragma once
+// Rigid bodies as implicit surfaces (ITF04 section 9). phi < 0 inside the body, phi > 0
+// outside; the normal is the outward unit gradient of phi. Bodies move kinematically, so
+// every query takes the time t.
+#include "invfem/core/types.hpp"
+
+namespace invfem {
+
+class ImplicitSurface {
+ public:
+  virtual ~ImplicitSurface() = default;
+  // Signed distance [m] of point x at time t (negative inside).
+  virtual double phi(const Vec3& x, double t) const = 0;
+  // Outward unit normal at x (the gradient of phi), time t.
+  virtual Vec3 normal(const Vec3& x, double t) const = 0;
+  // Velocity [m/s] of the body's material point at x, time t.
+  virtual Vec3 velocity(const Vec3& x, double t) const { return Vec3::Zero(); }
+};
+
+// A static half-space: everything below the plane through `point` with outward `normal`.
+class PlaneSurface final : public ImplicitSurface {
+ public:
+  PlaneSurface(const Vec3& point, const Vec3& normal) : point_(point), normal_(normal.normalized()) {}
+  double phi(const Vec3& x, double) const override { return normal_.dot(x - point_); }
+  Vec3 normal(const Vec3&, double) const override { return normal_; }
+
+ private:
+  Vec3 point_;
+  Vec3 normal_;
+};
+
+}  // namespace invfem

@@ -1,0 +1,1 @@
+#include "invfem/collisions/implicit_surface.hpp"

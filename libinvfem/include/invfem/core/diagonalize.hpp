@@ -1,0 +1,37 @@
+#pragma once
+// The invertible diagonalization of ITF04 section 5: F = U F^ V^T with U, V proper rotations.
+//
+// Sign rule (ITF04 section 5): the entries of F^ are sorted by decreasing magnitude,
+// s1 >= s2 >= |s3| >= 0, and s3 < 0 exactly when det F < 0. The reflection of an inverted
+// element is thus carried by its smallest singular value, the least-energy way to read an
+// inverted tetrahedron as the uninverted one nearest to it.
+#include "invfem/core/types.hpp"
+
+namespace invfem {
+
+struct Diagonalization3 {
+  Mat3 U;       // rotation, det U = +1
+  Vec3 sigma;   // (s1, s2, s3), s1 >= s2 >= |s3|, s3 < 0 iff det F < 0
+  Mat3 V;       // rotation, det V = +1
+};
+
+// 3x2 F of a triangle in 3D (ITF04 section 8): U has orthonormal columns, V is a 2x2 rotation,
+// s1 >= s2 >= 0 (a triangle in 3D cannot invert; a flipped one is a rotated one).
+struct Diagonalization32 {
+  Mat32 U;
+  Vec2 sigma;
+  Mat2 V;
+};
+
+// Robust for F = 0, rank 1 and rank 2 F, repeated singular values and near-identity F.
+// Never returns NaN for finite F.
+Diagonalization3 diagonalize(const Mat3& F);
+
+// Robust when the triangle degenerates to a segment or a point.
+Diagonalization32 diagonalize(const Mat32& F);
+
+// Reference path on Eigen's JacobiSVD with the same sign fix-up. Slower; kept for tests and
+// for the benchmark baseline.
+Diagonalization3 diagonalize_jacobi(const Mat3& F);
+
+}  // namespace invfem

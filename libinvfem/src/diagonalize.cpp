@@ -24,8 +24,8 @@ Diagonalization3 diagonalize_jacobi(const Mat3& F) {
 Diagonalization3 diagonalize(const Mat3& F) { return diagonalize_jacobi(F); }
 
 Diagonalization32 diagonalize(const Mat32& F) {
-  Eigen::JacobiSVD<Mat32> svd(F, Eigen::ComputeThinU | Eigen::ComputeFullV);
-  Diagonalization32 d{svd.matrixU(), svd.singularValues(), svd.matrixV()};
+  Eigen::JacobiSVD<Mat32> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Diagonalization32 d{svd.matrixU().leftCols<2>(), svd.singularValues(), svd.matrixV()};
   if (d.V.determinant() < 0) {
     d.V.col(1) *= -1;
     d.U.col(1) *= -1;

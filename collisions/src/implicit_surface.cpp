@@ -1,1 +1,0 @@
-#include "invfem/collisions/implicit_surface.hpp"

@@ -1,0 +1,42 @@
+#pragma once
+// The time step of ITF04 section 9 (explicit elasticity, implicit damping, trapezoidal velocity
+// update, rigid-body collisions on the time-n velocity):
+//
+//   1. v~(n+1/2) = v(n) + dt/2 a(x(n), v~(n+1/2))            implicit damping solve (CG)
+//   2. x~(n+1)   = x(n) + dt v~(n+1/2)
+//   3. collisions on x~(n+1) and v(n) -> x(n+1), v~(n), flagged nodes
+//   4. F, its diagonalization and plastic flow, once, at x(n+1)  (Force::update_positions)
+//   5. v(n+1)    = v~(n) + dt/2 (a(x(n), v~(n)) + a(x(n+1), v(n+1)))   trapezoid, implicit in
+//                  v(n+1) through damping; flagged nodes keep their normal velocity.
+#include <vector>
+
+#include "invfem/core/collision_processor.hpp"
+#include "invfem/core/force.hpp"
+#include "invfem/core/projected_cg.hpp"
+
+namespace invfem {
+
+// The nodes of one simulated object.
+struct Body {
+  Points x;                // n x 3 positions [m]
+  Points v;                // n x 3 velocities [m/s]
+  Eigen::VectorXd mass;    // n lumped masses [kg], all > 0
+  Vec3 gravity = Vec3(0, -9.81, 0);  // [m/s^2]; the world is y-up
+};
+
+struct StepStats {
+  CGResult half_step;   // CG of line 1
+  CGResult trapezoid;   // CG of line 5
+  int colliding_nodes = 0;
+};
+
+// Advance `body` from t to t + dt. Precondition: every force's update_positions was last called
+// with body.x (the stepper leaves them so, ready for the next step). `pinned` are kinematic
+// nodes (Kind::Full, velocity prescribed); `collisions` may be null.
+StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionProcessor* collisions,
+                       const NodeConstraints& pinned, double t, double dt, const CGSettings& cg);
+
+// Sum of the forces' stable steps for explicit elasticity: min over forces.
+double stable_time_step(const Body& body, const std::vector<Force*>& forces);
+
+}  // namespace invfem

@@ -1,0 +1,35 @@
+#pragma once
+// Conjugate gradients on the filtered system of time-integration.md section 4 (Baraff-Witkin
+// style): nodes under a NodeConstraint keep their prescribed velocity components, the solve
+// runs on the free subspace only. Used for the implicit damping solves of ITF04 section 9,
+// whose matrix M - tau D is SPD.
+#include <functional>
+
+#include "invfem/core/node_constraint.hpp"
+#include "invfem/core/types.hpp"
+
+namespace invfem {
+
+struct CGSettings {
+  double relative_tolerance = 1e-8;  // stop when |r| <= tol * |S b| (plus an absolute floor)
+  int max_iterations = 500;
+};
+
+struct CGResult {
+  int iterations = 0;
+  double residual = 0;  // final |r|
+  bool converged = false;
+};
+
+// Solve A v = b for v (n x 3). `apply_A(p, Ap)` writes A p. `inv_diag` (n) is a Jacobi
+// preconditioner (per node, the same for x, y, z; pass the inverse masses). On entry v holds
+// the initial guess; constrained components are overwritten with their prescribed values.
+// Dot products run in a fixed order, so the result is bit-reproducible.
+CGResult projected_cg(const std::function<void(const Points&, Points&)>& apply_A, const Points& b,
+                      const Eigen::VectorXd& inv_diag, const NodeConstraints& constraints, Points& v,
+                      const CGSettings& settings);
+
+// Apply the filter S (zero the constrained components) in place.
+void project_free(const NodeConstraints& constraints, Points& p);
+
+}  // namespace invfem

@@ -1,0 +1,40 @@
+#pragma once
+// The constant-strain tetrahedron kernel of ITF04 sections 3-4 over flat element arrays.
+//
+//   F = Ds Dm^-1,  Ds = [x1-x0, x2-x0, x3-x0] (world), Dm the same from rest positions.
+//   G = [g1 g2 g3] = P Bm,  Bm = -V0 Dm^-T,  g0 = -(g1 + g2 + g3)
+// so G holds the forces on nodes 1..3 of the element (ITF04 eq. 2 with Bm's sign folded in).
+#include <vector>
+
+#include "invfem/core/diagonalize.hpp"
+#include "invfem/core/types.hpp"
+
+namespace invfem {
+
+struct TetRest {
+  Tets tets;                  // m x 4, positively oriented at rest
+  std::vector<Mat3> Dm_inv;   // m rest inverses
+  std::vector<Mat3> Bm;       // m, -V0 Dm^-T
+  std::vector<double> volume; // m rest volumes V0 [m^3]
+  std::vector<double> min_altitude;  // m smallest rest altitude [m], for the CFL step
+};
+
+// Precompute the rest data. Throws std::invalid_argument naming the element if a rest tet has
+// non-positive volume (callers validate and orient meshes first).
+TetRest make_tet_rest(const Points& X, const Tets& tets);
+
+inline Mat3 deformation_gradient(const TetRest& rest, int e, const Points& x) {
+  const auto t = rest.tets.row(e);
+  Mat3 Ds;
+  Ds.col(0) = (x.row(t(1)) - x.row(t(0))).transpose();
+  Ds.col(1) = (x.row(t(2)) - x.row(t(0))).transpose();
+  Ds.col(2) = (x.row(t(3)) - x.row(t(0))).transpose();
+  return Ds * rest.Dm_inv[e];
+}
+
+// f (n x 3) += the element forces G_e (3x3, columns = forces on nodes 1..3; node 0 gets minus
+// their sum). The single scatter used by every tet force: sequential in element order, so the
+// sum is bit-reproducible whatever the thread count of the per-element pass.
+void scatter_tet_forces(const Tets& tets, const std::vector<Mat3>& G, Points& f);
+
+}  // namespace invfem

@@ -1,0 +1,82 @@
+#include "invfem/core/projected_cg.hpp"
+
+#include <cmath>
+
+namespace invfem {
+
+void project_free(const NodeConstraints& constraints, Points& p) {
+  for (const auto& c : constraints) {
+    auto row = p.row(c.node);
+    if (c.kind == NodeConstraint::Kind::Full) {
+      row.setZero();
+    } else {
+      row -= row.dot(c.normal.transpose()) * c.normal.transpose();
+    }
+  }
+}
+
+namespace {
+// Set the constrained components of v to their prescribed values.
+void impose(const NodeConstraints& constraints, Points& v) {
+  for (const auto& c : constraints) {
+    auto row = v.row(c.node);
+    if (c.kind == NodeConstraint::Kind::Full) {
+      row = c.velocity.transpose();
+    } else {
+      row += (c.velocity.dot(c.normal) - row.dot(c.normal.transpose())) * c.normal.transpose();
+    }
+  }
+}
+
+double dot(const Points& a, const Points& b) {
+  // Flat, sequential: deterministic.
+  return a.reshaped().dot(b.reshaped());
+}
+}  // namespace
+
+CGResult projected_cg(const std::function<void(const Points&, Points&)>& apply_A, const Points& b,
+                      const Eigen::VectorXd& inv_diag, const NodeConstraints& constraints, Points& v,
+                      const CGSettings& settings) {
+  const Eigen::Index n = b.rows();
+  impose(constraints, v);
+  Points Ap(n, 3), r(n, 3), z(n, 3), p(n, 3);
+  apply_A(v, Ap);
+  r = b - Ap;
+  project_free(constraints, r);
+  Points Sb = b;
+  project_free(constraints, Sb);
+  const double b_norm = std::sqrt(dot(Sb, Sb));
+  const double tol = settings.relative_tolerance * b_norm + 1e-300;
+
+  CGResult res;
+  z = inv_diag.asDiagonal() * r;
+  p = z;
+  double rz = dot(r, z);
+  res.residual = std::sqrt(dot(r, r));
+  if (res.residual <= tol) {
+    res.converged = true;
+    return res;
+  }
+  for (int it = 1; it <= settings.max_iterations; ++it) {
+    apply_A(p, Ap);
+    project_free(constraints, Ap);
+    const double pAp = dot(p, Ap);
+    if (!(pAp > 0)) break;  // not SPD on the free subspace (or p = 0): stop with what we have
+    const double alpha = rz / pAp;
+    v += alpha * p;
+    r -= alpha * Ap;
+    res.iterations = it;
+    res.residual = std::sqrt(dot(r, r));
+    if (res.residual <= tol) {
+      res.converged = true;
+      break;
+    }
+    z = inv_diag.asDiagonal() * r;
+    const double rz_new = dot(r, z);
+    p = z + (rz_new / rz) * p;
+    rz = rz_new;
+  }
+  return res;
+}
+
+}  // namespace invfem

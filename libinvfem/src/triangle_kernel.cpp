@@ -1,0 +1,77 @@
+#include "invfem/core/triangle_kernel.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace invfem {
+
+namespace {
+std::string element_name(const std::string& what, Eigen::Index e) {
+  return what + ": triangle " + std::to_string(e);
+}
+}  // namespace
+
+TriangleRest make_triangle_rest(const Points& X, const Tris& tris, const std::string& what) {
+  const Eigen::Index n = X.rows();
+  const Eigen::Index m = tris.rows();
+  if (!X.allFinite()) {
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (!X.row(i).allFinite())
+        throw std::invalid_argument(what + ": node " + std::to_string(i) +
+                                    " has a non-finite rest position");
+  }
+  TriangleRest r;
+  r.tris = tris;
+  r.Dm_inv.resize(m);
+  r.area.resize(m);
+  r.min_altitude.resize(m);
+  r.node_area = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index e = 0; e < m; ++e) {
+    for (int k = 0; k < 3; ++k)
+      if (tris(e, k) < 0 || tris(e, k) >= n)
+        throw std::invalid_argument(element_name(what, e) + " has node index " +
+                                    std::to_string(tris(e, k)) + " outside [0, " +
+                                    std::to_string(n) + ")");
+    const Vec3 x0 = X.row(tris(e, 0)).transpose();
+    const Vec3 d1 = X.row(tris(e, 1)).transpose() - x0;
+    const Vec3 d2 = X.row(tris(e, 2)).transpose() - x0;
+    const Vec3 d3 = d2 - d1;
+    const Vec3 N = d1.cross(d2);
+    const double twice_area = N.norm();
+    const double longest = std::max({d1.norm(), d2.norm(), d3.norm()});
+    if (!(twice_area > 1e-14 * longest * longest))
+      throw std::invalid_argument(element_name(what, e) + " has zero rest area (nodes " +
+                                  std::to_string(tris(e, 0)) + ", " + std::to_string(tris(e, 1)) +
+                                  ", " + std::to_string(tris(e, 2)) + ")");
+    // Material frame: e1 = d1/|d1|, e2 = n x e1 lies in the plane with d2.e2 = 2A/|d1| > 0.
+    const Vec3 e1 = d1.normalized();
+    const Vec3 e2 = (N / twice_area).cross(e1);
+    Mat2 Dm;
+    Dm << d1.norm(), d2.dot(e1), 0.0, d2.dot(e2);
+    r.Dm_inv[e] = Dm.inverse();
+    r.area[e] = 0.5 * twice_area;
+    r.min_altitude[e] = twice_area / longest;  // altitude onto the longest edge
+    for (int k = 0; k < 3; ++k) r.node_area(tris(e, k)) += r.area[e] / 3.0;
+  }
+  return r;
+}
+
+void scatter_triangle_forces(const Tris& tris, const std::vector<Mat32>& G, Points& f) {
+  const Eigen::Index m = tris.rows();
+  for (Eigen::Index e = 0; e < m; ++e) {
+    const Mat32& g = G[e];
+    f.row(tris(e, 1)) += g.col(0).transpose();
+    f.row(tris(e, 2)) += g.col(1).transpose();
+    f.row(tris(e, 0)) -= (g.col(0) + g.col(1)).transpose();
+  }
+}
+
+Eigen::VectorXd lumped_triangle_masses(const TriangleRest& rest, double areal_density) {
+  if (!std::isfinite(areal_density) || areal_density <= 0)
+    throw std::invalid_argument("lumped_triangle_masses: areal density must be finite and > 0, got " +
+                                std::to_string(areal_density));
+  return areal_density * rest.node_area;
+}
+
+}  // namespace invfem

@@ -1,0 +1,66 @@
+#pragma once
+// BMF03 hinge bending for triangle shells and cloth (ITF04 section 8; bending-BMF03.md 4-5).
+//
+//   elastic:  F_i = k_e |E|^2/(|N1|+|N2|) (sin(theta/2) - sin(theta0/2)) u_i
+//   damping:  F_i = -k_d |E| (sum_j u_j . v_j) u_i        (symmetric negative semidefinite in v)
+//
+// Energy (elastic_energy): BMF03's force is not an exact gradient, because the coefficient
+// c = |E|^2/(|N1|+|N2|) moves with x. We report the BMF03-style energy
+//   W = k_e c (2 cos(theta0/2) - 2 cos(theta/2) - (theta - theta0) sin(theta0/2)),
+// whose derivative in theta at fixed c gives the force exactly; -grad W differs from the force by
+// k_e g(theta) grad c, which is O((theta - theta0)^2) (the tests check both relations).
+#include <string>
+#include <vector>
+
+#include "invfem/core/force.hpp"
+#include "invfem/shells/hinge.hpp"
+
+namespace invfem {
+
+struct BendingParams {
+  double stiffness = 0;  // k_e [N m] >= 0
+  double damping = 0;    // k_d [N s] >= 0
+};
+
+class BendingForce : public Force {
+ public:
+  // Builds the hinges from `tris` and takes the rest angles from X. Throws std::invalid_argument
+  // naming `what` for bad parameters or indices.
+  BendingForce(const Points& X, const Tris& tris, const BendingParams& params,
+               const std::string& what = "bending");
+
+  void update_positions(const Points& x, double time) override;
+  void add_elastic_forces(Points& f) const override;
+  void add_damping_forces(const Points& v, Points& f) const override;
+  double elastic_energy() const override;
+  // Estimate from the Gauss-Newton stiffness k_e c cos(theta/2)/2 u u^T of each hinge:
+  // dt = 1 / sqrt(max_h k_e c_h / 2 sum_i |u_i|^2 / m_i). +inf without stiffness.
+  double stable_time_step(const Eigen::VectorXd& mass) const override;
+
+  const std::vector<Hinge>& hinges() const { return hinges_; }
+  const HingeStats& hinge_stats() const { return stats_; }
+  // Rest angle theta0 per hinge [rad], plain data so that plasticity (bending-BMF03.md 7) can
+  // move it between steps.
+  std::vector<double>& rest_angles() { return rest_angles_; }
+  const std::vector<double>& rest_angles() const { return rest_angles_; }
+  // Current angle per hinge (0 for a degenerate one), from the last update_positions.
+  double angle(std::size_t h) const { return hinge_angle(geom_[h]); }
+  const HingeGeometry& geometry(std::size_t h) const { return geom_[h]; }
+
+  void set_params(const BendingParams& params);
+
+ private:
+  std::string what_;
+  Eigen::Index n_nodes_;
+  BendingParams params_;
+  std::vector<Hinge> hinges_;
+  HingeStats stats_;
+  std::vector<double> rest_angles_;
+  std::vector<HingeGeometry> geom_;
+};
+
+// f (n x 3) += per-hinge forces (columns = forces on x1..x4), sequentially in hinge order.
+void scatter_hinge_forces(const std::vector<Hinge>& hinges,
+                          const std::vector<Eigen::Matrix<double, 3, 4>>& G, Points& f);
+
+}  // namespace invfem

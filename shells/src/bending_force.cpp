@@ -1,0 +1,121 @@
+#include "invfem/shells/bending_force.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace invfem {
+
+namespace {
+using Mat34 = Eigen::Matrix<double, 3, 4>;
+constexpr std::size_t kGrain = 1024;
+
+template <class Body> void for_each_hinge(std::size_t m, Body body) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, kGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t h = r.begin(); h != r.end(); ++h) body(h);
+                    });
+}
+}  // namespace
+
+void scatter_hinge_forces(const std::vector<Hinge>& hinges, const std::vector<Mat34>& G,
+                          Points& f) {
+  for (std::size_t h = 0; h < hinges.size(); ++h)
+    for (int k = 0; k < 4; ++k) f.row(hinges[h][k]) += G[h].col(k).transpose();
+}
+
+BendingForce::BendingForce(const Points& X, const Tris& tris, const BendingParams& params,
+                           const std::string& what)
+    : what_(what), n_nodes_(X.rows()) {
+  set_params(params);
+  try {
+    hinges_ = build_hinges(tris, X.rows(), &stats_);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(what + ": " + e.what());
+  }
+  geom_.resize(hinges_.size());
+  update_positions(X, 0.0);
+  rest_angles_.resize(hinges_.size());
+  for (std::size_t h = 0; h < hinges_.size(); ++h) rest_angles_[h] = hinge_angle(geom_[h]);
+}
+
+void BendingForce::set_params(const BendingParams& p) {
+  if (!std::isfinite(p.stiffness) || p.stiffness < 0)
+    throw std::invalid_argument(what_ + ": bending stiffness must be finite and >= 0, got " +
+                                std::to_string(p.stiffness));
+  if (!std::isfinite(p.damping) || p.damping < 0)
+    throw std::invalid_argument(what_ + ": bending damping must be finite and >= 0, got " +
+                                std::to_string(p.damping));
+  params_ = p;
+}
+
+void BendingForce::update_positions(const Points& x, double /*time*/) {
+  if (x.rows() != n_nodes_)
+    throw std::invalid_argument(what_ + ": positions have " + std::to_string(x.rows()) +
+                                " rows, the mesh has " + std::to_string(n_nodes_) + " nodes");
+  if (!x.allFinite()) throw std::invalid_argument(what_ + ": positions contain NaN or inf");
+  for_each_hinge(hinges_.size(), [&](std::size_t h) { geom_[h] = hinge_geometry(x, hinges_[h]); });
+}
+
+void BendingForce::add_elastic_forces(Points& f) const {
+  if (params_.stiffness == 0) return;
+  std::vector<Mat34> G(hinges_.size());
+  for_each_hinge(G.size(), [&](std::size_t h) {
+    const HingeGeometry& g = geom_[h];
+    const double c =
+        params_.stiffness * g.scale * (g.sin_half - std::sin(0.5 * rest_angles_[h]));
+    for (int k = 0; k < 4; ++k) G[h].col(k) = c * g.u[k];  // zero u for a degenerate hinge
+  });
+  scatter_hinge_forces(hinges_, G, f);
+}
+
+void BendingForce::add_damping_forces(const Points& v, Points& f) const {
+  if (params_.damping == 0) return;
+  std::vector<Mat34> G(hinges_.size());
+  for_each_hinge(G.size(), [&](std::size_t h) {
+    const HingeGeometry& g = geom_[h];
+    double rate = 0;
+    for (int k = 0; k < 4; ++k) rate += g.u[k].dot(v.row(hinges_[h][k]).transpose());
+    const double c = -params_.damping * g.edge_length * rate;
+    for (int k = 0; k < 4; ++k) G[h].col(k) = c * g.u[k];
+  });
+  scatter_hinge_forces(hinges_, G, f);
+}
+
+double BendingForce::elastic_energy() const {
+  double sum = 0;
+  for (std::size_t h = 0; h < hinges_.size(); ++h) {
+    const HingeGeometry& g = geom_[h];
+    if (!g.valid) continue;
+    const double t = hinge_angle(g), t0 = rest_angles_[h];
+    sum += params_.stiffness * g.scale *
+           (2 * std::cos(0.5 * t0) - 2 * std::cos(0.5 * t) - (t - t0) * std::sin(0.5 * t0));
+  }
+  return sum;
+}
+
+double BendingForce::stable_time_step(const Eigen::VectorXd& mass) const {
+  if (mass.size() != n_nodes_)
+    throw std::invalid_argument(what_ + ": stable_time_step got " + std::to_string(mass.size()) +
+                                " masses for " + std::to_string(n_nodes_) + " nodes");
+  double omega2 = 0;
+  for (std::size_t h = 0; h < hinges_.size(); ++h) {
+    const HingeGeometry& g = geom_[h];
+    if (!g.valid) continue;
+    double s = 0;
+    for (int k = 0; k < 4; ++k) {
+      const double m = mass(hinges_[h][k]);
+      if (!(m > 0))
+        throw std::invalid_argument(what_ + ": node " + std::to_string(hinges_[h][k]) +
+                                    " has non-positive or NaN mass " + std::to_string(m));
+      s += g.u[k].squaredNorm() / m;
+    }
+    omega2 = std::max(omega2, 0.5 * params_.stiffness * g.scale * s);
+  }
+  return omega2 > 0 ? 1.0 / std::sqrt(omega2) : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace invfem

@@ -1,0 +1,215 @@
+#include "invfem/shells/triangle_mesh.hpp"
+
+#include <assimp/Importer.hpp>
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <vector>
+
+#include "ply_check.hpp"
+
+namespace invfem {
+
+TriangleMesh make_grid(double width, double height, int nx, int ny, const Vec3& origin,
+                       const Vec3& u_axis, const Vec3& v_axis) {
+  if (nx < 1 || ny < 1)
+    throw std::invalid_argument("make_grid: need nx, ny >= 1, got " + std::to_string(nx) + ", " +
+                                std::to_string(ny));
+  if (!(width > 0) || !(height > 0) || !std::isfinite(width) || !std::isfinite(height))
+    throw std::invalid_argument("make_grid: width and height must be finite and > 0");
+  if (!origin.allFinite() || !(u_axis.cross(v_axis).norm() > 1e-12 * u_axis.norm() * v_axis.norm()))
+    throw std::invalid_argument("make_grid: axes must be finite, non-zero and not parallel");
+  const Vec3 u = u_axis.normalized(), v = v_axis.normalized();
+  TriangleMesh mesh;
+  mesh.source = "grid " + std::to_string(nx) + "x" + std::to_string(ny);
+  mesh.X.resize((nx + 1) * (ny + 1), 3);
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i)
+      mesh.X.row(j * (nx + 1) + i) =
+          (origin + (width * i / nx) * u + (height * j / ny) * v).transpose();
+  mesh.tris.resize(2 * nx * ny, 3);
+  int t = 0;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1, d = c + 1;  // a b / c d
+      if ((i + j) % 2 == 0) {  // diagonal a-d
+        mesh.tris.row(t++) << a, b, d;
+        mesh.tris.row(t++) << a, d, c;
+      } else {  // diagonal b-c
+        mesh.tris.row(t++) << a, b, c;
+        mesh.tris.row(t++) << b, d, c;
+      }
+    }
+  return mesh;
+}
+
+void validate_triangle_mesh(const TriangleMesh& mesh, const std::string& what) {
+  const Eigen::Index n = mesh.X.rows();
+  if (n == 0 || mesh.tris.rows() == 0)
+    throw std::invalid_argument(what + ": mesh is empty (" + std::to_string(n) + " vertices, " +
+                                std::to_string(mesh.tris.rows()) + " triangles)");
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (!mesh.X.row(i).allFinite())
+      throw std::invalid_argument(what + ": vertex " + std::to_string(i) + " is not finite");
+  for (Eigen::Index t = 0; t < mesh.tris.rows(); ++t) {
+    for (int k = 0; k < 3; ++k)
+      if (mesh.tris(t, k) < 0 || mesh.tris(t, k) >= n)
+        throw std::invalid_argument(what + ": triangle " + std::to_string(t) + " has index " +
+                                    std::to_string(mesh.tris(t, k)) + " outside [0, " +
+                                    std::to_string(n) + ")");
+    if (mesh.tris(t, 0) == mesh.tris(t, 1) || mesh.tris(t, 1) == mesh.tris(t, 2) ||
+        mesh.tris(t, 2) == mesh.tris(t, 0))
+      throw std::invalid_argument(what + ": triangle " + std::to_string(t) +
+                                  " repeats a vertex index");
+  }
+}
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+struct Gather {
+  std::vector<std::array<double, 3>> vertices;
+  std::vector<std::array<int, 3>> tris;
+  int meshes = 0;
+  int non_triangles = 0;
+};
+
+// Appends every mesh referenced under `node`, in world coordinates.
+void gather(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent, Gather& out,
+            const std::string& path) {
+  const aiMatrix4x4 xf = parent * node->mTransformation;
+  for (unsigned k = 0; k < node->mNumMeshes; ++k) {
+    const aiMesh* mesh = scene->mMeshes[node->mMeshes[k]];
+    if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) {
+      out.non_triangles += static_cast<int>(mesh->mNumFaces);
+      continue;
+    }
+    ++out.meshes;
+    const int base = static_cast<int>(out.vertices.size());
+    for (unsigned i = 0; i < mesh->mNumVertices; ++i) {
+      const aiVector3D p = xf * mesh->mVertices[i];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        throw std::runtime_error(path + ": vertex " + std::to_string(i) + " of mesh '" +
+                                 mesh->mName.C_Str() + "' is not finite");
+      out.vertices.push_back({double(p.x), double(p.y), double(p.z)});
+    }
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3) {  // a mixed mesh SortByPType did not split
+        ++out.non_triangles;
+        continue;
+      }
+      std::array<int, 3> t;
+      for (int c = 0; c < 3; ++c) {
+        if (face.mIndices[c] >= mesh->mNumVertices)
+          throw std::runtime_error(path + ": face " + std::to_string(f) + " of mesh '" +
+                                   mesh->mName.C_Str() + "' has an index out of range");
+        t[c] = base + static_cast<int>(face.mIndices[c]);
+      }
+      out.tris.push_back(t);
+    }
+  }
+  for (unsigned c = 0; c < node->mNumChildren; ++c)
+    gather(scene, node->mChildren[c], xf, out, path);
+}
+
+}  // namespace
+
+TriangleMesh load_triangle_mesh(const std::string& path, TriangleMeshReport* report) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw std::runtime_error(path + ": no such file");
+  if (lower_extension(path) == ".ply") detail::check_ply_structure(path);
+
+  Assimp::Importer importer;
+  // Without normals and UVs, JoinIdenticalVertices welds the corners that share a position.
+  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
+                              aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                  aiComponent_COLORS | aiComponent_TEXCOORDS |
+                                  aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
+                                  aiComponent_TEXTURES | aiComponent_LIGHTS |
+                                  aiComponent_CAMERAS);
+  const aiScene* scene = nullptr;
+  try {
+    scene = importer.ReadFile(path, aiProcess_RemoveComponent | aiProcess_Triangulate |
+                                        aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(path + ": assimp failed: " + e.what());
+  }
+  if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
+    throw std::runtime_error(path + ": assimp could not read the file: " +
+                             importer.GetErrorString());
+
+  Gather g;
+  gather(scene, scene->mRootNode, aiMatrix4x4(), g, path);
+  if (g.tris.empty()) throw std::runtime_error(path + ": the file has no triangles");
+
+  // Weld by exact position across aiMeshes (first occurrence keeps its index order).
+  std::map<std::array<double, 3>, int> index_of;
+  std::vector<int> weld(g.vertices.size());
+  std::vector<std::array<double, 3>> unique;
+  for (std::size_t i = 0; i < g.vertices.size(); ++i) {
+    const auto [it, inserted] = index_of.emplace(g.vertices[i], static_cast<int>(unique.size()));
+    if (inserted) unique.push_back(g.vertices[i]);
+    weld[i] = it->second;
+  }
+
+  // Drop zero-area triangles with the threshold make_triangle_rest uses, so a loaded mesh
+  // always has valid rest data.
+  auto pos = [&](int i) { return Vec3(unique[i][0], unique[i][1], unique[i][2]); };
+  std::vector<std::array<int, 3>> kept;
+  kept.reserve(g.tris.size());
+  for (const auto& t0 : g.tris) {
+    const std::array<int, 3> t{weld[t0[0]], weld[t0[1]], weld[t0[2]]};
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) continue;
+    const Vec3 d1 = pos(t[1]) - pos(t[0]), d2 = pos(t[2]) - pos(t[0]);
+    const double longest = std::max({d1.norm(), d2.norm(), (d2 - d1).norm()});
+    if (!(d1.cross(d2).norm() > 1e-14 * longest * longest)) continue;
+    kept.push_back(t);
+  }
+  if (kept.empty())
+    throw std::runtime_error(path + ": every triangle has zero area");
+
+  // Compact: drop vertices no kept triangle uses (they would carry no mass).
+  std::vector<int> remap(unique.size(), -1);
+  for (const auto& t : kept)
+    for (int i : t) remap[i] = 0;  // used
+  int n = 0;  // the used vertices keep their welded order
+  for (std::size_t i = 0; i < unique.size(); ++i)
+    if (remap[i] >= 0) remap[i] = n++;
+
+  TriangleMesh mesh;
+  mesh.source = path;
+  mesh.X.resize(n, 3);
+  for (std::size_t i = 0; i < unique.size(); ++i)
+    if (remap[i] >= 0) mesh.X.row(remap[i]) << unique[i][0], unique[i][1], unique[i][2];
+  mesh.tris.resize(static_cast<Eigen::Index>(kept.size()), 3);
+  for (std::size_t t = 0; t < kept.size(); ++t)
+    mesh.tris.row(static_cast<Eigen::Index>(t)) << remap[kept[t][0]], remap[kept[t][1]],
+        remap[kept[t][2]];
+
+  if (report) {
+    report->meshes = g.meshes;
+    report->welded_vertices = static_cast<int>(g.vertices.size() - unique.size());
+    report->removed_triangles = static_cast<int>(g.tris.size() - kept.size());
+    report->removed_vertices = static_cast<int>(unique.size()) - n;
+    report->non_triangle_primitives = g.non_triangles;
+  }
+  return mesh;
+}
+
+}  // namespace invfem

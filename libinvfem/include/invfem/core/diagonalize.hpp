@@ -24,10 +24,13 @@ struct Diagonalization32 {
 };
 
 // Robust for F = 0, rank 1 and rank 2 F, repeated singular values and near-identity F.
-// Never returns NaN for finite F.
+// Never returns NaN for finite F; any finite scale works (F is rescaled by a power of two
+// internally). F = 0 gives U = V = Id. U diag(sigma) V^T reproduces F to ~1e-15 ||F||.
+// Throws std::invalid_argument naming the entry when F has a NaN or infinite entry.
 Diagonalization3 diagonalize(const Mat3& F);
 
-// Robust when the triangle degenerates to a segment or a point.
+// Robust when the triangle degenerates to a segment (U's second column is then any unit
+// vector orthogonal to the first) or a point (U = first two axes, V = Id). Same errors.
 Diagonalization32 diagonalize(const Mat32& F);
 
 // Reference path on Eigen's JacobiSVD with the same sign fix-up. Slower; kept for tests and

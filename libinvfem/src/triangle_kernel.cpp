@@ -1,5 +1,6 @@
 #include "invfem/core/triangle_kernel.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>

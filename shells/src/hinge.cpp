@@ -1,5 +1,6 @@
 #include "invfem/shells/hinge.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <map>

@@ -1,5 +1,6 @@
 #include "invfem/shells/triangle_mesh.hpp"
 
+#include <Eigen/Geometry>
 #include <assimp/Importer.hpp>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>

@@ -1,0 +1,114 @@
+#include "invfem/solids/boundary.hpp"
+
+#include <algorithm>
+#include <array>
+#include <stdexcept>
+#include <string>
+
+namespace invfem {
+namespace {
+
+// Local faces of a positively oriented tet (x0..x3 with (x1-x0).((x2-x0)x(x3-x0)) > 0), each
+// counter-clockwise seen from outside; face f is opposite node f.
+constexpr int kFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+struct FaceKey {
+  std::array<int, 3> sorted;
+  int id;  // 4 * tet + local face
+};
+
+// All 4m faces sorted by node set, then by id: equal faces are adjacent, order deterministic.
+std::vector<FaceKey> sorted_faces(const Tets& tets) {
+  const Eigen::Index m = tets.rows();
+  std::vector<FaceKey> faces;
+  faces.reserve(static_cast<std::size_t>(4 * m));
+  for (Eigen::Index e = 0; e < m; ++e) {
+    for (int f = 0; f < 4; ++f) {
+      std::array<int, 3> k{tets(e, kFaces[f][0]), tets(e, kFaces[f][1]), tets(e, kFaces[f][2])};
+      if (k[0] < 0 || k[1] < 0 || k[2] < 0)
+        throw std::invalid_argument("boundary: tet " + std::to_string(e) + " has a negative node index");
+      std::sort(k.begin(), k.end());
+      faces.push_back({k, static_cast<int>(4 * e + f)});
+    }
+  }
+  std::sort(faces.begin(), faces.end(), [](const FaceKey& a, const FaceKey& b) {
+    return a.sorted != b.sorted ? a.sorted < b.sorted : a.id < b.id;
+  });
+  return faces;
+}
+
+// Calls visit(first, count) for each run of equal faces.
+template <class Visit>
+void for_each_run(const std::vector<FaceKey>& faces, Visit visit) {
+  std::size_t i = 0;
+  while (i < faces.size()) {
+    std::size_t j = i + 1;
+    while (j < faces.size() && faces[j].sorted == faces[i].sorted) ++j;
+    visit(i, j - i);
+    i = j;
+  }
+}
+
+}  // namespace
+
+Tris boundary_triangles(const Tets& tets) {
+  const std::vector<FaceKey> faces = sorted_faces(tets);
+  std::vector<int> ids;
+  for_each_run(faces, [&](std::size_t first, std::size_t count) {
+    if (count == 1) ids.push_back(faces[first].id);
+  });
+  std::sort(ids.begin(), ids.end());
+  Tris tris(static_cast<Eigen::Index>(ids.size()), 3);
+  for (std::size_t t = 0; t < ids.size(); ++t) {
+    const int e = ids[t] / 4, f = ids[t] % 4;
+    for (int k = 0; k < 3; ++k) tris(t, k) = tets(e, kFaces[f][k]);
+  }
+  return tris;
+}
+
+FaceSharing face_sharing(const Tets& tets) {
+  const std::vector<FaceKey> faces = sorted_faces(tets);
+  FaceSharing s;
+  for_each_run(faces, [&](std::size_t, std::size_t count) {
+    if (count == 1) ++s.boundary;
+    else if (count == 2) ++s.interior;
+    else ++s.overshared;
+  });
+  return s;
+}
+
+Points SurfaceMesh::gather(const Points& x) const {
+  Points out(static_cast<Eigen::Index>(nodes.size()), 3);
+  for (std::size_t s = 0; s < nodes.size(); ++s) {
+    if (nodes[s] >= x.rows())
+      throw std::invalid_argument("SurfaceMesh::gather: node " + std::to_string(nodes[s]) +
+                                  " outside the " + std::to_string(x.rows()) + " given positions");
+    out.row(static_cast<Eigen::Index>(s)) = x.row(nodes[s]);
+  }
+  return out;
+}
+
+SurfaceMesh compact_surface(const Tris& tris, int num_nodes) {
+  std::vector<int> compact(static_cast<std::size_t>(std::max(num_nodes, 0)), -1);
+  for (Eigen::Index t = 0; t < tris.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int v = tris(t, k);
+      if (v < 0 || v >= num_nodes)
+        throw std::invalid_argument("compact_surface: triangle " + std::to_string(t) + " node " +
+                                    std::to_string(v) + " outside [0, " +
+                                    std::to_string(num_nodes) + ")");
+      compact[v] = 0;
+    }
+  SurfaceMesh s;
+  for (int v = 0; v < num_nodes; ++v)
+    if (compact[v] == 0) {
+      compact[v] = static_cast<int>(s.nodes.size());
+      s.nodes.push_back(v);
+    }
+  s.tris.resize(tris.rows(), 3);
+  for (Eigen::Index t = 0; t < tris.rows(); ++t)
+    for (int k = 0; k < 3; ++k) s.tris(t, k) = compact[tris(t, k)];
+  return s;
+}
+
+}  // namespace invfem

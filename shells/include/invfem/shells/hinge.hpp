@@ -31,7 +31,7 @@ struct HingeGeometry {
   double sin_half = 0;       // sin(theta/2), in [-1, 1]
   double edge_length = 0;    // |E|
   double scale = 0;          // |E|^2 / (|N1| + |N2|)
-  std::array<Vec3, 4> u{};   // u1..u4 = -d theta / d x_i
+  std::array<Vec3, 4> u = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};  // -dtheta/dx_i
 };
 
 // Degenerate when |E| = 0 or a wing's height |N_k|/|E| is below 1e-6 |E| (u ~ 1/height would

@@ -1,0 +1,312 @@
+// BMF03 hinge bending (bending-BMF03.md): angles, u vectors, elastic and damping forces.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <functional>
+#include <iostream>
+#include <random>
+#include <stdexcept>
+
+#include "invfem/shells/bending_force.hpp"
+#include "invfem/shells/hinge.hpp"
+#include "invfem/shells/triangle_mesh.hpp"
+
+using namespace invfem;
+
+namespace {
+
+// Central differences are written here because tests/unit/fd_check.hpp did not exist yet.
+Points fd_gradient(const std::function<double(const Points&)>& energy, const Points& x, double h) {
+  Points g(x.rows(), 3);
+  Points y = x;
+  for (Eigen::Index i = 0; i < x.rows(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      y(i, k) = x(i, k) + h;
+      const double ep = energy(y);
+      y(i, k) = x(i, k) - h;
+      const double em = energy(y);
+      y(i, k) = x(i, k);
+      g(i, k) = (ep - em) / (2 * h);
+    }
+  return g;
+}
+
+Points random_points(Eigen::Index n, double scale, std::mt19937& rng) {
+  std::normal_distribution<double> nd(0.0, scale);
+  Points p(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) p(i, k) = nd(rng);
+  return p;
+}
+
+// One hinge on the edge x3 = 0, x4 = e_x; wing 1 below (y < 0), wing 2 rotated by phi about
+// the edge from the flat position y > 0.
+Points hinge_points(double phi) {
+  Points x(4, 3);
+  x.row(0) << 0.3, -1.0, 0.0;
+  x.row(1) << 0.6, std::cos(phi), std::sin(phi);
+  x.row(2) << 0.0, 0.0, 0.0;
+  x.row(3) << 1.0, 0.0, 0.0;
+  return x;
+}
+// The two triangles of that hinge, wound so that build_hinges gives (0, 1, 2, 3).
+Tris hinge_tris() {
+  Tris t(2, 3);
+  t << 0, 2, 3,
+       1, 3, 2;
+  return t;
+}
+
+Points bending_forces(BendingForce& f, const Points& x) {
+  f.update_positions(x, 0.0);
+  Points out = Points::Zero(x.rows(), 3);
+  f.add_elastic_forces(out);
+  return out;
+}
+
+// A sheet rolled around the x axis: every interior hinge is bent by the same angle.
+TriangleMesh rolled_sheet(double radius) {
+  TriangleMesh m = make_grid(1.0, 1.5, 4, 5);
+  for (Eigen::Index i = 0; i < m.X.rows(); ++i) {
+    const double a = m.X(i, 1) / radius;
+    m.X(i, 1) = radius * std::sin(a);
+    m.X(i, 2) = radius * (1 - std::cos(a));
+  }
+  return m;
+}
+
+}  // namespace
+
+TEST(Bending, HingesOfAGrid) {
+  const int nx = 4, ny = 3;
+  const TriangleMesh m = make_grid(1.0, 1.0, nx, ny);
+  HingeStats stats;
+  const std::vector<Hinge> hinges = build_hinges(m.tris, m.X.rows(), &stats);
+  const int edges = nx * (ny + 1) + ny * (nx + 1) + nx * ny;
+  EXPECT_EQ(stats.boundary_edges, 2 * (nx + ny));
+  EXPECT_EQ(stats.nonmanifold_edges, 0);
+  EXPECT_EQ(static_cast<int>(hinges.size()), edges - 2 * (nx + ny));
+  // Flat and consistently oriented: n1 . n2 = +1, so every rest angle is 0.
+  for (const Hinge& h : hinges) {
+    const HingeGeometry g = hinge_geometry(m.X, h);
+    ASSERT_TRUE(g.valid);
+    EXPECT_EQ(g.sin_half, 0.0);
+  }
+  Tris bad = m.tris;
+  bad(2, 1) = -1;
+  EXPECT_THROW(build_hinges(bad, m.X.rows()), std::invalid_argument);
+}
+
+TEST(Bending, AngleOfAKnownFold) {
+  ASSERT_EQ(build_hinges(hinge_tris(), 4)[0], (Hinge{0, 1, 2, 3}));
+  for (double phi : {-2.5, -1.0, -0.2, 0.0, 0.3, 1.2, 2.8}) {
+    const HingeGeometry g = hinge_geometry(hinge_points(phi), Hinge{0, 1, 2, 3});
+    ASSERT_TRUE(g.valid);
+    EXPECT_NEAR(std::abs(hinge_angle(g)), std::abs(phi), 1e-12) << phi;
+  }
+  // One sign convention over the whole range: theta is odd and strictly monotone in phi.
+  auto theta = [](double phi) { return hinge_angle(hinge_geometry(hinge_points(phi), Hinge{0, 1, 2, 3})); };
+  const double direction = theta(3.0) > 0 ? 1.0 : -1.0;
+  double previous = -4.0;
+  for (double phi : {-3.0, -2.0, -1.0, -0.1, 0.1, 1.0, 2.0, 3.0}) {
+    EXPECT_NEAR(theta(phi), -theta(-phi), 1e-12);
+    EXPECT_GT(direction * theta(phi), previous) << phi;
+    previous = direction * theta(phi);
+  }
+}
+
+TEST(Bending, UVectorsAreMinusAngleGradient) {
+  std::mt19937 rng(21);
+  for (int trial = 0; trial < 10; ++trial) {
+    const Points x = hinge_points(0.7) + random_points(4, 0.2, rng);
+    const Hinge h{0, 1, 2, 3};
+    const HingeGeometry g = hinge_geometry(x, h);
+    ASSERT_TRUE(g.valid);
+    const Points fd = fd_gradient(
+        [&](const Points& y) { return hinge_angle(hinge_geometry(y, h)); }, x, 1e-6);
+    Vec3 sum = Vec3::Zero(), torque = Vec3::Zero();
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_LT((g.u[k] + fd.row(k).transpose()).norm(), 1e-7 * (1 + g.u[k].norm()))
+          << "trial " << trial << " node " << k;
+      sum += g.u[k];
+      torque += x.row(k).transpose().cross(g.u[k]);
+    }
+    EXPECT_LT(sum.norm(), 1e-12 * g.u[0].norm());
+    EXPECT_LT(torque.norm(), 1e-12 * g.u[0].norm());
+  }
+}
+
+TEST(Bending, ZeroForceAtRestAngle) {
+  const TriangleMesh m = rolled_sheet(0.8);
+  BendingForce f(m.X, m.tris, BendingParams{0.01, 0.0});
+  for (std::size_t h = 0; h < f.hinges().size(); ++h) EXPECT_NEAR(f.angle(h), f.rest_angles()[h], 0);
+  const Points g = bending_forces(f, m.X);
+  EXPECT_EQ(g.cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_NEAR(f.elastic_energy(), 0.0, 1e-18);
+  // Some hinges really are bent at rest.
+  double largest = 0;
+  for (double a : f.rest_angles()) largest = std::max(largest, std::abs(a));
+  EXPECT_GT(largest, 0.1);
+  // The same mesh from a flat rest state feels a force here.
+  const TriangleMesh flat = make_grid(1.0, 1.5, 4, 5);
+  BendingForce flat_rest(flat.X, flat.tris, BendingParams{0.01, 0.0});
+  EXPECT_GT(bending_forces(flat_rest, m.X).cwiseAbs().maxCoeff(), 1e-4);
+  // Plasticity moves the rest angles: setting them to the current angles removes the force.
+  for (std::size_t h = 0; h < flat_rest.hinges().size(); ++h)
+    flat_rest.rest_angles()[h] = flat_rest.angle(h);
+  Points again = Points::Zero(m.X.rows(), 3);
+  flat_rest.add_elastic_forces(again);
+  EXPECT_LT(again.cwiseAbs().maxCoeff(), 1e-15);
+}
+
+TEST(Bending, ForceRestoresAFlatHinge) {
+  const Points flat = hinge_points(0.0);
+  BendingForce f(flat, hinge_tris(), BendingParams{1.0, 0.0});
+  // Lift wing 1 along its normal N1.
+  const HingeGeometry g0 = hinge_geometry(flat, Hinge{0, 1, 2, 3});
+  const Vec3 n1 = g0.u[0].normalized();  // u1 = |E| N1/|N1|^2
+  Points lifted = flat;
+  lifted.row(0) += 0.1 * n1.transpose();
+  const Points g = bending_forces(f, lifted);
+  EXPECT_LT(g.row(0).dot(n1.transpose()), 0);
+  EXPECT_GT(f.elastic_energy(), 0);
+}
+
+TEST(Bending, ZeroNetForceAndTorque) {
+  const TriangleMesh m = rolled_sheet(1.0);
+  BendingForce f(m.X, m.tris, BendingParams{0.05, 0.0});
+  std::mt19937 rng(13);
+  for (int trial = 0; trial < 10; ++trial) {
+    const Points x = m.X + random_points(m.X.rows(), 0.05, rng);
+    const Points g = bending_forces(f, x);
+    Vec3 net = Vec3::Zero(), torque = Vec3::Zero();
+    double size = 0;
+    for (Eigen::Index i = 0; i < x.rows(); ++i) {
+      net += g.row(i).transpose();
+      torque += x.row(i).transpose().cross(g.row(i).transpose());
+      size += g.row(i).norm() * (1 + x.row(i).norm());
+    }
+    ASSERT_GT(size, 1e-6);
+    EXPECT_LT(net.norm(), 1e-12 * size);
+    EXPECT_LT(torque.norm(), 1e-12 * size);
+  }
+}
+
+TEST(Bending, ForceMatchesEnergyGradientNearRest) {
+  // The force is k_e c (sin(theta/2) - sin(theta0/2)) u exactly, and -grad W = that force
+  // minus k_e g(theta) grad c with g = O((theta - theta0)^2): the relative mismatch must fall
+  // linearly with the size of the perturbation.
+  const TriangleMesh m = rolled_sheet(0.9);
+  BendingForce f(m.X, m.tris, BendingParams{0.02, 0.0});
+  std::mt19937 rng(17);
+  const Points dir = random_points(m.X.rows(), 1.0, rng);
+  double previous = 0;
+  for (double eps : {1e-2, 1e-3}) {
+    const Points x = m.X + eps * dir;
+    const Points g = bending_forces(f, x);
+    const Points fd = fd_gradient(
+        [&](const Points& y) {
+          f.update_positions(y, 0.0);
+          return f.elastic_energy();
+        },
+        x, 1e-7);
+    const double rel = (g + fd).norm() / g.norm();
+    std::cout << "eps " << eps << ": |f + grad W| / |f| = " << rel << "\n";
+    EXPECT_LT(rel, 0.5 * eps * 10) << eps;
+    if (previous > 0) EXPECT_LT(rel, 0.3 * previous);
+    previous = rel;
+  }
+  // And the exact relation, against a finite difference of each hinge angle.
+  const Points x = m.X + 0.05 * dir;
+  f.update_positions(x, 0.0);
+  const std::size_t h = f.hinges().size() / 2;
+  const Hinge hinge = f.hinges()[h];
+  const Points fd_angle = fd_gradient(
+      [&](const Points& y) { return hinge_angle(hinge_geometry(y, hinge)); }, x, 1e-6);
+  const HingeGeometry& geo = f.geometry(h);
+  const double coeff = 0.02 * geo.scale * (geo.sin_half - std::sin(0.5 * f.rest_angles()[h]));
+  for (int k = 0; k < 4; ++k)
+    EXPECT_LT((coeff * geo.u[k] + coeff * fd_angle.row(hinge[k]).transpose()).norm(),
+              1e-6 * std::abs(coeff) * geo.u[k].norm() + 1e-14);
+}
+
+TEST(Bending, EnergyIsNonNegativeAndGrowsWithTheFold) {
+  const Points flat = hinge_points(0.0);
+  BendingForce f(flat, hinge_tris(), BendingParams{1.0, 0.0});
+  double previous = 0;
+  for (double phi : {0.2, 0.6, 1.2, 2.0, 2.8}) {
+    f.update_positions(hinge_points(phi), 0.0);
+    const double e = f.elastic_energy();
+    EXPECT_GT(e, previous) << phi;
+    previous = e;
+  }
+}
+
+TEST(Bending, DampingIsSymmetricNegativeSemidefiniteAndRigidFree) {
+  const TriangleMesh m = rolled_sheet(0.7);
+  BendingForce f(m.X, m.tris, BendingParams{0.0, 0.3});
+  std::mt19937 rng(29);
+  const Points x = m.X + random_points(m.X.rows(), 0.03, rng);
+  f.update_positions(x, 0.0);
+  auto D = [&](const Points& v) {
+    Points out = Points::Zero(v.rows(), 3);
+    f.add_damping_forces(v, out);
+    return out;
+  };
+  for (int trial = 0; trial < 5; ++trial) {
+    const Points v = random_points(x.rows(), 1.0, rng), w = random_points(x.rows(), 1.0, rng);
+    const Points Dv = D(v), Dw = D(w);
+    const double wDv = (w.array() * Dv.array()).sum(), vDw = (v.array() * Dw.array()).sum();
+    EXPECT_NEAR(wDv, vDw, 1e-10 * (std::abs(wDv) + std::abs(vDw)));
+    EXPECT_LT((v.array() * Dv.array()).sum(), 0);
+  }
+  const Vec3 omega(0.3, 1.0, -0.6), t(1.0, 2.0, -3.0);
+  Points rigid(x.rows(), 3);
+  for (Eigen::Index i = 0; i < x.rows(); ++i)
+    rigid.row(i) = (t + omega.cross(Vec3(x.row(i)))).transpose();
+  EXPECT_LT(D(rigid).cwiseAbs().maxCoeff(), 1e-10);
+}
+
+TEST(Bending, DegenerateHingesGiveFiniteForces) {
+  const Points flat = hinge_points(0.0);
+  BendingForce f(flat, hinge_tris(), BendingParams{1.0, 1.0});
+  const Points v = Points::Ones(4, 3);
+  std::vector<Points> states;
+  Points wing_on_edge = hinge_points(0.8);
+  wing_on_edge.row(0) << 0.4, 0.0, 0.0;  // triangle 1 collapsed onto the edge
+  states.push_back(wing_on_edge);
+  Points edge_to_point = hinge_points(0.8);
+  edge_to_point.row(3) = edge_to_point.row(2);  // zero-length edge
+  states.push_back(edge_to_point);
+  states.push_back(Points::Zero(4, 3));  // everything at one point
+  Points nearly = hinge_points(0.8);
+  nearly.row(0) << 0.4, 1e-9, 1e-9;  // wing just off the edge line
+  states.push_back(nearly);
+  for (const Points& x : states) {
+    const Points g = bending_forces(f, x);
+    Points d = Points::Zero(4, 3);
+    f.add_damping_forces(v, d);
+    EXPECT_TRUE(g.allFinite());
+    EXPECT_TRUE(d.allFinite());
+    EXPECT_TRUE(std::isfinite(f.elastic_energy()));
+    EXPECT_TRUE(std::isfinite(f.angle(0)));
+  }
+}
+
+TEST(Bending, StableTimeStepAndBadInput) {
+  const TriangleMesh m = rolled_sheet(1.0);
+  const Eigen::VectorXd mass = Eigen::VectorXd::Constant(m.X.rows(), 1e-3);
+  BendingForce soft(m.X, m.tris, BendingParams{1e-3, 0.0});
+  BendingForce stiff(m.X, m.tris, BendingParams{4e-3, 0.0});
+  const double dt = soft.stable_time_step(mass);
+  EXPECT_GT(dt, 0);
+  EXPECT_TRUE(std::isfinite(dt));
+  EXPECT_NEAR(stiff.stable_time_step(mass), 0.5 * dt, 1e-12 * dt);  // dt ~ 1/sqrt(k_e)
+  BendingForce none(m.X, m.tris, BendingParams{0.0, 1.0});
+  EXPECT_TRUE(std::isinf(none.stable_time_step(mass)));
+  EXPECT_THROW(BendingForce(m.X, m.tris, BendingParams{-1.0, 0.0}), std::invalid_argument);
+  Points nan = m.X;
+  nan(1, 2) = std::nan("");
+  EXPECT_THROW(soft.update_positions(nan, 0.0), std::invalid_argument);
+}

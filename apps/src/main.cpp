@@ -1,1 +1,45 @@
-int main() { return 0; }
+// The invfem command line. Exit codes: 0 ok, 1 simulation failure, 2 bad input.
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "json_fields.hpp"
+#include "run_command.hpp"
+
+namespace {
+
+const char* const kHelp =
+    "invfem: invertible finite elements for cloth, shells and solids (Irving, Teran, Fedkiw 2004)\n"
+    "\n"
+    "usage: invfem COMMAND [options]\n"
+    "\n"
+    "commands:\n"
+    "  run SCENE.json --out DIR   simulate a scene, writing frames and energies as it goes\n"
+    "  help [COMMAND]             this text, or a command's options\n"
+    "\n"
+    "Exit codes: 0 ok, 1 simulation failure, 2 bad input (scene, mesh or option).\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h" || (args[0] == "help" && args.size() == 1)) {
+    std::cout << kHelp;
+    return args.empty() ? 2 : 0;
+  }
+  const std::string cmd = args[0] == "help" ? args[1] : args[0];
+  std::vector<std::string> rest(args.begin() + 1, args.end());
+  if (args[0] == "help") rest = {"--help"};
+  try {
+    if (cmd == "run") return invfem::app::run_command(rest);
+    std::cerr << "error: unknown command \"" << cmd << "\"\n\n" << kHelp;
+    return 2;
+  } catch (const invfem::app::InputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages invfem needs, only those missing (a second run takes a second).
+# Sourced by apps/quickstart.sh and tests/run.sh.
+set -euo pipefail
+INVFEM_PACKAGES=(build-essential cmake pkg-config libeigen3-dev libassimp-dev libembree-dev
+                 libosmesa6-dev libtbb-dev libpng-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev)
+missing=()
+for p in "${INVFEM_PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "installing: ${missing[*]}"
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
+fi

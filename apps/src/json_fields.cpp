@@ -1,0 +1,119 @@
+#include "json_fields.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace invfem::app {
+
+namespace {
+const nlohmann::json& empty_object() {
+  static const nlohmann::json e = nlohmann::json::object();
+  return e;
+}
+}  // namespace
+
+std::string describe(const nlohmann::json& value) {
+  std::string s = value.dump();
+  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  return std::string(value.type_name()) + " " + s;
+}
+
+Fields::Fields(const nlohmann::json& j, std::string file, std::string path)
+    : j_(j), file_(std::move(file)), path_(std::move(path)) {
+  if (!j_.is_object())
+    throw InputError(file_ + ": " + path_ + ": expected an object, found " + describe(j_));
+}
+
+void Fields::fail(const std::string& key, const std::string& expected, const std::string& found) const {
+  std::string msg = file_ + ": " + path_of(key) + ": expected " + expected;
+  if (!found.empty())
+    msg += ", found " + found;
+  else if (j_.contains(key))
+    msg += ", found " + describe(j_.at(key));
+  else
+    msg += ", but it is missing";
+  throw InputError(msg);
+}
+
+double Fields::number(const std::string& key) const {
+  if (!j_.contains(key)) fail(key, "a number");
+  const auto& v = j_.at(key);
+  if (!v.is_number()) fail(key, "a number");
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) fail(key, "a finite number");
+  return x;
+}
+
+double Fields::number(const std::string& key, double fallback) const {
+  return j_.contains(key) ? number(key) : fallback;
+}
+
+double Fields::number_in(const std::string& key, double fallback, double lo, double hi) const {
+  const double x = number(key, fallback);
+  if (x < lo || x > hi) {
+    std::ostringstream range;
+    range << "a number in [" << lo << ", " << hi << "]";
+    fail(key, range.str());
+  }
+  return x;
+}
+
+int Fields::integer(const std::string& key, int fallback, int lo, int hi) const {
+  if (!j_.contains(key)) return fallback;
+  const auto& v = j_.at(key);
+  if (!v.is_number_integer()) fail(key, "an integer");
+  const long long x = v.get<long long>();
+  if (x < lo || x > hi) fail(key, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return static_cast<int>(x);
+}
+
+bool Fields::boolean(const std::string& key, bool fallback) const {
+  if (!j_.contains(key)) return fallback;
+  if (!j_.at(key).is_boolean()) fail(key, "true or false");
+  return j_.at(key).get<bool>();
+}
+
+std::string Fields::string(const std::string& key) const {
+  if (!j_.contains(key) || !j_.at(key).is_string()) fail(key, "a string");
+  return j_.at(key).get<std::string>();
+}
+
+std::string Fields::string(const std::string& key, const std::string& fallback) const {
+  return j_.contains(key) ? string(key) : fallback;
+}
+
+std::array<double, 3> Fields::vec3(const std::string& key, std::array<double, 3> fallback) const {
+  if (!j_.contains(key)) return fallback;
+  const auto& v = j_.at(key);
+  if (!v.is_array() || v.size() != 3) fail(key, "an array of 3 numbers");
+  std::array<double, 3> out{};
+  for (int i = 0; i < 3; ++i) {
+    if (!v[i].is_number() || !std::isfinite(v[i].get<double>())) fail(key, "an array of 3 finite numbers");
+    out[i] = v[i].get<double>();
+  }
+  return out;
+}
+
+Fields Fields::object(const std::string& key) const {
+  if (!j_.contains(key)) fail(key, "an object");
+  return Fields(j_.at(key), file_, path_of(key));
+}
+
+Fields Fields::object_or_empty(const std::string& key) const {
+  if (!j_.contains(key)) return Fields(empty_object(), file_, path_of(key));
+  return object(key);
+}
+
+void Fields::reject_unknown(std::initializer_list<const char*> known) const {
+  for (auto it = j_.begin(); it != j_.end(); ++it) {
+    bool ok = false;
+    for (const char* k : known) ok = ok || it.key() == k;
+    if (!ok) {
+      std::string list;
+      for (const char* k : known) list += std::string(list.empty() ? "" : ", ") + k;
+      throw InputError(file_ + ": " + path_of(it.key()) + ": unknown field (known fields: " + list + ")");
+    }
+  }
+}
+
+}  // namespace invfem::app

@@ -1,0 +1,40 @@
+#include "material_factory.hpp"
+
+#include "invfem/core/materials/lame.hpp"
+#include "json_fields.hpp"
+
+namespace invfem::app {
+
+IsotropicModel make_model(const MaterialSpec& spec) {
+  const Lame lame = lame_from_young_poisson(spec.young, spec.poisson);
+  IsotropicModel model = RotatedLinear{lame.mu, lame.lambda};
+  if (spec.model == "neo_hookean") {
+    NeoHookean m{lame.mu, lame.lambda};
+    m.compression_limit = spec.compression_limit;
+    model = m;
+  } else if (spec.model == "stvk") {
+    StVenantKirchhoff m{lame.mu, lame.lambda};
+    m.compression_limit = spec.compression_limit;
+    model = m;
+  } else if (spec.model == "spline") {
+    SplineModel m{lame.mu, lame.lambda};
+    m.t = spec.hardening_deformation;
+    m.r = spec.hardening_strength;
+    model = m;
+  } else if (spec.model != "rotated_linear") {
+    throw InputError("unknown material model \"" + spec.model + "\"");
+  }
+  validate(model, "material \"" + spec.model + "\"");
+  return model;
+}
+
+TetMaterial make_tet_material(const MaterialSpec& spec, double cfl) {
+  TetMaterial m{make_model(spec)};
+  m.strength = spec.strength;
+  m.density = spec.density;
+  m.damping = spec.damping;
+  m.cfl = cfl;
+  return m;
+}
+
+}  // namespace invfem::app

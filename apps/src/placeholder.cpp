@@ -1,1 +1,0 @@
-#include "invfem/core/types.hpp"

@@ -1,0 +1,76 @@
+#pragma once
+// The scene file: plain data parsed and validated from JSON. The schema is documented in
+// apps/scenes/README.md; every default is filled in here so the run can write the scene back
+// out complete (OUT/scene.json).
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "invfem/core/scalar_track.hpp"
+
+namespace invfem::app {
+
+struct MaterialSpec {
+  std::string model = "rotated_linear";  // rotated_linear | neo_hookean | stvk | spline
+  double young = 1e5;                     // [Pa]
+  double poisson = 0.3;
+  double density = 1000;                  // [kg/m^3]
+  double damping = 0.0;                   // k [s]: alpha = k lambda, beta = k mu
+  double compression_limit = 0.3;         // neo_hookean, stvk: extension threshold on s_i
+  double hardening_deformation = 0.5;     // spline: t
+  double hardening_strength = 7;          // spline: r
+  ScalarTrack strength = ScalarTrack::constant(1.0);  // multiplies the moduli over time
+};
+
+struct Transform {
+  double scale = 1;
+  std::array<double, 3> rotate_degrees{0, 0, 0};  // applied x, then y, then z
+  std::array<double, 3> translate{0, 0, 0};
+};
+
+struct SolidSpec {
+  std::string name;
+  std::filesystem::path mesh;  // absolute, resolved against the scene file's folder
+  Transform transform;
+  std::array<double, 3> velocity{0, 0, 0};
+  MaterialSpec material;
+};
+
+struct ColliderSpec {
+  std::string name;
+  std::string type = "plane";
+  std::array<double, 3> point{0, 0, 0};
+  std::array<double, 3> normal{0, 1, 0};
+  double friction = 0.3;
+};
+
+struct SolverSpec {
+  double cfl = 0.5;
+  double max_dt = 0.005;          // [s]
+  double cg_tolerance = 1e-8;     // relative residual
+  int cg_max_iterations = 1000;
+};
+
+struct Scene {
+  std::filesystem::path file;
+  std::string name;
+  double fps = 30;
+  int frames = 60;  // frames after frame 0
+  std::array<double, 3> gravity{0, -9.81, 0};
+  SolverSpec solver;
+  std::vector<SolidSpec> solids;
+  std::vector<ColliderSpec> colliders;
+};
+
+// Parse and validate. Throws InputError naming the file, the JSON path, what was expected and
+// what was found.
+Scene load_scene(const std::filesystem::path& file);
+Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file);
+
+// The scene with every default filled in (what OUT/scene.json holds).
+nlohmann::json to_json(const Scene& scene);
+
+}  // namespace invfem::app

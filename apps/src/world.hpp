@@ -1,0 +1,56 @@
+#pragma once
+// The simulated world built from a scene: solids (tet mesh, nodes, forces), rigid colliders,
+// and the frame loop that substeps ITF04 section 9's step.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "invfem/collisions/rigid_collisions.hpp"
+#include "invfem/core/newmark_step.hpp"
+#include "invfem/solids/boundary.hpp"
+#include "invfem/solids/tet_mesh.hpp"
+#include "invfem/solids/tet_solid_force.hpp"
+#include "scene.hpp"
+
+namespace invfem::app {
+
+struct SolidObject {
+  std::string name;
+  TetMesh rest;           // rest mesh, transformed into the world
+  SurfaceMesh surface;    // boundary, for output
+  Body body;
+  std::unique_ptr<TetSolidForce> force;
+};
+
+// Per-frame figures, summed over solids.
+struct FrameReport {
+  double kinetic = 0, elastic = 0, gravity = 0;  // [J]; gravity potential is -m g.x
+  int inverted = 0, elements = 0;
+  double min_det_F = 1;
+  double volume = 0, rest_volume = 0;            // [m^3], signed sum of tet volumes
+  int substeps = 0, cg_iterations = 0, colliding_nodes = 0;
+  bool cg_all_converged = true;
+};
+
+class World {
+ public:
+  // Loads and validates every mesh; throws InputError naming the file and problem.
+  explicit World(const Scene& scene);
+
+  double time() const { return time_; }
+  const Scene& scene() const { return scene_; }
+  const std::vector<SolidObject>& solids() const { return solids_; }
+
+  // Substep from time() to t_end; fills the step counts of `report`.
+  void advance_to(double t_end, FrameReport& report);
+  // Energies and element figures at the current state.
+  void measure(FrameReport& report) const;
+
+ private:
+  Scene scene_;
+  double time_ = 0;
+  std::vector<SolidObject> solids_;
+  std::unique_ptr<RigidCollisions> collisions_;
+};
+
+}  // namespace invfem::app

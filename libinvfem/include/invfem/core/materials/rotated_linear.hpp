@@ -8,6 +8,10 @@
 //
 // Linear in F^, so it is defined and restoring through the flat and inverted states with no
 // extension needed. D = 3 for tetrahedra, D = 2 for triangles (3x2 F).
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
 #include "invfem/core/types.hpp"
 
 namespace invfem {
@@ -27,8 +31,16 @@ struct RotatedLinear {
   template <int D> MatD<D> psi_hessian(const VecD<D>&) const {
     return 2 * mu * MatD<D>::Identity() + lambda * MatD<D>::Ones();
   }
+  // (P^_i - P^_j)/(s_i - s_j), exact for s_i == s_j too (Teran 2005 pair block).
+  template <int D> double psi_d_minus(const VecD<D>&, int, int) const { return 2 * mu; }
   // Largest tangent modulus reached in any state [Pa]; bounds the explicit (CFL) time step.
   double wave_modulus() const { return lambda + 2 * mu; }
+  void validate(const std::string& what = "rotated linear material") const {
+    if (!std::isfinite(mu) || mu < 0)
+      throw std::invalid_argument(what + ": mu must be finite and >= 0, got " + std::to_string(mu));
+    if (!std::isfinite(lambda))
+      throw std::invalid_argument(what + ": lambda must be finite, got " + std::to_string(lambda));
+  }
 };
 
 }  // namespace invfem

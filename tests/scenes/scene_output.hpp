@@ -1,0 +1,105 @@
+#pragma once
+// Reading what `invfem run` wrote (energies.csv, frame OBJs) and comparing it with goldens.
+// Shared by every scene test.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "invfem/solids/obj_writer.hpp"
+
+namespace invfem::test {
+
+// energies.csv as columns by header name; every column has one entry per frame.
+struct Csv {
+  std::vector<std::string> header;
+  std::map<std::string, std::vector<double>> columns;
+  std::size_t rows() const { return columns.empty() ? 0 : columns.begin()->second.size(); }
+  const std::vector<double>& operator[](const std::string& name) const { return columns.at(name); }
+};
+
+inline Csv read_csv(const std::filesystem::path& path) {
+  Csv csv;
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path.string() + ": cannot open");
+  std::string line;
+  std::getline(in, line);
+  std::stringstream hs(line);
+  for (std::string h; std::getline(hs, h, ',');) csv.header.push_back(h), csv.columns[h];
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::stringstream ls(line);
+    std::string cell;
+    for (const auto& h : csv.header) {
+      if (!std::getline(ls, cell, ',')) throw std::runtime_error(path.string() + ": short row: " + line);
+      csv.columns[h].push_back(std::stod(cell));
+    }
+  }
+  return csv;
+}
+
+inline bool update_golden() {
+  const char* v = std::getenv("INVFEM_UPDATE_GOLDEN");
+  return v && std::string(v) == "1";
+}
+
+// Compare the listed columns of `actual` with the golden CSV, frame by frame:
+// |a - g| <= rtol |g| + atol_frac * max_frames |g| (per column), so columns that pass through
+// zero are judged on their own scale. With INVFEM_UPDATE_GOLDEN=1 the golden is rewritten.
+inline void expect_matches_golden_csv(const std::filesystem::path& actual_path,
+                                      const std::filesystem::path& golden_path,
+                                      const std::vector<std::string>& columns, double rtol, double atol_frac) {
+  if (update_golden()) {
+    std::filesystem::create_directories(golden_path.parent_path());
+    std::filesystem::copy_file(actual_path, golden_path, std::filesystem::copy_options::overwrite_existing);
+    std::cout << "updated golden " << golden_path << "\n";
+    return;
+  }
+  ASSERT_TRUE(std::filesystem::exists(golden_path))
+      << golden_path << " is missing; run INVFEM_UPDATE_GOLDEN=1 tests/run.sh to create it";
+  const Csv a = read_csv(actual_path), g = read_csv(golden_path);
+  ASSERT_EQ(a.rows(), g.rows()) << "frame count differs from " << golden_path;
+  for (const auto& name : columns) {
+    const auto& av = a[name];
+    const auto& gv = g[name];
+    double scale = 0;
+    for (double x : gv) scale = std::max(scale, std::abs(x));
+    int bad = 0;
+    for (std::size_t i = 0; i < gv.size(); ++i) {
+      if (std::abs(av[i] - gv[i]) > rtol * std::abs(gv[i]) + atol_frac * scale) {
+        if (++bad <= 3)
+          ADD_FAILURE() << name << " at frame " << i << ": " << av[i] << ", golden " << gv[i] << " ("
+                        << golden_path.filename() << ")";
+      }
+    }
+    EXPECT_EQ(bad, 0) << name << " differs from the golden in " << bad << " frames";
+  }
+}
+
+inline std::string frame_file(int frame) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "%04d.obj", frame);
+  return buf;
+}
+
+// RMS distance between two point sets after the best rigid alignment (Kabsch), over the
+// bounding-box diagonal of `rest`: a shape error free of where the object went.
+inline double aligned_shape_error(const Points& rest, const Points& x) {
+  const Eigen::RowVector3d cr = rest.colwise().mean(), cx = x.colwise().mean();
+  const Eigen::MatrixX3d A = rest.rowwise() - cr, B = x.rowwise() - cx;
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(A.transpose() * B, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1 : 1;
+  const Eigen::Matrix3d R = svd.matrixV() * D * svd.matrixU().transpose();  // B ~ A R^T
+  const double rms = std::sqrt((B - A * R.transpose()).rowwise().squaredNorm().mean());
+  const double diag = (rest.colwise().maxCoeff() - rest.colwise().minCoeff()).norm();
+  return rms / diag;
+}
+
+}  // namespace invfem::test

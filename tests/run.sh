@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# One command from a fresh clone: install what is missing, build everything (Release), and run
+# the whole test suite through CTest. INVFEM_UPDATE_GOLDEN=1 rewrites the golden files instead
+# of comparing against them.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+bash "$root/apps/deps.sh"
+build="$root/build"
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build" -j"$(nproc)"
+cd "$build"
+ctest --output-on-failure -j"$(nproc)" "$@"

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -12,14 +14,21 @@ namespace {
 // counter-clockwise seen from outside; face f is opposite node f.
 constexpr int kFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
 
+// A face's sorted node triple packed into two words for a cheap sort: hi = (a << 32) | b,
+// lo = (c << 32) | id with id = 4 * tet + local face. Equal faces share hi and lo's top half.
 struct FaceKey {
-  std::array<int, 3> sorted;
-  int id;  // 4 * tet + local face
+  std::uint64_t hi, lo;
+  std::uint64_t c() const { return lo >> 32; }
+  int id() const { return static_cast<int>(lo & 0xffffffffu); }
+  bool same_face(const FaceKey& o) const { return hi == o.hi && c() == o.c(); }
+  bool operator<(const FaceKey& o) const { return hi != o.hi ? hi < o.hi : lo < o.lo; }
 };
 
 // All 4m faces sorted by node set, then by id: equal faces are adjacent, order deterministic.
 std::vector<FaceKey> sorted_faces(const Tets& tets) {
   const Eigen::Index m = tets.rows();
+  if (m > (std::numeric_limits<int>::max() / 4))
+    throw std::invalid_argument("boundary: too many tets (" + std::to_string(m) + ")");
   std::vector<FaceKey> faces;
   faces.reserve(static_cast<std::size_t>(4 * m));
   for (Eigen::Index e = 0; e < m; ++e) {
@@ -28,12 +37,11 @@ std::vector<FaceKey> sorted_faces(const Tets& tets) {
       if (k[0] < 0 || k[1] < 0 || k[2] < 0)
         throw std::invalid_argument("boundary: tet " + std::to_string(e) + " has a negative node index");
       std::sort(k.begin(), k.end());
-      faces.push_back({k, static_cast<int>(4 * e + f)});
+      const auto u = [](int v) { return static_cast<std::uint64_t>(v); };
+      faces.push_back({(u(k[0]) << 32) | u(k[1]), (u(k[2]) << 32) | u(static_cast<int>(4 * e + f))});
     }
   }
-  std::sort(faces.begin(), faces.end(), [](const FaceKey& a, const FaceKey& b) {
-    return a.sorted != b.sorted ? a.sorted < b.sorted : a.id < b.id;
-  });
+  std::sort(faces.begin(), faces.end());
   return faces;
 }
 
@@ -43,7 +51,7 @@ void for_each_run(const std::vector<FaceKey>& faces, Visit visit) {
   std::size_t i = 0;
   while (i < faces.size()) {
     std::size_t j = i + 1;
-    while (j < faces.size() && faces[j].sorted == faces[i].sorted) ++j;
+    while (j < faces.size() && faces[j].same_face(faces[i])) ++j;
     visit(i, j - i);
     i = j;
   }
@@ -55,7 +63,7 @@ Tris boundary_triangles(const Tets& tets) {
   const std::vector<FaceKey> faces = sorted_faces(tets);
   std::vector<int> ids;
   for_each_run(faces, [&](std::size_t first, std::size_t count) {
-    if (count == 1) ids.push_back(faces[first].id);
+    if (count == 1) ids.push_back(faces[first].id());
   });
   std::sort(ids.begin(), ids.end());
   Tris tris(static_cast<Eigen::Index>(ids.size()), 3);

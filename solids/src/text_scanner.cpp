@@ -3,6 +3,7 @@
 #include <cctype>
 #include <charconv>
 #include <climits>
+#include <cstdint>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -31,6 +32,12 @@ std::string read_text_file(const std::string& path) {
   if (!in) throw MeshError(path + ": cannot open file for reading");
   std::string text;
   const auto size = fs::file_size(path, ec);
+  // Text meshes this large would not fit a simulation on one machine anyway; refuse before
+  // reading rather than exhausting memory.
+  constexpr std::uintmax_t kMaxBytes = std::uintmax_t{4} << 30;
+  if (!ec && size > kMaxBytes)
+    throw MeshError(path + ": file is " + std::to_string(size) +
+                    " bytes, over the 4 GiB limit of the text mesh readers");
   if (!ec) text.reserve(size);
   text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   if (in.bad()) throw MeshError(path + ": read error");
@@ -95,12 +102,22 @@ void TextScanner::skip_line() { (void)line_rest(); }
 
 std::string TextScanner::item_name(std::string_view what, long long index) const {
   std::string s(what);
-  if (index >= 0) s += " " + std::to_string(index);
+  if (index >= 0) s.append(1, ' ').append(std::to_string(index));
   return s;
 }
 
+std::string_view TextScanner::item_token(std::string_view what, long long index) {
+  // The item name is built only on failure: this runs once per number in the file.
+  const std::string_view t = peek();
+  if (t.empty())
+    fail_at(token_line_, "unexpected end of file while reading " + item_name(what, index));
+  token_line_ = line_;
+  pos_ += t.size();
+  return t;
+}
+
 long long TextScanner::integer(std::string_view what, long long index) {
-  std::string_view t = token(item_name(what, index));
+  std::string_view t = item_token(what, index);
   std::string_view digits = t;
   if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
   long long v = 0;
@@ -114,7 +131,7 @@ long long TextScanner::integer(std::string_view what, long long index) {
 }
 
 double TextScanner::real(std::string_view what, long long index) {
-  std::string_view t = token(item_name(what, index));
+  std::string_view t = item_token(what, index);
   std::string_view digits = t;
   if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
   double v = 0;

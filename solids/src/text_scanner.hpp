@@ -41,6 +41,7 @@ class TextScanner {
 
  private:
   void skip_space();
+  std::string_view item_token(std::string_view what, long long index);
   std::string item_name(std::string_view what, long long index) const;
 
   std::string path_;

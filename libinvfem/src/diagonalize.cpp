@@ -1,5 +1,6 @@
 #include "invfem/core/diagonalize.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <cmath>
@@ -7,14 +8,15 @@
 #include <stdexcept>
 #include <string>
 
-// Fast path: one-sided (Hestenes) Jacobi on the columns of F.
+// Fast path: closed-form eigenvectors of F^T F as a warm start, corrected by one-sided
+// (Hestenes) Jacobi on the columns of F V.
 //
 // ITF04 section 5 diagonalizes F^T F and builds U from F V. Forming F^T F squares the condition
 // number: a cluster of small singular values (say 1e-8 and 1e-9 next to 1) then gets an
 // arbitrary V inside the cluster, and U diag(s) V^T misses F by ~sqrt(eps) ||F||. We keep the
-// same structure (find V, then U from the columns of B = F V) but compute every rotation from
-// the current columns of B rather than from a squared matrix, so each column pair is made
-// orthogonal relative to its own norms. Then:
+// same structure (find V, then U from the columns of B = F V) and use F^T F only for a first
+// guess of V; every correcting rotation is computed from the current columns of B, so each
+// column pair ends orthogonal relative to its own norms. Then:
 //   sort the columns of B by decreasing norm (permuting V, det V stays +1),
 //   u1 = b1 / |b1|, u2 = normalized part of b2 orthogonal to u1 (any unit vector orthogonal
 //   to u1 when that part vanishes), u3 = u1 x u2,
@@ -30,8 +32,9 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 // A column pair counts as orthogonal when |b_p . b_q| <= kOrthoTol |b_p| |b_q|. A few eps: one
 // rotation leaves ~eps of residual, and a tighter value makes the sweeps chase round-off.
 constexpr double kOrthoTol = 4 * kEps;
-// Cyclic Jacobi converges quadratically; random 3x3 input needs 4-6 sweeps in double. The cap
-// only bounds the work on pathological round-off.
+// Cyclic Jacobi converges quadratically: from V = Id random 3x3 input needs 3-4 sweeps of
+// rotations plus a checking sweep in double, after the warm start 0-2. The cap only bounds the
+// work on pathological round-off.
 constexpr int kMaxSweeps3 = 12;
 constexpr int kMaxSweeps2 = 4;
 // F is rescaled by an exact power of two when its largest entry leaves [2^-100, 2^100], so
@@ -151,6 +154,28 @@ inline void second_column(const Vec3& u1, const Vec3& b2, Vec3& u2, double& s2) 
   }
 }
 
+// Warm start (ITF04 section 5's construction): V0 from the closed-form eigenvectors of
+// S = B^T B (Eigen's computeDirect, trigonometric roots plus cross products), made an exact
+// rotation by Gram-Schmidt and v3 = v1 x v2; then B <- B V0. Where S's eigenvalues are well
+// apart, the columns of B V0 are already orthogonal to a few eps and the Jacobi loop below only
+// checks them; where computeDirect is inaccurate (clustered or tiny singular values, the
+// squared condition number) the loop corrects it. Most random F need no rotation after this;
+// without it they need 3-4 sweeps of rotations. If the eigenvectors come back unusable, V
+// stays Id.
+inline void start_from_normal_equations(Mat3& B, Mat3& V) {
+  Eigen::SelfAdjointEigenSolver<Mat3> es;
+  es.computeDirect(B.transpose() * B);  // eigenvalues ascending: the last column is v1
+  const Mat3& E = es.eigenvectors();
+  const Vec3 v1 = E.col(2).normalized();
+  const Vec3 w = E.col(1) - v1.dot(E.col(1)) * v1;
+  const double nw = w.norm();
+  if (!(nw > 0.5) || !v1.allFinite()) return;  // E should be orthonormal; nw ~ 1
+  V.col(0) = v1;
+  V.col(1) = w / nw;
+  V.col(2) = v1.cross(V.col(1));
+  B = (B * V).eval();
+}
+
 }  // namespace
 
 Diagonalization3 diagonalize_jacobi(const Mat3& F) {
@@ -178,6 +203,7 @@ Diagonalization3 diagonalize(const Mat3& F) {
   Mat3 B = F;
   if (e != 0) B = F.unaryExpr([e](double x) { return std::scalbn(x, e); });
   Mat3& V = d.V;
+  start_from_normal_equations(B, V);
 
   for (int sweep = 0; sweep < kMaxSweeps3; ++sweep) {
     const double off = std::max({rotate_pair<0, 1>(B, V), rotate_pair<0, 2>(B, V),

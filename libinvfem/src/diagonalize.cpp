@@ -65,9 +65,9 @@ inline void check_no_overflow(double s1, const char* what) {
                                 ": the largest singular value of F overflows a double");
 }
 
-// Returns the power of two s with F * s having its largest entry in [1, 2) when m = max|F_ij|
-// lies outside [kScaleLow, kScaleHigh], else 1. Exact, and applied entry by entry with scalbn
-// so that a subnormal m does not overflow the factor.
+// Returns e such that F * 2^e has its largest entry in [1, 2) when m = max|F_ij| lies outside
+// [kScaleLow, kScaleHigh], else 0. Applied entry by entry with scalbn (exact), since 2^e itself
+// overflows for a subnormal m.
 inline int scale_exponent(double m) {
   return (m < kScaleLow || m > kScaleHigh) ? -std::ilogb(m) : 0;
 }

@@ -1,0 +1,520 @@
+// Interchange writers: binary/ASCII PLY (read back through assimp), VTK XML .vtu + .pvd (checked
+// with a strict XML parser of our own), USD ASCII animation (structural check of our own).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "invfem/shells/triangle_mesh.hpp"
+#include "invfem/solids/ply_writer.hpp"
+#include "invfem/solids/tet_mesh.hpp"
+#include "invfem/solids/usd_writer.hpp"
+#include "invfem/solids/vtu_writer.hpp"
+#include "xml_check.hpp"
+
+namespace fs = std::filesystem;
+using namespace invfem;
+using invfem::test::XmlNode;
+using invfem::test::XmlParser;
+
+namespace {
+
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / ("invfem_" + std::string(info->test_suite_name()) + "_" +
+                                        info->name() + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  ~TempDir() { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+ private:
+  fs::path dir_;
+};
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A curved sheet: a grid whose nodes are lifted by a smooth bump, so no coordinate is trivial.
+TriangleMesh curved_sheet(int nx, int ny) {
+  TriangleMesh m = make_grid(1.3, 0.7, nx, ny, Vec3(-0.4, 0.2, 0.1));
+  for (Eigen::Index i = 0; i < m.X.rows(); ++i) m.X(i, 2) += 0.1 * std::sin(3 * m.X(i, 0)) * std::cos(2 * m.X(i, 1));
+  return m;
+}
+
+// nx x ny x nz cubes of size h, each split into 6 tets around its main diagonal (Kuhn).
+TetMesh cube_grid(int nx, int ny, int nz, double h) {
+  TetMesh m;
+  auto id = [&](int i, int j, int k) { return (k * (ny + 1) + j) * (nx + 1) + i; };
+  m.X.resize((nx + 1) * (ny + 1) * (nz + 1), 3);
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i) m.X.row(id(i, j, k)) << i * h, j * h + 0.25, k * h - 0.5;
+  static const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  m.tets.resize(6 * nx * ny * nz, 4);
+  int e = 0;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        for (const auto& p : perms) {
+          int c[3] = {i, j, k};
+          int row[4];
+          row[0] = id(c[0], c[1], c[2]);
+          for (int s = 0; s < 3; ++s) {
+            c[p[s]] += 1;
+            row[s + 1] = id(c[0], c[1], c[2]);
+          }
+          m.tets.row(e) << row[0], row[1], row[2], row[3];
+          if (tet_signed_volume6(m.X, m.tets, e) < 0) std::swap(m.tets(e, 2), m.tets(e, 3));
+          ++e;
+        }
+  return m;
+}
+
+std::vector<double> numbers(const std::string& text) {
+  std::vector<double> v;
+  std::istringstream in(text);
+  std::string tok;
+  while (in >> tok) {
+    char* end = nullptr;
+    const double d = std::strtod(tok.c_str(), &end);
+    if (end != tok.c_str() + tok.size()) throw std::runtime_error("not a number: " + tok);
+    v.push_back(d);
+  }
+  return v;
+}
+
+const XmlNode& array_named(const XmlNode& parent, const std::string& name) {
+  for (const XmlNode* a : parent.all("DataArray"))
+    if (a->attr("Name") == name) return *a;
+  throw std::runtime_error("no DataArray " + name + " in <" + parent.name + ">");
+}
+
+// Loads `path` through assimp and checks it holds exactly the sheet `m`, positions to float
+// precision. The loader reorders vertices (first use), so match them by position.
+void expect_same_surface(const std::string& path, const TriangleMesh& m) {
+  TriangleMeshReport report;
+  const TriangleMesh back = load_triangle_mesh(path, &report);
+  ASSERT_EQ(back.X.rows(), m.X.rows());
+  ASSERT_EQ(back.tris.rows(), m.tris.rows());
+  EXPECT_EQ(report.removed_triangles, 0);
+  std::vector<int> to_original(back.X.rows(), -1);
+  std::set<int> used;
+  for (Eigen::Index i = 0; i < back.X.rows(); ++i) {
+    Eigen::Index best = 0;
+    const double d = (m.X.rowwise() - back.X.row(i)).rowwise().norm().minCoeff(&best);
+    EXPECT_LT(d, 1e-6) << "vertex " << i;  // assimp keeps float positions
+    to_original[i] = static_cast<int>(best);
+    used.insert(static_cast<int>(best));
+  }
+  EXPECT_EQ(used.size(), static_cast<std::size_t>(m.X.rows()));
+  // Same triangles with the same winding: compare rotations to the smallest index first.
+  auto canon = [](int a, int b, int c) {
+    if (b < a && b < c) return std::array<int, 3>{b, c, a};
+    if (c < a && c < b) return std::array<int, 3>{c, a, b};
+    return std::array<int, 3>{a, b, c};
+  };
+  std::set<std::array<int, 3>> want, got;
+  for (Eigen::Index t = 0; t < m.tris.rows(); ++t) want.insert(canon(m.tris(t, 0), m.tris(t, 1), m.tris(t, 2)));
+  for (Eigen::Index t = 0; t < back.tris.rows(); ++t)
+    got.insert(canon(to_original[back.tris(t, 0)], to_original[back.tris(t, 1)], to_original[back.tris(t, 2)]));
+  EXPECT_EQ(got, want);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------- PLY
+
+TEST(PlyWriter, BinaryRoundTripThroughAssimp) {
+  TempDir dir;
+  const TriangleMesh m = curved_sheet(7, 5);
+  const std::string p = dir.path("sheet.ply");
+  write_ply(p, m.X, m.tris);
+  expect_same_surface(p, m);
+}
+
+TEST(PlyWriter, AsciiRoundTripThroughAssimp) {
+  TempDir dir;
+  const TriangleMesh m = curved_sheet(4, 6);
+  const std::string p = dir.path("sheet.ply");
+  write_ply(p, m.X, m.tris, PlyEncoding::ascii);
+  expect_same_surface(p, m);
+  // ASCII uses 17 digits: the doubles come back exactly when parsed directly.
+  const std::string text = slurp(p);
+  const std::size_t body = text.find("end_header\n") + 11;
+  const std::vector<double> v = numbers(text.substr(body));
+  ASSERT_EQ(v.size(), static_cast<std::size_t>(3 * m.X.rows() + 4 * m.tris.rows()));
+  for (Eigen::Index i = 0; i < 3 * m.X.rows(); ++i) EXPECT_EQ(v[i], m.X.data()[i]);
+}
+
+TEST(PlyWriter, BinaryLayoutIsExactLittleEndian) {
+  TempDir dir;
+  const TriangleMesh m = curved_sheet(3, 2);
+  const std::string p = dir.path("sheet.ply");
+  write_ply(p, m.X, m.tris);
+  const std::string bytes = slurp(p);
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\ncomment written by invfem\nelement vertex " +
+      std::to_string(m.X.rows()) + "\nproperty double x\nproperty double y\nproperty double z\nelement face " +
+      std::to_string(m.tris.rows()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  ASSERT_EQ(bytes.substr(0, header.size()), header);
+  ASSERT_EQ(bytes.size(), header.size() + 24 * m.X.rows() + 13 * m.tris.rows());
+  auto le = [&](std::size_t at, int size) {
+    std::uint64_t u = 0;
+    for (int b = size - 1; b >= 0; --b) u = (u << 8) | static_cast<unsigned char>(bytes[at + b]);
+    return u;
+  };
+  for (Eigen::Index i = 0; i < m.X.rows(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t u = le(header.size() + 24 * i + 8 * k, 8);
+      double d;
+      std::memcpy(&d, &u, 8);
+      EXPECT_EQ(d, m.X(i, k));
+    }
+  const std::size_t faces = header.size() + 24 * m.X.rows();
+  for (Eigen::Index t = 0; t < m.tris.rows(); ++t) {
+    EXPECT_EQ(le(faces + 13 * t, 1), 3u);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(static_cast<std::int32_t>(le(faces + 13 * t + 1 + 4 * k, 4)), m.tris(t, k));
+  }
+}
+
+TEST(PlyWriter, RejectsBadInputWithoutTouchingTheFile) {
+  TempDir dir;
+  TriangleMesh m = curved_sheet(2, 2);
+  const std::string p = dir.path("sheet.ply");
+  write_ply(p, m.X, m.tris);
+  const std::string before = slurp(p);
+  Points bad = m.X;
+  bad(3, 1) = std::nan("");
+  try {
+    write_ply(p, bad, m.tris);
+    FAIL() << "NaN accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("vertex 3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
+  }
+  Tris t = m.tris;
+  t(1, 2) = static_cast<int>(m.X.rows());
+  EXPECT_THROW(write_ply(p, m.X, t, PlyEncoding::ascii), std::invalid_argument);
+  EXPECT_EQ(slurp(p), before);
+  EXPECT_THROW(write_ply(dir.path("missing/dir/x.ply"), m.X, m.tris), std::runtime_error);
+}
+
+// ---------------------------------------------------------------------------------- VTU / PVD
+
+TEST(VtuWriter, WellFormedWithExactCountsCellsAndFields) {
+  TempDir dir;
+  const TetMesh mesh = cube_grid(3, 2, 2, 0.1);
+  const Eigen::Index n = mesh.X.rows(), m = mesh.tets.rows();
+  Points x = mesh.X;
+  x.col(1) *= 0.9;
+  VtuFields f;
+  Eigen::VectorXd det(m), inv(m), pressure(n);
+  for (Eigen::Index e = 0; e < m; ++e) det[e] = (e % 7 == 3) ? -0.25 - 1e-3 * e : 0.9 + 1e-3 * e;
+  for (Eigen::Index e = 0; e < m; ++e) inv[e] = det[e] < 0 ? 1 : 0;
+  for (Eigen::Index i = 0; i < n; ++i) pressure[i] = std::exp(0.1 * i) * 1e-7;
+  f.cell_scalars["det_F"] = det;
+  f.cell_scalars["inverted"] = inv;
+  f.point_scalars["p<&\"q>"] = pressure;  // escaped in the attribute
+  f.point_vectors["velocity"] = 2 * x;
+  const std::string p = dir.path("frame.vtu");
+  write_vtu(p, x, mesh.tets, f);
+
+  const XmlNode root = XmlParser(slurp(p)).document();
+  ASSERT_EQ(root.name, "VTKFile");
+  EXPECT_EQ(root.attr("type"), "UnstructuredGrid");
+  EXPECT_EQ(root.attr("byte_order"), "LittleEndian");
+  const XmlNode& piece = root.one("UnstructuredGrid").one("Piece");
+  ASSERT_EQ(piece.attr("NumberOfPoints"), std::to_string(n));
+  ASSERT_EQ(piece.attr("NumberOfCells"), std::to_string(m));
+
+  const XmlNode& pts = piece.one("Points").one("DataArray");
+  EXPECT_EQ(pts.attr("NumberOfComponents"), "3");
+  EXPECT_EQ(pts.attr("format"), "ascii");
+  const auto xv = numbers(pts.text);
+  ASSERT_EQ(xv.size(), static_cast<std::size_t>(3 * n));
+  for (Eigen::Index i = 0; i < 3 * n; ++i) EXPECT_EQ(xv[i], x.data()[i]);
+
+  const XmlNode& cells = piece.one("Cells");
+  const auto conn = numbers(array_named(cells, "connectivity").text);
+  const auto offs = numbers(array_named(cells, "offsets").text);
+  const auto types = numbers(array_named(cells, "types").text);
+  ASSERT_EQ(conn.size(), static_cast<std::size_t>(4 * m));
+  ASSERT_EQ(offs.size(), static_cast<std::size_t>(m));
+  ASSERT_EQ(types.size(), static_cast<std::size_t>(m));
+  for (Eigen::Index e = 0; e < m; ++e) {
+    EXPECT_EQ(offs[e], 4.0 * (e + 1));
+    EXPECT_EQ(types[e], 10.0);
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(conn[4 * e + k], mesh.tets(e, k));
+  }
+
+  const XmlNode& cd = piece.one("CellData");
+  const auto dv = numbers(array_named(cd, "det_F").text);
+  const auto iv = numbers(array_named(cd, "inverted").text);
+  ASSERT_EQ(dv.size(), static_cast<std::size_t>(m));
+  ASSERT_EQ(iv.size(), static_cast<std::size_t>(m));
+  int inverted = 0;
+  for (Eigen::Index e = 0; e < m; ++e) {
+    EXPECT_EQ(dv[e], det[e]);
+    EXPECT_EQ(iv[e], det[e] < 0 ? 1.0 : 0.0);
+    inverted += iv[e] > 0;
+  }
+  EXPECT_GT(inverted, 0);
+
+  const XmlNode& pd = piece.one("PointData");
+  const auto pv = numbers(array_named(pd, "p<&\"q>").text);
+  ASSERT_EQ(pv.size(), static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i) EXPECT_EQ(pv[i], pressure[i]);
+  const XmlNode& vel = array_named(pd, "velocity");
+  EXPECT_EQ(vel.attr("NumberOfComponents"), "3");
+  const auto vv = numbers(vel.text);
+  ASSERT_EQ(vv.size(), static_cast<std::size_t>(3 * n));
+  for (Eigen::Index i = 0; i < 3 * n; ++i) EXPECT_EQ(vv[i], 2 * x.data()[i]);
+}
+
+TEST(VtuWriter, XmlCheckerRejectsMalformedDocuments) {
+  // The checker above must be able to fail: each of these is broken in one way.
+  for (const char* bad : {"<a><b></a>", "<a x=\"1\" x=\"2\"/>", "<a>&bogus;</a>", "<a x=\"<\"/>",
+                          "<a></a><b/>", "<a>", "<a x=1/>"})
+    EXPECT_THROW(XmlParser(bad).document(), std::runtime_error) << bad;
+  EXPECT_NO_THROW(XmlParser("<?xml version=\"1.0\"?>\n<a q=\"&amp;\"><b/>t</a>\n").document());
+}
+
+TEST(VtuWriter, RejectsBadFieldsAndMesh) {
+  TempDir dir;
+  const TetMesh mesh = cube_grid(1, 1, 1, 1.0);
+  const std::string p = dir.path("f.vtu");
+  VtuFields f;
+  f.cell_scalars["det_F"] = Eigen::VectorXd::Ones(mesh.tets.rows() + 1);
+  try {
+    write_vtu(p, mesh.X, mesh.tets, f);
+    FAIL() << "wrong length accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("det_F"), std::string::npos) << e.what();
+  }
+  f.cell_scalars["det_F"] = Eigen::VectorXd::Ones(mesh.tets.rows());
+  f.cell_scalars["det_F"][2] = INFINITY;
+  EXPECT_THROW(write_vtu(p, mesh.X, mesh.tets, f), std::invalid_argument);
+  VtuFields g;
+  g.point_vectors["v"] = Points::Zero(mesh.X.rows() - 1, 3);
+  EXPECT_THROW(write_vtu(p, mesh.X, mesh.tets, g), std::invalid_argument);
+  Tets t = mesh.tets;
+  t(0, 0) = -1;
+  EXPECT_THROW(write_vtu(p, mesh.X, t), std::invalid_argument);
+  Points x = mesh.X;
+  x(0, 0) = std::nan("");
+  EXPECT_THROW(write_vtu(p, x, mesh.tets), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(p));
+}
+
+TEST(PvdWriter, RewritesTheWholeCollectionOnEveryAdd) {
+  TempDir dir;
+  PvdWriter pvd(dir.path("run.pvd"));
+  const std::vector<std::pair<double, std::string>> frames = {
+      {0.0, "frames/a&b/0000.vtu"}, {1.0 / 30, "frames/a&b/0001.vtu"}, {2.0 / 30, "frames/a&b/0002.vtu"}};
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    pvd.add(frames[k].first, frames[k].second);
+    const XmlNode root = XmlParser(slurp(pvd.path())).document();
+    EXPECT_EQ(root.attr("type"), "Collection");
+    const auto sets = root.one("Collection").all("DataSet");
+    ASSERT_EQ(sets.size(), k + 1);
+    for (std::size_t i = 0; i <= k; ++i) {
+      EXPECT_EQ(std::strtod(sets[i]->attr("timestep").c_str(), nullptr), frames[i].first);
+      EXPECT_EQ(sets[i]->attr("file"), frames[i].second);
+    }
+  }
+  const std::string before = slurp(pvd.path());
+  EXPECT_THROW(pvd.add(0.01, "late.vtu"), std::invalid_argument);
+  EXPECT_THROW(pvd.add(NAN, "nan.vtu"), std::invalid_argument);
+  EXPECT_EQ(pvd.size(), 3u);
+  EXPECT_EQ(slurp(pvd.path()), before);
+}
+
+// ---------------------------------------------------------------------------------------- USD
+
+namespace {
+
+struct UsdaSummary {
+  std::map<std::string, std::string> layer;  // layer metadata, values unquoted
+  std::vector<double> counts, indices, points, extent;
+  std::map<int, std::vector<double>> point_samples, extent_samples;
+};
+
+// Numbers in "[(a, b, c), ...]" or "[1, 2, ...]": strips brackets, parens and commas, and
+// parses every remaining token strictly.
+std::vector<double> usda_numbers(std::string s) {
+  for (char& c : s)
+    if (c == '[' || c == ']' || c == '(' || c == ')' || c == ',') c = ' ';
+  return numbers(s);
+}
+
+// The structural checks: header line, balanced (), [], {} outside strings, then the attribute
+// lines this writer emits. Throws std::runtime_error on anything unexpected.
+UsdaSummary check_usda(const std::string& text) {
+  if (text.rfind("#usda 1.0\n", 0) != 0) throw std::runtime_error("no #usda 1.0 header");
+  std::vector<char> stack;
+  bool in_string = false;
+  for (char c : text) {
+    if (c == '"') in_string = !in_string;
+    if (in_string) continue;
+    if (c == '(' || c == '[' || c == '{') stack.push_back(c);
+    if (c == ')' || c == ']' || c == '}') {
+      const char open = c == ')' ? '(' : c == ']' ? '[' : '{';
+      if (stack.empty() || stack.back() != open) throw std::runtime_error(std::string("unbalanced ") + c);
+      stack.pop_back();
+    }
+  }
+  if (!stack.empty() || in_string) throw std::runtime_error("unclosed bracket or string");
+
+  UsdaSummary s;
+  std::istringstream in(text);
+  std::string line;
+  std::getline(in, line);
+  std::getline(in, line);
+  if (line != "(") throw std::runtime_error("no layer metadata block");
+  while (std::getline(in, line) && line != ")") {
+    const auto eq = line.find(" = ");
+    if (eq == std::string::npos) throw std::runtime_error("bad metadata line: " + line);
+    std::string key = line.substr(0, eq), value = line.substr(eq + 3);
+    key.erase(0, key.find_first_not_of(' '));
+    if (!value.empty() && value.front() == '"') value = value.substr(1, value.size() - 2);
+    s.layer[key] = value;
+  }
+  auto value_of = [](const std::string& l) { return l.substr(l.find(" = ") + 3); };
+  auto sample = [&](std::map<int, std::vector<double>>& into) {
+    while (std::getline(in, line)) {
+      const auto first = line.find_first_not_of(' ');
+      if (line.substr(first) == "}") return;
+      const auto colon = line.find(": ");
+      if (colon == std::string::npos || line.back() != ',') throw std::runtime_error("bad sample: " + line);
+      const int frame = std::stoi(line.substr(first, colon - first));
+      into[frame] = usda_numbers(line.substr(colon + 2, line.size() - colon - 3));
+    }
+    throw std::runtime_error("unterminated timeSamples");
+  };
+  while (std::getline(in, line)) {
+    if (line.find("int[] faceVertexCounts = ") != std::string::npos) s.counts = usda_numbers(value_of(line));
+    else if (line.find("int[] faceVertexIndices = ") != std::string::npos) s.indices = usda_numbers(value_of(line));
+    else if (line.find("point3f[] points = ") != std::string::npos) s.points = usda_numbers(value_of(line));
+    else if (line.find("float3[] extent = ") != std::string::npos) s.extent = usda_numbers(value_of(line));
+    else if (line.find("point3f[] points.timeSamples = {") != std::string::npos) sample(s.point_samples);
+    else if (line.find("float3[] extent.timeSamples = {") != std::string::npos) sample(s.extent_samples);
+  }
+  return s;
+}
+
+Points wobble(const Points& X, int frame) {
+  Points x = X;
+  for (Eigen::Index i = 0; i < x.rows(); ++i) x(i, 1) += 0.05 * frame * std::sin(x(i, 0) + frame);
+  return x;
+}
+
+}  // namespace
+
+TEST(UsdaWriter, EveryIntermediateFileIsStructurallyValid) {
+  TempDir dir;
+  const TriangleMesh m = curved_sheet(5, 4);
+  const Eigen::Index n = m.X.rows(), nt = m.tris.rows();
+  const std::string p = dir.path("cloth.usda");
+  UsdaAnimationWriter usd(p, "9 cape-left", m.tris, 24);
+  EXPECT_EQ(usd.prim_name(), "_9_cape_left");
+  const int frames = 5;
+  for (int f = 0; f < frames; ++f) {
+    usd.add_frame(f, wobble(m.X, f));
+    // What a killed run would leave behind: a complete file with frames 0..f.
+    const UsdaSummary s = check_usda(slurp(p));
+    EXPECT_EQ(s.layer.at("upAxis"), "Y");
+    EXPECT_EQ(s.layer.at("metersPerUnit"), "1");
+    EXPECT_EQ(s.layer.at("timeCodesPerSecond"), "24");
+    EXPECT_EQ(s.layer.at("defaultPrim"), "_9_cape_left");
+    EXPECT_EQ(s.layer.at("startTimeCode"), "0");
+    EXPECT_EQ(s.layer.at("endTimeCode"), std::to_string(f));
+    ASSERT_EQ(s.counts.size(), static_cast<std::size_t>(nt));
+    for (double c : s.counts) EXPECT_EQ(c, 3);
+    ASSERT_EQ(s.indices.size(), static_cast<std::size_t>(3 * nt));
+    for (Eigen::Index i = 0; i < 3 * nt; ++i) EXPECT_EQ(s.indices[i], m.tris.data()[i]);
+    ASSERT_EQ(s.points.size(), static_cast<std::size_t>(3 * n));
+    ASSERT_EQ(s.point_samples.size(), static_cast<std::size_t>(f + 1));
+    ASSERT_EQ(s.extent_samples.size(), static_cast<std::size_t>(f + 1));
+    for (const auto& [k, v] : s.point_samples) {
+      ASSERT_EQ(v.size(), static_cast<std::size_t>(3 * n)) << "frame " << k;
+      const Points want = wobble(m.X, k);
+      for (Eigen::Index i = 0; i < 3 * n; ++i) EXPECT_NEAR(v[i], want.data()[i], 1e-8) << "frame " << k;
+      const auto& e = s.extent_samples.at(k);
+      ASSERT_EQ(e.size(), 6u);
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(e[c], want.col(c).minCoeff(), 1e-8);
+        EXPECT_NEAR(e[3 + c], want.col(c).maxCoeff(), 1e-8);
+      }
+    }
+    EXPECT_EQ(s.points, s.point_samples.at(0));
+    EXPECT_EQ(s.extent, s.extent_samples.at(0));
+  }
+  EXPECT_EQ(usd.num_frames(), static_cast<std::size_t>(frames));
+  // Optional: the real USD parser, when it is installed (it is not by default).
+  if (std::system("command -v usdcat > /dev/null 2>&1") == 0) {
+    EXPECT_EQ(std::system(("usdcat '" + p + "' > /dev/null").c_str()), 0);
+  }
+}
+
+TEST(UsdaWriter, StructureCheckerRejectsBrokenFiles) {
+  TempDir dir;
+  const TriangleMesh m = curved_sheet(2, 2);
+  const std::string p = dir.path("a.usda");
+  UsdaAnimationWriter usd(p, "a", m.tris, 30);
+  usd.add_frame(0, m.X);
+  const std::string good = slurp(p);
+  EXPECT_NO_THROW(check_usda(good));
+  std::string missing_brace = good;
+  missing_brace.erase(missing_brace.rfind('}'), 1);
+  EXPECT_THROW(check_usda(missing_brace), std::runtime_error);
+  std::string bad_number = good;
+  bad_number.replace(bad_number.find("points = [(") + 11, 1, "x");
+  EXPECT_THROW(check_usda(bad_number), std::runtime_error);
+  EXPECT_THROW(check_usda("#usda 2.0\n" + good.substr(10)), std::runtime_error);
+}
+
+TEST(UsdaWriter, RejectsBadFramesAndKeepsTheFile) {
+  TempDir dir;
+  const TriangleMesh m = curved_sheet(2, 3);
+  const std::string p = dir.path("a.usda");
+  EXPECT_THROW(UsdaAnimationWriter(p, "a", m.tris, 0), std::invalid_argument);
+  EXPECT_THROW(UsdaAnimationWriter(p, "a", Tris(0, 3), 30), std::invalid_argument);
+  UsdaAnimationWriter usd(p, "a", m.tris, 30);
+  Points small = m.X.topRows(3);
+  EXPECT_THROW(usd.add_frame(0, small), std::invalid_argument);  // tris index past 3 points
+  EXPECT_FALSE(fs::exists(p));
+  usd.add_frame(2, m.X);
+  const std::string before = slurp(p);
+  EXPECT_THROW(usd.add_frame(3, small), std::invalid_argument);
+  EXPECT_THROW(usd.add_frame(-1, m.X), std::invalid_argument);
+  Points nan = m.X;
+  nan(1, 1) = NAN;
+  EXPECT_THROW(usd.add_frame(4, nan), std::invalid_argument);
+  EXPECT_EQ(slurp(p), before);
+  EXPECT_EQ(usd.num_frames(), 1u);
+  // Frames may arrive out of order (a resumed run); the file lists them sorted.
+  usd.add_frame(1, wobble(m.X, 1));
+  const UsdaSummary s = check_usda(slurp(p));
+  EXPECT_EQ(s.layer.at("startTimeCode"), "1");
+  EXPECT_EQ(s.layer.at("endTimeCode"), "2");
+  EXPECT_EQ(s.point_samples.begin()->first, 1);
+}

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "json_fields.hpp"
+#include "render_command.hpp"
 #include "run_command.hpp"
 
 namespace {
@@ -16,6 +17,7 @@ const char* const kHelp =
     "\n"
     "commands:\n"
     "  run SCENE.json --out DIR   simulate a scene, writing frames and energies as it goes\n"
+    "  render OUTDIR              render a run's frames to OUTDIR/png/NNNN.png (offscreen)\n"
     "  help [COMMAND]             this text, or a command's options\n"
     "\n"
     "Exit codes: 0 ok, 1 simulation failure, 2 bad input (scene, mesh or option).\n";
@@ -33,6 +35,7 @@ int main(int argc, char** argv) {
   if (args[0] == "help") rest = {"--help"};
   try {
     if (cmd == "run") return invfem::app::run_command(rest);
+    if (cmd == "render") return invfem::app::render_command(rest);
     std::cerr << "error: unknown command \"" << cmd << "\"\n\n" << kHelp;
     return 2;
   } catch (const invfem::app::InputError& e) {

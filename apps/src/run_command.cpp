@@ -8,7 +8,9 @@
 #include <iostream>
 #include <memory>
 
+#include "cli_args.hpp"
 #include "json_fields.hpp"
+#include "preview.hpp"
 #include "run_output.hpp"
 #include "scene.hpp"
 #include "world.hpp"
@@ -16,14 +18,20 @@
 namespace invfem::app {
 
 const char* const kRunHelp =
-    "usage: invfem run SCENE.json --out DIR [--threads N] [--quiet]\n"
+    "usage: invfem run SCENE.json --out DIR [--quick] [--set path.to.field=value]... [--render]\n"
+    "                  [--threads N] [--quiet]\n"
     "\n"
     "Simulates the scene and writes, as frames are made:\n"
     "  DIR/scene.json               the scene as run, every default filled in\n"
     "  DIR/frames/<object>/NNNN.obj each object's boundary surface per frame (frame 0 = rest)\n"
     "  DIR/energies.csv             per frame: energies, inverted elements, min det F, volume\n"
+    "  DIR/png/NNNN.png             preview images, with --render\n"
     "Options:\n"
     "  --out DIR      output folder (created if missing)\n"
+    "  --quick        apply the scene's \"quick\" overrides (a quick resolution, as the tests use)\n"
+    "  --set P=V      override a scene field before validation, e.g. --set solids.0.material.young=1e6\n"
+    "                 (V is JSON, or plain text for a string); repeatable\n"
+    "  --render       render each frame to DIR/png as it is made (OSMesa, no display needed)\n"
     "  --threads N    worker threads (default: all cores)\n"
     "  --quiet        no progress lines\n"
     "Exit codes: 0 ok, 1 simulation failure, 2 bad input.\n";
@@ -42,62 +50,46 @@ std::string format_duration(double s) {
 }
 
 bool finite_state(const World& world) {
-  for (const auto& o : world.solids())
+  for (const auto& o : world.objects())
     if (!o.body.x.allFinite() || !o.body.v.allFinite()) return false;
   return true;
 }
 
 }  // namespace
 
-int run_command(const std::vector<std::string>& args) {
-  std::string scene_path, out_dir;
-  int threads = 0;
-  bool quiet = false;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&](const char* opt) -> std::string {
-      if (i + 1 >= args.size()) throw InputError(std::string("option ") + opt + " needs a value");
-      return args[++i];
-    };
-    if (a == "--help" || a == "-h") {
-      std::cout << kRunHelp;
-      return 0;
-    } else if (a == "--out") {
-      out_dir = value("--out");
-    } else if (a == "--threads") {
-      const std::string v = value("--threads");
-      try {
-        threads = std::stoi(v);
-      } catch (...) {
-        threads = -1;
-      }
-      if (threads < 1) throw InputError("--threads: expected a whole number >= 1, found \"" + v + "\"");
-    } else if (a == "--quiet") {
-      quiet = true;
-    } else if (!a.empty() && a[0] == '-') {
-      throw InputError("run: unknown option \"" + a + "\" (see invfem run --help)");
-    } else if (scene_path.empty()) {
-      scene_path = a;
-    } else {
-      throw InputError("run: more than one scene given (\"" + scene_path + "\" and \"" + a + "\")");
-    }
+int run_command(const std::vector<std::string>& raw) {
+  const ParsedArgs args = parse_args(raw, "run", {"--out", "--threads", "--set"}, {"--help", "-h", "--quiet", "--quick", "--render"});
+  if (args.flag("--help") || args.flag("-h")) {
+    std::cout << kRunHelp;
+    return 0;
   }
-  if (scene_path.empty()) throw InputError("run: no scene file given (see invfem run --help)");
-  if (out_dir.empty()) throw InputError("run: --out DIR is required (see invfem run --help)");
+  if (args.positional.empty()) throw InputError("run: no scene file given (see invfem run --help)");
+  if (args.positional.size() > 1)
+    throw InputError("run: more than one scene given (\"" + args.positional[0] + "\" and \"" + args.positional[1] + "\")");
+  if (!args.has("--out")) throw InputError("run: --out DIR is required (see invfem run --help)");
+  const std::string scene_path = args.positional[0];
+  const std::string out_dir = args.value("--out");
+  const int threads = args.integer("--threads", 0, 1, 1024);
+  const bool quiet = args.flag("--quiet");
 
   std::unique_ptr<tbb::global_control> thread_limit;
   if (threads > 0)
     thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
 
-  const Scene scene = load_scene(scene_path);
+  const Scene scene = load_scene(scene_path, args.all("--set"), args.flag("--quick"));
   World world(scene);
   RunOutput output(out_dir, world);
+  std::unique_ptr<PreviewRenderer> preview;
 
   const auto start = std::chrono::steady_clock::now();
   {
     FrameReport r;
     world.measure(r);
     output.write_frame(0, world, r);
+    if (args.flag("--render")) {
+      preview = std::make_unique<PreviewRenderer>(out_dir, scene, PreviewOptions{});
+      preview->render(0);
+    }
   }
   for (int frame = 1; frame <= scene.frames; ++frame) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -110,6 +102,7 @@ int run_command(const std::vector<std::string>& args) {
     }
     world.measure(r);
     output.write_frame(frame, world, r);
+    if (preview) preview->render(frame);
     if (!quiet) {
       const auto now = std::chrono::steady_clock::now();
       const double wall = std::chrono::duration<double>(now - t0).count();

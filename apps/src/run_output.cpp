@@ -9,7 +9,7 @@ namespace invfem::app {
 
 RunOutput::RunOutput(std::filesystem::path dir, const World& world) : dir_(std::move(dir)) {
   std::filesystem::create_directories(dir_ / "frames");
-  for (const auto& o : world.solids()) std::filesystem::create_directories(dir_ / "frames" / o.name);
+  for (const auto& o : world.objects()) std::filesystem::create_directories(dir_ / "frames" / o.name);
   atomic_write(dir_ / "scene.json", to_json(world.scene()).dump(2) + "\n");
   csv_ = "frame,time,kinetic,elastic,gravity,total,inverted,elements,min_det_F,volume,rest_volume,substeps,cg_iterations\n";
 }
@@ -21,7 +21,7 @@ std::string RunOutput::frame_name(int frame) {
 }
 
 void RunOutput::write_frame(int frame, const World& world, const FrameReport& r) {
-  for (const auto& o : world.solids())
+  for (const auto& o : world.objects())
     write_obj((dir_ / "frames" / o.name / (frame_name(frame) + ".obj")).string(), o.surface.gather(o.body.x),
               o.surface.tris);
   char row[512];

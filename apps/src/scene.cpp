@@ -66,12 +66,137 @@ Transform parse_transform(const Fields& f) {
   return t;
 }
 
+ClothMaterialSpec parse_cloth_material(const Fields& f) {
+  f.reject_unknown({"young", "poisson", "density", "thickness", "damping", "bending_stiffness", "bending_damping"});
+  ClothMaterialSpec m;
+  m.young = f.number_in("young", m.young, 0, 1e13);
+  m.poisson = f.number("poisson", m.poisson);
+  if (!(m.poisson > -1 && m.poisson < 0.5)) f.fail("poisson", "a Poisson's ratio in (-1, 0.5)");
+  m.density = f.number("density", m.density);
+  if (!(m.density > 0)) f.fail("density", "a density > 0 [kg/m^3]");
+  m.thickness = f.number("thickness", m.thickness);
+  if (!(m.thickness > 0 && m.thickness < 1)) f.fail("thickness", "a thickness in (0, 1) [m]");
+  m.damping = f.number_in("damping", m.damping, 0, 10);
+  m.bending_stiffness = f.number_in("bending_stiffness", m.bending_stiffness, 0, 1e6);
+  m.bending_damping = f.number_in("bending_damping", m.bending_damping, 0, 1e6);
+  return m;
+}
+
+ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool check_files) {
+  f.reject_unknown({"name", "mesh", "grid", "transform", "velocity", "material", "pin_vertices", "pin_box"});
+  ClothSpec c;
+  c.name = f.string("name");
+  if (f.has("mesh") && f.has("grid")) f.fail("grid", "either \"mesh\" or \"grid\", not both");
+  if (f.has("mesh")) {
+    c.mesh = std::filesystem::absolute(dir / f.string("mesh")).lexically_normal();
+    if (check_files && !std::filesystem::exists(c.mesh))
+      f.fail("mesh", "an existing mesh file", "\"" + c.mesh.string() + "\", which does not exist");
+  } else {
+    const Fields g = f.object_or_empty("grid");
+    g.reject_unknown({"width", "height", "nx", "ny"});
+    c.grid.width = g.number_in("width", c.grid.width, 1e-4, 1e4);
+    c.grid.height = g.number_in("height", c.grid.height, 1e-4, 1e4);
+    c.grid.nx = g.integer("nx", c.grid.nx, 1, 2000);
+    c.grid.ny = g.integer("ny", c.grid.ny, 1, 2000);
+  }
+  c.transform = parse_transform(f.object_or_empty("transform"));
+  c.velocity = f.vec3("velocity", c.velocity);
+  c.material = parse_cloth_material(f.object_or_empty("material"));
+  if (f.has("pin_vertices")) {
+    const auto& v = f.raw("pin_vertices");
+    if (!v.is_array()) f.fail("pin_vertices", "an array of vertex indices");
+    for (const auto& i : v) {
+      if (!i.is_number_integer() || i.get<long long>() < 0)
+        f.fail("pin_vertices", "vertex indices >= 0", describe(i));
+      c.pin_vertices.push_back(i.get<int>());
+    }
+  }
+  if (f.has("pin_box")) {
+    const Fields b = f.object("pin_box");
+    b.reject_unknown({"min", "max"});
+    c.has_pin_box = true;
+    c.pin_box_min = b.vec3("min", c.pin_box_min);
+    c.pin_box_max = b.vec3("max", c.pin_box_max);
+    for (int k = 0; k < 3; ++k)
+      if (c.pin_box_min[k] > c.pin_box_max[k]) b.fail("max", "a box with min <= max in every coordinate");
+  }
+  return c;
+}
+
+RenderSpec parse_render(const Fields& f) {
+  f.reject_unknown({"width", "height", "ground", "camera"});
+  RenderSpec r;
+  r.width = f.integer("width", r.width, 16, 8192);
+  r.height = f.integer("height", r.height, 16, 8192);
+  r.ground = f.boolean("ground", r.ground);
+  if (f.has("camera")) {
+    const Fields c = f.object("camera");
+    c.reject_unknown({"position", "target", "fov_degrees"});
+    r.camera.automatic = false;
+    r.camera.position = c.vec3("position", r.camera.position);
+    r.camera.target = c.vec3("target", r.camera.target);
+    r.camera.fov_degrees = c.number_in("fov_degrees", r.camera.fov_degrees, 1, 170);
+    const auto& p = r.camera.position;
+    const auto& t = r.camera.target;
+    if (std::hypot(p[0] - t[0], p[1] - t[1], p[2] - t[2]) < 1e-9)
+      c.fail("target", "a target different from the camera position");
+  }
+  return r;
+}
+
+// Parse the value of a --set assignment: JSON if it parses (numbers, arrays, true, "text"),
+// otherwise the raw text as a string.
+nlohmann::json parse_override_value(const std::string& text) {
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error&) {
+    return text;
+  }
+}
+
+// Apply "a.b.0.c=value" to j. Objects get missing keys created; arrays take an index.
+void apply_override(nlohmann::json& j, const std::string& assignment, const std::string& origin) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError(origin + ": \"" + assignment + "\": expected path.to.field=value");
+  const std::string path = assignment.substr(0, eq);
+  nlohmann::json* node = &j;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = path.find('.', start);
+    const std::string key = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    if (key.empty()) throw InputError(origin + ": \"" + path + "\": empty component in the field path");
+    if (node->is_array()) {
+      std::size_t idx = 0;
+      try {
+        std::size_t used = 0;
+        idx = std::stoul(key, &used);
+        if (used != key.size()) throw std::invalid_argument(key);
+      } catch (const std::exception&) {
+        throw InputError(origin + ": \"" + path + "\": \"" + key + "\" must be an array index");
+      }
+      if (idx >= node->size())
+        throw InputError(origin + ": \"" + path + "\": index " + key + " is past the end of an array of " +
+                         std::to_string(node->size()));
+      node = &(*node)[idx];
+    } else if (node->is_object() || node->is_null()) {
+      node = &(*node)[key];
+    } else {
+      throw InputError(origin + ": \"" + path + "\": \"" + key + "\" is inside a " + node->type_name() +
+                       ", not an object or array");
+    }
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  *node = parse_override_value(assignment.substr(eq + 1));
+}
+
 }  // namespace
 
-Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file) {
+Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bool check_files) {
   const std::string fname = file.string();
   Fields root(j, fname, "$");
-  root.reject_unknown({"name", "fps", "frames", "gravity", "solver", "solids", "colliders"});
+  root.reject_unknown({"name", "fps", "frames", "gravity", "solver", "solids", "cloths", "colliders", "render", "quick"});
   Scene s;
   s.file = file;
   s.name = root.string("name", file.stem().string());
@@ -103,7 +228,7 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file) {
       solid.name = f.string("name");
       unique_name(f, solid.name);
       solid.mesh = std::filesystem::absolute(dir / f.string("mesh")).lexically_normal();
-      if (!std::filesystem::exists(solid.mesh))
+      if (check_files && !std::filesystem::exists(solid.mesh))
         f.fail("mesh", "an existing mesh file", "\"" + solid.mesh.string() + "\", which does not exist");
       solid.transform = parse_transform(f.object_or_empty("transform"));
       solid.velocity = f.vec3("velocity", solid.velocity);
@@ -111,7 +236,20 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file) {
       s.solids.push_back(std::move(solid));
     }
   }
-  if (s.solids.empty()) root.fail("solids", "at least one solid object");
+  if (j.contains("cloths")) {
+    if (!j["cloths"].is_array()) root.fail("cloths", "an array of cloth objects");
+    for (std::size_t i = 0; i < j["cloths"].size(); ++i) {
+      ClothSpec c = parse_cloth(Fields(j["cloths"][i], fname, "$.cloths[" + std::to_string(i) + "]"), dir, check_files);
+      unique_name(Fields(j["cloths"][i], fname, "$.cloths[" + std::to_string(i) + "]"), c.name);
+      s.cloths.push_back(std::move(c));
+    }
+  }
+  if (s.solids.empty() && s.cloths.empty()) root.fail("solids", "at least one solid or cloth object");
+  s.render = parse_render(root.object_or_empty("render"));
+  if (j.contains("quick")) {
+    if (!j["quick"].is_object()) root.fail("quick", "an object of field overrides, e.g. {\"frames\": 30}");
+    s.quick = j["quick"];
+  }
 
   if (j.contains("colliders")) {
     if (!j["colliders"].is_array()) root.fail("colliders", "an array of colliders");
@@ -133,7 +271,7 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file) {
   return s;
 }
 
-Scene load_scene(const std::filesystem::path& file) {
+Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides, bool quick) {
   std::ifstream in(file);
   if (!in) throw InputError(file.string() + ": cannot open the scene file");
   nlohmann::json j;
@@ -142,6 +280,12 @@ Scene load_scene(const std::filesystem::path& file) {
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError(file.string() + ": not valid JSON: " + e.what());
   }
+  if (quick && j.is_object() && j.contains("quick") && j["quick"].is_object()) {
+    const nlohmann::json q = j["quick"];
+    for (auto it = q.begin(); it != q.end(); ++it)
+      apply_override(j, it.key() + "=" + it.value().dump(), file.string() + ": $.quick." + it.key());
+  }
+  for (const auto& o : overrides) apply_override(j, o, "--set");
   return parse_scene(j, file);
 }
 
@@ -175,6 +319,28 @@ nlohmann::json to_json(const Scene& s) {
                        {"hardening_deformation", m.hardening_deformation},
                        {"hardening_strength", m.hardening_strength}, {"strength", track_json(m.strength)}}}});
   }
+  j["cloths"] = nlohmann::json::array();
+  for (const auto& c : s.cloths) {
+    const auto& m = c.material;
+    nlohmann::json cj{{"name", c.name},
+                      {"transform", {{"scale", c.transform.scale}, {"rotate_degrees", c.transform.rotate_degrees},
+                                     {"translate", c.transform.translate}}},
+                      {"velocity", c.velocity},
+                      {"material", {{"young", m.young}, {"poisson", m.poisson}, {"density", m.density},
+                                    {"thickness", m.thickness}, {"damping", m.damping},
+                                    {"bending_stiffness", m.bending_stiffness}, {"bending_damping", m.bending_damping}}},
+                      {"pin_vertices", c.pin_vertices}};
+    if (c.mesh.empty())
+      cj["grid"] = {{"width", c.grid.width}, {"height", c.grid.height}, {"nx", c.grid.nx}, {"ny", c.grid.ny}};
+    else
+      cj["mesh"] = c.mesh.string();
+    if (c.has_pin_box) cj["pin_box"] = {{"min", c.pin_box_min}, {"max", c.pin_box_max}};
+    j["cloths"].push_back(cj);
+  }
+  j["render"] = {{"width", s.render.width}, {"height", s.render.height}, {"ground", s.render.ground}};
+  if (!s.render.camera.automatic)
+    j["render"]["camera"] = {{"position", s.render.camera.position}, {"target", s.render.camera.target},
+                             {"fov_degrees", s.render.camera.fov_degrees}};
   j["colliders"] = nlohmann::json::array();
   for (const auto& c : s.colliders)
     j["colliders"].push_back({{"name", c.name}, {"type", c.type}, {"point", c.point}, {"normal", c.normal},

@@ -39,6 +39,45 @@ struct SolidSpec {
   MaterialSpec material;
 };
 
+struct ClothMaterialSpec {
+  double young = 1e6;             // [Pa], in-plane
+  double poisson = 0.3;
+  double density = 300;           // [kg/m^3]; areal density = density * thickness
+  double thickness = 0.001;       // [m]
+  double damping = 0.01;          // k [s] for the in-plane rotated damping
+  double bending_stiffness = 1e-4;  // BMF03 k_e [N m]
+  double bending_damping = 1e-5;    // BMF03 k_d [N m s]
+};
+
+struct GridSpec {
+  double width = 1, height = 1;   // [m], in the x-z plane before the transform
+  int nx = 20, ny = 20;
+};
+
+struct ClothSpec {
+  std::string name;
+  std::filesystem::path mesh;     // empty: a grid
+  GridSpec grid;
+  Transform transform;
+  std::array<double, 3> velocity{0, 0, 0};
+  ClothMaterialSpec material;
+  std::vector<int> pin_vertices;  // vertex indices of the (welded) mesh, held in place
+  bool has_pin_box = false;       // every vertex whose world rest position lies in the box
+  std::array<double, 3> pin_box_min{0, 0, 0}, pin_box_max{0, 0, 0};
+};
+
+struct CameraSpec {
+  bool automatic = true;          // framed around the objects' first frame
+  std::array<double, 3> position{0, 1, 4}, target{0, 0.5, 0};
+  double fov_degrees = 35;
+};
+
+struct RenderSpec {
+  int width = 640, height = 480;
+  bool ground = true;
+  CameraSpec camera;
+};
+
 struct ColliderSpec {
   std::string name;
   std::string type = "plane";
@@ -62,13 +101,20 @@ struct Scene {
   std::array<double, 3> gravity{0, -9.81, 0};
   SolverSpec solver;
   std::vector<SolidSpec> solids;
+  std::vector<ClothSpec> cloths;
   std::vector<ColliderSpec> colliders;
+  RenderSpec render;
+  nlohmann::json quick;           // field overrides for a quick-resolution run (--quick)
 };
 
 // Parse and validate. Throws InputError naming the file, the JSON path, what was expected and
-// what was found.
-Scene load_scene(const std::filesystem::path& file);
-Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file);
+// what was found. `overrides` are "path.to.field=value" assignments applied to the JSON before
+// validation (--set); `quick` applies the scene's own "quick" overrides first.
+Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {},
+                 bool quick = false);
+// check_files = false skips the existence checks of mesh paths (rendering a finished run needs
+// only its frames).
+Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bool check_files = true);
 
 // The scene with every default filled in (what OUT/scene.json holds).
 nlohmann::json to_json(const Scene& scene);

@@ -1,6 +1,6 @@
 #pragma once
-// The simulated world built from a scene: solids (tet mesh, nodes, forces), rigid colliders,
-// and the frame loop that substeps ITF04 section 9's step.
+// The simulated world built from a scene: objects (solids and cloths: nodes, forces, pins),
+// rigid colliders, and the frame loop that substeps ITF04 section 9's step.
 #include <memory>
 #include <string>
 #include <vector>
@@ -8,24 +8,31 @@
 #include "invfem/collisions/rigid_collisions.hpp"
 #include "invfem/core/newmark_step.hpp"
 #include "invfem/solids/boundary.hpp"
-#include "invfem/solids/tet_mesh.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 #include "scene.hpp"
 
 namespace invfem::app {
 
-struct SolidObject {
+// One simulated object. Its forces act on its own nodes only; objects interact through the
+// rigid colliders (and, later, one-way coupling).
+struct SimObject {
+  enum class Kind { Solid, Cloth };
   std::string name;
-  TetMesh rest;           // rest mesh, transformed into the world
-  SurfaceMesh surface;    // boundary, for output
+  Kind kind = Kind::Solid;
   Body body;
-  std::unique_ptr<TetSolidForce> force;
+  std::vector<std::unique_ptr<Force>> forces;
+  NodeConstraints pinned;     // Kind::Full constraints holding pinned nodes still
+  SurfaceMesh surface;        // what is written and rendered (a solid's boundary, a cloth whole)
+  Tets tets;                  // solids: the tet mesh (for volumetric output), else empty
+  TetSolidForce* solid = nullptr;  // solids: the elasticity force, for element diagnostics
+
+  std::vector<Force*> force_pointers() const;
 };
 
-// Per-frame figures, summed over solids.
+// Per-frame figures, summed over objects.
 struct FrameReport {
   double kinetic = 0, elastic = 0, gravity = 0;  // [J]; gravity potential is -m g.x
-  int inverted = 0, elements = 0;
+  int inverted = 0, elements = 0;                // tets only
   double min_det_F = 1;
   double volume = 0, rest_volume = 0;            // [m^3], signed sum of tet volumes
   int substeps = 0, cg_iterations = 0, colliding_nodes = 0;
@@ -39,7 +46,7 @@ class World {
 
   double time() const { return time_; }
   const Scene& scene() const { return scene_; }
-  const std::vector<SolidObject>& solids() const { return solids_; }
+  const std::vector<SimObject>& objects() const { return objects_; }
 
   // Substep from time() to t_end; fills the step counts of `report`.
   void advance_to(double t_end, FrameReport& report);
@@ -49,7 +56,7 @@ class World {
  private:
   Scene scene_;
   double time_ = 0;
-  std::vector<SolidObject> solids_;
+  std::vector<SimObject> objects_;
   std::unique_ptr<RigidCollisions> collisions_;
 };
 

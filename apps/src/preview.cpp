@@ -1,0 +1,112 @@
+#include "preview.hpp"
+
+#include <cstdio>
+
+#include "invfem/renders/mesh_renderer.hpp"
+#include "invfem/solids/obj_writer.hpp"
+#include "run_output.hpp"
+
+namespace invfem::app {
+
+namespace {
+const Vec3 kSolidColor(0.45, 0.62, 0.85);
+const Vec3 kClothFront(0.86, 0.55, 0.32);
+const Vec3 kClothBack(0.55, 0.36, 0.62);
+
+struct ObjectView {
+  std::string name;
+  bool cloth = false;
+};
+
+std::vector<ObjectView> object_views(const Scene& scene) {
+  std::vector<ObjectView> v;
+  for (const auto& s : scene.solids) v.push_back({s.name, false});
+  for (const auto& c : scene.cloths) v.push_back({c.name, true});
+  return v;
+}
+
+std::filesystem::path obj_path(const std::filesystem::path& dir, const std::string& name, int frame) {
+  return dir / "frames" / name / (RunOutput::frame_name(frame) + ".obj");
+}
+
+Vec3 to_vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
+}  // namespace
+
+struct PreviewRenderer::Impl {
+  std::filesystem::path dir;
+  Scene scene;
+  PreviewOptions options;
+  std::vector<ObjectView> objects;
+  renders::MeshRenderer renderer;
+  renders::Camera camera;
+  renders::RenderSettings settings;
+
+  std::vector<renders::RenderMesh> load(int frame) const {
+    std::vector<renders::RenderMesh> meshes;
+    for (const auto& o : objects) {
+      const ObjPositions obj = read_obj_positions(obj_path(dir, o.name, frame).string());
+      renders::RenderMesh m;
+      m.positions = obj.x;
+      m.triangles = obj.tris;
+      m.two_sided = o.cloth;
+      m.color = o.cloth ? kClothFront : kSolidColor;
+      m.back_color = kClothBack;
+      meshes.push_back(std::move(m));
+    }
+    return meshes;
+  }
+};
+
+PreviewRenderer::PreviewRenderer(std::filesystem::path out_dir, const Scene& scene, PreviewOptions options)
+    : impl_(new Impl{std::move(out_dir), scene, std::move(options), object_views(scene), {}, {}, {}}) {
+  Impl& m = *impl_;
+  m.settings.width = m.options.width > 0 ? m.options.width : scene.render.width;
+  m.settings.height = m.options.height > 0 ? m.options.height : scene.render.height;
+  m.settings.ground = scene.render.ground;
+  const CameraSpec cam = m.options.camera.value_or(scene.render.camera);
+  if (cam.automatic) {
+    // Framed once, on frame 0 (plus the ground beneath it), so the camera holds still.
+    const auto meshes = m.load(0);
+    Eigen::AlignedBox3d box = renders::mesh_bounds(meshes);
+    if (scene.render.ground && !box.isEmpty()) {
+      Vec3 below = box.center();
+      below.y() = 0;
+      box.extend(below);
+    }
+    m.camera = renders::frame_camera(box, double(m.settings.width) / m.settings.height);
+  } else {
+    m.camera = renders::Camera{to_vec(cam.position), to_vec(cam.target), Vec3::UnitY(), cam.fov_degrees};
+  }
+  std::filesystem::create_directories(m.dir / "png");
+}
+
+PreviewRenderer::~PreviewRenderer() = default;
+
+std::filesystem::path PreviewRenderer::png_path(int frame) const {
+  return impl_->dir / "png" / (RunOutput::frame_name(frame) + ".png");
+}
+
+renders::Image PreviewRenderer::render(int frame) {
+  Impl& m = *impl_;
+  renders::RenderSettings settings = m.settings;
+  if (m.options.caption) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%s  frame %d  t=%.3fs", m.scene.name.c_str(), frame, frame / m.scene.fps);
+    settings.caption = buf;
+  }
+  renders::Image image = m.renderer.render(m.load(frame), m.camera, settings);
+  renders::write_png(png_path(frame).string(), image);
+  return image;
+}
+
+int count_frames(const std::filesystem::path& out_dir, const Scene& scene) {
+  const auto objects = object_views(scene);
+  int n = 0;
+  while (true) {
+    for (const auto& o : objects)
+      if (!std::filesystem::exists(obj_path(out_dir, o.name, n))) return n;
+    ++n;
+  }
+}
+
+}  // namespace invfem::app

@@ -1,0 +1,38 @@
+#pragma once
+// Preview PNGs of a run's output: reads OUT/frames/<object>/NNNN.obj and writes OUT/png/NNNN.png.
+// `invfem render` and `invfem run --render` share this one path, so a preview made while
+// simulating and one made afterwards are the same picture.
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+#include "invfem/renders/image.hpp"
+#include "scene.hpp"
+
+namespace invfem::app {
+
+struct PreviewOptions {
+  int width = 0, height = 0;             // 0: the scene's render size
+  std::optional<CameraSpec> camera;      // unset: the scene's camera (or automatic framing)
+  bool caption = true;
+};
+
+class PreviewRenderer {
+ public:
+  // `scene` is the scene as run (OUT/scene.json). Creates the OSMesa context.
+  PreviewRenderer(std::filesystem::path out_dir, const Scene& scene, PreviewOptions options);
+  ~PreviewRenderer();
+
+  // Render frame `frame` from its OBJ files; returns the image and writes png/NNNN.png.
+  renders::Image render(int frame);
+  std::filesystem::path png_path(int frame) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Frames present on disk for every object of the scene: 0..N-1 (stops at the first gap).
+int count_frames(const std::filesystem::path& out_dir, const Scene& scene);
+
+}  // namespace invfem::app

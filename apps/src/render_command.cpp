@@ -1,0 +1,94 @@
+#include "render_command.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "cli_args.hpp"
+#include "json_fields.hpp"
+#include "preview.hpp"
+
+namespace invfem::app {
+
+const char* const kRenderHelp =
+    "usage: invfem render OUTDIR [--width W] [--height H] [--camera PX,PY,PZ,TX,TY,TZ[,FOV]]\n"
+    "                     [--frames A-B] [--no-caption]\n"
+    "\n"
+    "Renders every frame a run wrote (OUTDIR/frames/<object>/NNNN.obj) into OUTDIR/png/NNNN.png,\n"
+    "offscreen through OSMesa. The size and camera default to the scene's \"render\" block\n"
+    "(OUTDIR/scene.json); without a camera there, the view is framed on frame 0.\n";
+
+namespace {
+CameraSpec parse_camera(const std::string& text) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');) {
+    try {
+      std::size_t used = 0;
+      v.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw InputError("--camera: \"" + item + "\" is not a number");
+    }
+  }
+  if (v.size() != 6 && v.size() != 7)
+    throw InputError("--camera: expected PX,PY,PZ,TX,TY,TZ[,FOV], found " + std::to_string(v.size()) + " numbers");
+  CameraSpec c;
+  c.automatic = false;
+  c.position = {v[0], v[1], v[2]};
+  c.target = {v[3], v[4], v[5]};
+  if (v.size() == 7) c.fov_degrees = v[6];
+  if (!(c.fov_degrees > 1 && c.fov_degrees < 170)) throw InputError("--camera: field of view must be in (1, 170) degrees");
+  return c;
+}
+}  // namespace
+
+int render_command(const std::vector<std::string>& raw) {
+  const ParsedArgs args = parse_args(raw, "render", {"--width", "--height", "--camera", "--frames"},
+                                     {"--help", "-h", "--no-caption"});
+  if (args.flag("--help") || args.flag("-h")) {
+    std::cout << kRenderHelp;
+    return 0;
+  }
+  if (args.positional.size() != 1) throw InputError("render: expected one output folder (see invfem render --help)");
+  const std::filesystem::path dir = args.positional[0];
+  const std::filesystem::path scene_file = dir / "scene.json";
+  std::ifstream in(scene_file);
+  if (!in) throw InputError(scene_file.string() + ": cannot open (is " + dir.string() + " the output of invfem run?)");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(scene_file.string() + ": not valid JSON: " + e.what());
+  }
+  const Scene scene = parse_scene(j, scene_file, /*check_files=*/false);
+
+  PreviewOptions options;
+  options.width = args.integer("--width", 0, 16, 8192);
+  options.height = args.integer("--height", 0, 16, 8192);
+  if (args.has("--camera")) options.camera = parse_camera(args.value("--camera"));
+  options.caption = !args.flag("--no-caption");
+
+  const int available = count_frames(dir, scene);
+  if (available == 0) throw InputError(dir.string() + ": no frames to render (frames/<object>/0000.obj is missing)");
+  auto [first, last] = args.has("--frames") ? parse_frame_range(args.value("--frames"), "--frames")
+                                            : std::pair<int, int>{0, available - 1};
+  if (last >= available)
+    throw InputError("--frames: frame " + std::to_string(last) + " was not written (the run has frames 0-" +
+                     std::to_string(available - 1) + ")");
+
+  PreviewRenderer preview(dir, scene, options);
+  const auto start = std::chrono::steady_clock::now();
+  for (int f = first; f <= last; ++f) {
+    preview.render(f);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("rendered %s  (%d/%d, %.2fs/frame)\n", preview.png_path(f).string().c_str(), f - first + 1,
+                last - first + 1, wall / (f - first + 1));
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+}  // namespace invfem::app

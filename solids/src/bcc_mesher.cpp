@@ -91,10 +91,10 @@ struct Compression {
 
 // Moves boundary nodes towards their closest surface points (Gauss-Seidel over nodes in index
 // order, so the result is deterministic). Each pass recomputes targets in parallel, then tries
-// the fractions 1, 1/2, 1/4 of each move and keeps the first one leaving every incident tet with
-// quality >= kBccMinQuality. Nodes more than 1.5 h from the surface are left alone: a boundary
-// node of the centroid-selected mesh is within about h of a closed surface, so a farther target
-// belongs to another part of the surface (or, for a surface with holes, the rim of a hole).
+// the fractions 1, 3/4, 1/2, 1/4 of each move and keeps the first one leaving every incident
+// tet with quality >= kBccMinQuality. Nodes more than 1.5 h from the surface are left alone: a
+// boundary node of the centroid-selected mesh is within about h of a closed surface, so a farther
+// target belongs to another part of the surface (or, for a surface with holes, a hole's rim).
 Compression compress_boundary(const InsideTest& inside, TetMesh& mesh, double h) {
   Points& X = mesh.X;
   const Tets& T = mesh.tets;
@@ -108,7 +108,8 @@ Compression compress_boundary(const InsideTest& inside, TetMesh& mesh, double h)
   {
     std::vector<int> fill(start.begin(), start.end() - 1);
     for (Eigen::Index e = 0; e < T.rows(); ++e)
-      for (int k = 0; k < 4; ++k) adj[static_cast<std::size_t>(fill[T(e, k)]++)] = static_cast<int>(e);
+      for (int k = 0; k < 4; ++k)
+        adj[static_cast<std::size_t>(fill[T(e, k)]++)] = static_cast<int>(e);
   }
   auto ok = [&](int node) {
     for (int s = start[node]; s < start[node + 1]; ++s) {
@@ -135,7 +136,7 @@ Compression compress_boundary(const InsideTest& inside, TetMesh& mesh, double h)
       if (!target[s]) continue;
       const int i = nodes[s];
       const Vec3 x0 = X.row(i).transpose();
-      for (const double f : {1.0, 0.5, 0.25}) {
+      for (const double f : {1.0, 0.75, 0.5, 0.25}) {
         X.row(i) = (x0 + f * (*target[s] - x0)).transpose();
         if (ok(i)) {
           moved[s] = 1;
@@ -252,7 +253,7 @@ BccMeshResult bcc_mesh(const TriangleMesh& surface, const BccMeshOptions& option
   mesh.source = src;
   mesh.X.resize(n_nodes, 3);
   for (Eigen::Index i = 0; i < P.rows(); ++i)
-    if (remap[static_cast<std::size_t>(i)] >= 0) mesh.X.row(remap[static_cast<std::size_t>(i)]) = P.row(i);
+    if (const int r = remap[static_cast<std::size_t>(i)]; r >= 0) mesh.X.row(r) = P.row(i);
   mesh.tets.resize(static_cast<Eigen::Index>(kept.size()), 4);
   for (std::size_t e = 0; e < kept.size(); ++e) {
     const auto& t = kept[e];

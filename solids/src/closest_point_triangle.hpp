@@ -32,7 +32,8 @@ inline Vec3 closest_point_triangle(const Vec3& p, const Vec3& a, const Vec3& b, 
   const Vec3 e0 = closest_point_segment(p, a, b);
   const Vec3 e1 = closest_point_segment(p, b, c);
   const Vec3 e2 = closest_point_segment(p, c, a);
-  const double d0 = (e0 - p).squaredNorm(), d1 = (e1 - p).squaredNorm(), d2 = (e2 - p).squaredNorm();
+  const double d0 = (e0 - p).squaredNorm(), d1 = (e1 - p).squaredNorm(),
+               d2 = (e2 - p).squaredNorm();
   return d0 <= d1 && d0 <= d2 ? e0 : (d1 <= d2 ? e1 : e2);
 }
 

@@ -150,7 +150,8 @@ InsideTest::InsideTest(const TriangleMesh& surface) : surface_(surface) {
                                                             static_cast<std::size_t>(m)));
   if (!vb || !ib) {
     rtcReleaseGeometry(g);
-    throw std::runtime_error("InsideTest(" + surface_.source + "): Embree buffer allocation failed");
+    throw std::runtime_error("InsideTest(" + surface_.source +
+                             "): Embree buffer allocation failed");
   }
   for (Eigen::Index i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k)
@@ -162,7 +163,8 @@ InsideTest::InsideTest(const TriangleMesh& surface) : surface_(surface) {
   rtcReleaseGeometry(g);
   rtcCommitScene(e.scene);
   if (const RTCError err = rtcGetDeviceError(e.device); err != RTC_ERROR_NONE)
-    throw std::runtime_error("InsideTest(" + surface_.source + "): Embree scene build failed (error " +
+    throw std::runtime_error("InsideTest(" + surface_.source +
+                             "): Embree scene build failed (error " +
                              std::to_string(static_cast<int>(err)) + ")");
 }
 
@@ -254,7 +256,8 @@ std::optional<Vec3> InsideTest::closest_point_within(const Vec3& p, double radiu
 Vec3 InsideTest::closest_point(const Vec3& p, double* distance) const {
   const std::optional<Vec3> y = closest_point_within(p, std::numeric_limits<double>::infinity());
   if (!y)
-    throw std::runtime_error("InsideTest(" + surface_.source + "): closest-point query found no triangle");
+    throw std::runtime_error("InsideTest(" + surface_.source +
+                             "): closest-point query found no triangle");
   if (distance) *distance = (*y - p).norm();
   return *y;
 }

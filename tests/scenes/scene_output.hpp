@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "invfem/renders/image.hpp"
+#include "invfem/renders/image_compare.hpp"
 #include "invfem/solids/obj_writer.hpp"
 
 namespace invfem::test {
@@ -82,10 +84,41 @@ inline void expect_matches_golden_csv(const std::filesystem::path& actual_path,
   }
 }
 
-inline std::string frame_file(int frame) {
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "%04d.obj", frame);
+inline std::string frame_file(int frame, const char* ext = "obj") {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%04d.%s", frame, ext);
   return buf;
+}
+
+// Image regression in the manner of Blender's render tests: fail when more than
+// `max_fraction` of the pixels differ by more than `threshold` (0-255, largest channel
+// difference). On failure a diff image is written next to the output (NNNN.diff.png).
+// llvmpipe rasterizes deterministically, but antialiased edges may shift by a pixel between
+// CPUs: the tolerance absorbs that, not a moved object.
+inline void expect_matches_golden_png(const std::filesystem::path& actual_path,
+                                      const std::filesystem::path& golden_path, int threshold = 24,
+                                      double max_fraction = 0.01) {
+  if (update_golden()) {
+    std::filesystem::create_directories(golden_path.parent_path());
+    std::filesystem::copy_file(actual_path, golden_path, std::filesystem::copy_options::overwrite_existing);
+    std::cout << "updated golden " << golden_path << "\n";
+    return;
+  }
+  ASSERT_TRUE(std::filesystem::exists(golden_path))
+      << golden_path << " is missing; run INVFEM_UPDATE_GOLDEN=1 tests/run.sh to create it";
+  const renders::Image a = renders::read_png(actual_path.string());
+  const renders::Image g = renders::read_png(golden_path.string());
+  ASSERT_EQ(a.width, g.width);
+  ASSERT_EQ(a.height, g.height);
+  const renders::ImageDiff d = renders::compare_images(a, g, threshold);
+  if (d.fraction_over > max_fraction) {
+    std::filesystem::path diff = actual_path;
+    diff.replace_extension(".diff.png");
+    renders::write_png(diff.string(), renders::make_diff_image(a, g, threshold));
+    ADD_FAILURE() << actual_path << " differs from " << golden_path << ": " << 100 * d.fraction_over
+                  << "% of pixels over " << threshold << " (allowed " << 100 * max_fraction << "%); diff image "
+                  << diff;
+  }
 }
 
 // RMS distance between two point sets after the best rigid alignment (Kabsch), over the

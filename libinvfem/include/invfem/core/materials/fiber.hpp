@@ -27,6 +27,14 @@
 //   dP_f/dF = (Psi'' - Psi'/lambda)/lambda^2 n n^T + Psi'/lambda kron(a a^T, I)
 // Both coefficients are >= 0 here (Psi'' - Psi'/lambda = k_p/lambda or k_a alpha lambda_0/lambda on
 // each active piece), so dP_f/dF is positive semidefinite: no projection is needed.
+//
+// Call sequence in a tet force (per element e, fiber a_e, activation alpha_e):
+//   d  = diagonalize(F);                                       // the one diagonalization
+//   P  = energy_gradient(model, d) + fiber_stress(fiber, d, a_e, alpha_e);   G = P Bm
+//   W  = V0 (energy(model, d) + fiber_energy(fiber, d, a_e, alpha_e))
+//   dP/dF = energy_hessian(model, d, psd) + fiber_stress_derivative(fiber, d, a_e, alpha_e)
+// The fiber term is meant for elastic elements: with plasticity the fiber would first have to be
+// carried into the plastic rest shape (normalize(Fp a)); nothing here does that.
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>

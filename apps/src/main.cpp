@@ -1,10 +1,12 @@
 // The invfem command line. Exit codes: 0 ok, 1 simulation failure, 2 bad input.
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "json_fields.hpp"
+#include "batch_command.hpp"
 #include "render_command.hpp"
 #include "run_command.hpp"
 
@@ -18,9 +20,17 @@ const char* const kHelp =
     "commands:\n"
     "  run SCENE.json --out DIR   simulate a scene, writing frames and energies as it goes\n"
     "  render OUTDIR              render a run's frames to OUTDIR/png/NNNN.png (offscreen)\n"
+    "  batch SCENE... --out DIR   run and render many scenes; a contact sheet of their last frames\n"
     "  help [COMMAND]             this text, or a command's options\n"
     "\n"
     "Exit codes: 0 ok, 1 simulation failure, 2 bad input (scene, mesh or option).\n";
+
+// The running binary, for the batch command's child processes.
+std::string self_executable(const char* argv0) {
+  std::error_code ec;
+  const auto p = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string(argv0) : p.string();
+}
 
 }  // namespace
 
@@ -36,6 +46,7 @@ int main(int argc, char** argv) {
   try {
     if (cmd == "run") return invfem::app::run_command(rest);
     if (cmd == "render") return invfem::app::render_command(rest);
+    if (cmd == "batch") return invfem::app::batch_command(rest, self_executable(argv[0]));
     std::cerr << "error: unknown command \"" << cmd << "\"\n\n" << kHelp;
     return 2;
   } catch (const invfem::app::InputError& e) {

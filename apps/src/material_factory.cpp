@@ -29,7 +29,8 @@ IsotropicModel make_model(const MaterialSpec& spec) {
 }
 
 TetMaterial make_tet_material(const MaterialSpec& spec, double cfl) {
-  TetMaterial m{make_model(spec)};
+  TetMaterial m;
+  m.model = make_model(spec);
   m.strength = spec.strength;
   m.density = spec.density;
   m.damping = spec.damping;

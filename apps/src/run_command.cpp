@@ -8,6 +8,7 @@
 #include <iostream>
 #include <memory>
 
+#include "checkpoint.hpp"
 #include "cli_args.hpp"
 #include "json_fields.hpp"
 #include "preview.hpp"
@@ -19,12 +20,15 @@ namespace invfem::app {
 
 const char* const kRunHelp =
     "usage: invfem run SCENE.json --out DIR [--quick] [--set path.to.field=value]... [--render]\n"
+    "                  [--format obj,ply,vtu,usd] [--frames A-B] [--resume] [--checkpoint-every K]\n"
     "                  [--threads N] [--quiet]\n"
     "\n"
     "Simulates the scene and writes, as frames are made:\n"
     "  DIR/scene.json               the scene as run, every default filled in\n"
     "  DIR/frames/<object>/NNNN.obj each object's boundary surface per frame (frame 0 = rest)\n"
     "  DIR/energies.csv             per frame: energies, inverted elements, min det F, volume\n"
+    "  DIR/stats.jsonl              per frame: timings per phase, substeps, CG, collisions\n"
+    "  DIR/checkpoints/NNNN.ckpt    the full state every K frames, for --resume\n"
     "  DIR/png/NNNN.png             preview images, with --render\n"
     "Options:\n"
     "  --out DIR      output folder (created if missing)\n"
@@ -32,7 +36,16 @@ const char* const kRunHelp =
     "  --set P=V      override a scene field before validation, e.g. --set solids.0.material.young=1e6\n"
     "                 (V is JSON, or plain text for a string); repeatable\n"
     "  --render       render each frame to DIR/png as it is made (OSMesa, no display needed)\n"
-    "  --threads N    worker threads (default: all cores)\n"
+    "  --format LIST  per-frame formats, comma separated: obj (default), ply, vtu (solids: tets with\n"
+    "                 det F and inverted flags, plus DIR/<object>.pvd for ParaView), usd (one\n"
+    "                 animated DIR/frames/<object>.usda per object)\n"
+    "  --frames A-B   write frames A to B only (B <= the scene's frames); the run starts from the\n"
+    "                 newest checkpoint at or before A, or from frame 0\n"
+    "  --resume       continue from the newest valid checkpoint in DIR (same scene and options);\n"
+    "                 frames after it are rewritten, so the result is bit-identical to a run that\n"
+    "                 was never stopped (with the same --threads)\n"
+    "  --checkpoint-every K  frames between checkpoints (default 10; 0 = none)\n"
+    "  --threads N    worker threads (default: all cores); results do not depend on it\n"
     "  --quiet        no progress lines\n"
     "Exit codes: 0 ok, 1 simulation failure, 2 bad input.\n";
 
@@ -58,7 +71,9 @@ bool finite_state(const World& world) {
 }  // namespace
 
 int run_command(const std::vector<std::string>& raw) {
-  const ParsedArgs args = parse_args(raw, "run", {"--out", "--threads", "--set"}, {"--help", "-h", "--quiet", "--quick", "--render"});
+  const ParsedArgs args =
+      parse_args(raw, "run", {"--out", "--threads", "--set", "--format", "--frames", "--checkpoint-every"},
+                 {"--help", "-h", "--quiet", "--quick", "--render", "--resume"});
   if (args.flag("--help") || args.flag("-h")) {
     std::cout << kRunHelp;
     return 0;
@@ -68,56 +83,95 @@ int run_command(const std::vector<std::string>& raw) {
     throw InputError("run: more than one scene given (\"" + args.positional[0] + "\" and \"" + args.positional[1] + "\")");
   if (!args.has("--out")) throw InputError("run: --out DIR is required (see invfem run --help)");
   const std::string scene_path = args.positional[0];
-  const std::string out_dir = args.value("--out");
+  const std::filesystem::path out_dir = args.value("--out");
   const int threads = args.integer("--threads", 0, 1, 1024);
+  const int checkpoint_every = args.integer("--checkpoint-every", 10, 0, 1000000);
   const bool quiet = args.flag("--quiet");
+  const std::set<std::string> formats = parse_formats(args.has("--format") ? args.value("--format") : "obj");
+  if (args.flag("--render") && !formats.count("obj"))
+    throw InputError("--render renders the OBJ frames: add obj to --format");
 
   std::unique_ptr<tbb::global_control> thread_limit;
   if (threads > 0)
     thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
 
   const Scene scene = load_scene(scene_path, args.all("--set"), args.flag("--quick"));
+  auto [first_out, last] = args.has("--frames") ? parse_frame_range(args.value("--frames"), "--frames")
+                                                 : std::pair<int, int>{0, scene.frames};
+  if (last > scene.frames)
+    throw InputError("--frames: frame " + std::to_string(last) + " is past the scene's last frame " +
+                     std::to_string(scene.frames));
   World world(scene);
-  RunOutput output(out_dir, world);
-  std::unique_ptr<PreviewRenderer> preview;
 
-  const auto start = std::chrono::steady_clock::now();
-  {
-    FrameReport r;
-    world.measure(r);
-    output.write_frame(0, world, r);
-    if (args.flag("--render")) {
-      preview = std::make_unique<PreviewRenderer>(out_dir, scene, PreviewOptions{});
-      preview->render(0);
+  // Where to start: the newest checkpoint at or before the first frame asked for.
+  int start_frame = 0;
+  std::string resume_csv;
+  if (args.flag("--resume") || first_out > 0) {
+    if (auto ck = resume_latest(out_dir, world, args.flag("--resume") ? last : first_out)) {
+      start_frame = ck->frame;
+      resume_csv = ck->csv;
+      if (!quiet) std::printf("resuming from the checkpoint of frame %d (t = %.3fs)\n", ck->frame, ck->time);
+    } else if (args.flag("--resume") && !quiet) {
+      std::printf("no usable checkpoint in %s: starting from frame 0\n", out_dir.string().c_str());
     }
   }
-  for (int frame = 1; frame <= scene.frames; ++frame) {
-    const auto t0 = std::chrono::steady_clock::now();
+  RunOutput output(out_dir, world, formats, start_frame > 0 ? start_frame + 1 : 0, resume_csv);
+  std::unique_ptr<PreviewRenderer> preview;
+  auto clock = [] { return std::chrono::steady_clock::now(); };
+  auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
+
+  // Writes frame f (files only inside --frames) and its energies/stats rows.
+  auto emit = [&](int frame, FrameReport& r, FrameTimings& t) {
+    auto t0 = clock();
+    world.measure(r);
+    auto t1 = clock();
+    t.measure = seconds(t0, t1);
+    if (frame >= first_out) output.write_frame(frame, world, r);
+    auto t2 = clock();
+    t.write = seconds(t1, t2);
+    if (args.flag("--render") && frame >= first_out) {
+      if (!preview) preview = std::make_unique<PreviewRenderer>(out_dir, scene, PreviewOptions{});
+      preview->render(frame);
+    }
+    t.render = seconds(t2, clock());
+    output.write_stats(frame, world, r, t);
+    if (checkpoint_every > 0 && frame > 0 && (frame % checkpoint_every == 0 || frame == last))
+      save_checkpoint(out_dir, world, frame, output.csv());
+  };
+
+  const auto start = clock();
+  if (start_frame == 0) {
     FrameReport r;
+    FrameTimings t;
+    emit(0, r, t);
+  }
+  for (int frame = start_frame + 1; frame <= last; ++frame) {
+    const auto t0 = clock();
+    FrameReport r;
+    FrameTimings t;
     world.advance_to(frame / scene.fps, r);
+    t.simulate = seconds(t0, clock());
     if (!finite_state(world)) {
       std::cerr << "error: " << scene_path << ": the simulation produced a non-finite state in frame " << frame
-                << " (t = " << world.time() << " s); frames up to " << frame - 1 << " are in " << out_dir << "\n";
+                << " (t = " << world.time() << " s); frames up to " << frame - 1 << " are in " << out_dir.string()
+                << "\n";
       return 1;
     }
-    world.measure(r);
-    output.write_frame(frame, world, r);
-    if (preview) preview->render(frame);
+    emit(frame, r, t);
     if (!quiet) {
-      const auto now = std::chrono::steady_clock::now();
-      const double wall = std::chrono::duration<double>(now - t0).count();
-      const double total = std::chrono::duration<double>(now - start).count();
-      const double eta = total / frame * (scene.frames - frame);
-      std::printf("frame %d/%d  t=%.3fs  %.2fs/frame  ETA %s  inverted %d (%.1f%%)  substeps %d  cg %d%s\n",
-                  frame, scene.frames, world.time(), wall, format_duration(eta).c_str(), r.inverted,
-                  100.0 * r.inverted / std::max(1, r.elements), r.substeps, r.cg_iterations,
+      const auto now = clock();
+      const double wall = seconds(t0, now);
+      const double eta = seconds(start, now) / (frame - start_frame) * (last - frame);
+      std::printf("frame %d/%d  t=%.3fs  %.2fs/frame  ETA %s  inverted %d (%.1f%%)  collisions %d  substeps %d  cg %d%s\n",
+                  frame, last, world.time(), wall, format_duration(eta).c_str(), r.inverted,
+                  100.0 * r.inverted / std::max(1, r.elements), r.colliding_nodes, r.substeps, r.cg_iterations,
                   r.cg_all_converged ? "" : " (CG hit its iteration limit)");
       std::fflush(stdout);
     }
   }
-  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("done: %d frames in %s; output in %s\n", scene.frames, format_duration(total).c_str(),
-              out_dir.c_str());
+  if (!quiet)
+    std::printf("done: frames %d-%d in %s; output in %s\n", std::max(first_out, start_frame), last,
+                format_duration(seconds(start, clock())).c_str(), out_dir.string().c_str());
   return 0;
 }
 

@@ -1,18 +1,94 @@
 #include "run_output.hpp"
 
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 
 #include "invfem/core/atomic_file.hpp"
 #include "invfem/solids/obj_writer.hpp"
+#include "invfem/solids/ply_writer.hpp"
+#include "invfem/solids/usd_writer.hpp"
+#include "invfem/solids/vtu_writer.hpp"
+#include "json_fields.hpp"
 
 namespace invfem::app {
 
-RunOutput::RunOutput(std::filesystem::path dir, const World& world) : dir_(std::move(dir)) {
+namespace {
+const char* const kCsvHeader =
+    "frame,time,kinetic,elastic,gravity,total,inverted,elements,min_det_F,volume,rest_volume,substeps,"
+    "cg_iterations\n";
+
+// Keep the lines of `text` (after a header line if `has_header`) whose first field, a frame
+// number, is below `first_frame`.
+std::string keep_rows_before(const std::string& text, int first_frame, bool has_header, bool json) {
+  std::istringstream in(text);
+  std::string out, line;
+  bool header = has_header;
+  while (std::getline(in, line)) {
+    if (header) {
+      out += line + "\n";
+      header = false;
+      continue;
+    }
+    int frame = -1;
+    if (json) {
+      std::sscanf(line.c_str(), "{\"frame\":%d", &frame);
+    } else {
+      std::sscanf(line.c_str(), "%d", &frame);
+    }
+    if (frame >= 0 && frame < first_frame) out += line + "\n";
+  }
+  return out;
+}
+
+std::string read_file(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+}  // namespace
+
+std::set<std::string> parse_formats(const std::string& list) {
+  std::set<std::string> out;
+  std::stringstream ss(list);
+  for (std::string f; std::getline(ss, f, ',');) {
+    if (f != "obj" && f != "ply" && f != "vtu" && f != "usd")
+      throw InputError("--format: unknown format \"" + f + "\" (choose from obj, ply, vtu, usd)");
+    out.insert(f);
+  }
+  if (out.empty()) throw InputError("--format: no format given (choose from obj, ply, vtu, usd)");
+  return out;
+}
+
+RunOutput::RunOutput(std::filesystem::path dir, const World& world, std::set<std::string> formats, int first_frame,
+                     const std::string& resume_csv)
+    : dir_(std::move(dir)), formats_(std::move(formats)) {
   std::filesystem::create_directories(dir_ / "frames");
   for (const auto& o : world.objects()) std::filesystem::create_directories(dir_ / "frames" / o.name);
   atomic_write(dir_ / "scene.json", to_json(world.scene()).dump(2) + "\n");
-  csv_ = "frame,time,kinetic,elastic,gravity,total,inverted,elements,min_det_F,volume,rest_volume,substeps,cg_iterations\n";
+  csv_ = first_frame > 0 ? keep_rows_before(resume_csv, first_frame, true, false) : kCsvHeader;
+  if (first_frame > 0) stats_ = keep_rows_before(read_file(dir_ / "stats.jsonl"), first_frame, false, true);
+  for (const auto& o : world.objects()) {
+    if (formats_.count("vtu") && o.solid) {
+      pvd_[o.name] = std::make_unique<PvdWriter>((dir_ / (o.name + ".pvd")).string());
+      for (int f = 0; f < first_frame; ++f)
+        if (std::filesystem::exists(dir_ / "frames" / o.name / (frame_name(f) + ".vtu")))
+          pvd_[o.name]->add(f / world.scene().fps, o.name + "/" + frame_name(f) + ".vtu");
+    }
+    if (formats_.count("usd")) {
+      usd_[o.name] = std::make_unique<UsdaAnimationWriter>((dir_ / "frames" / (o.name + ".usda")).string(), o.name,
+                                                           o.surface.tris, world.scene().fps);
+      // A resumed run rebuilds the animation's earlier samples from the OBJ frames.
+      for (int f = 0; f < first_frame; ++f) {
+        const auto obj = dir_ / "frames" / o.name / (frame_name(f) + ".obj");
+        if (std::filesystem::exists(obj)) usd_[o.name]->add_frame(f, read_obj_positions(obj.string()).x);
+      }
+    }
+  }
 }
+
+RunOutput::~RunOutput() = default;
 
 std::string RunOutput::frame_name(int frame) {
   char buf[16];
@@ -21,15 +97,41 @@ std::string RunOutput::frame_name(int frame) {
 }
 
 void RunOutput::write_frame(int frame, const World& world, const FrameReport& r) {
-  for (const auto& o : world.objects())
-    write_obj((dir_ / "frames" / o.name / (frame_name(frame) + ".obj")).string(), o.surface.gather(o.body.x),
-              o.surface.tris);
+  for (const auto& o : world.objects()) {
+    const auto base = dir_ / "frames" / o.name / frame_name(frame);
+    const Points surface = o.surface.gather(o.body.x);
+    if (formats_.count("obj")) write_obj(base.string() + ".obj", surface, o.surface.tris);
+    if (formats_.count("ply")) write_ply(base.string() + ".ply", surface, o.surface.tris);
+    if (auto it = usd_.find(o.name); it != usd_.end()) it->second->add_frame(frame, surface);
+    if (auto it = pvd_.find(o.name); it != pvd_.end()) {
+      VtuFields fields;
+      const auto& det = o.solid->det_F();
+      fields.cell_scalars["det_F"] = Eigen::Map<const Eigen::VectorXd>(det.data(), static_cast<Eigen::Index>(det.size()));
+      fields.cell_scalars["inverted"] = (fields.cell_scalars["det_F"].array() < 0).cast<double>();
+      fields.point_vectors["velocity"] = o.body.v;
+      write_vtu(base.string() + ".vtu", o.body.x, o.tets, fields);
+      it->second->add(world.time(), o.name + "/" + frame_name(frame) + ".vtu");
+    }
+  }
   char row[512];
   std::snprintf(row, sizeof row, "%d,%.6f,%.9g,%.9g,%.9g,%.9g,%d,%d,%.9g,%.9g,%.9g,%d,%d\n", frame, world.time(),
                 r.kinetic, r.elastic, r.gravity, r.kinetic + r.elastic + r.gravity, r.inverted, r.elements,
                 r.min_det_F, r.volume, r.rest_volume, r.substeps, r.cg_iterations);
   csv_ += row;
   atomic_write(dir_ / "energies.csv", csv_);
+}
+
+void RunOutput::write_stats(int frame, const World& world, const FrameReport& r, const FrameTimings& t) {
+  // Field order is fixed (frame first: a resumed run filters lines by it).
+  char line[768];
+  std::snprintf(line, sizeof line,
+                "{\"frame\":%d,\"time\":%.6f,\"substeps\":%d,\"cg_iterations\":%d,\"cg_converged\":%s,"
+                "\"colliding_nodes\":%d,\"inverted\":%d,\"elements\":%d,\"min_det_F\":%.9g,"
+                "\"seconds\":{\"simulate\":%.6f,\"measure\":%.6f,\"write\":%.6f,\"render\":%.6f}}\n",
+                frame, world.time(), r.substeps, r.cg_iterations, r.cg_all_converged ? "true" : "false",
+                r.colliding_nodes, r.inverted, r.elements, r.min_det_F, t.simulate, t.measure, t.write, t.render);
+  stats_ += line;
+  atomic_write(dir_ / "stats.jsonl", stats_);
 }
 
 }  // namespace invfem::app

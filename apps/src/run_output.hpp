@@ -1,26 +1,55 @@
 #pragma once
 // The output layout of a run (DESIGN.md "Output layout of a run"):
-//   OUT/scene.json, OUT/frames/<object>/NNNN.obj, OUT/energies.csv
+//   OUT/scene.json                 the scene as run
+//   OUT/frames/<object>/NNNN.obj   (and/or .ply; .vtu + <object>.pvd for solids; <object>.usda)
+//   OUT/energies.csv               one row per frame
+//   OUT/stats.jsonl                one JSON record per frame: timings per phase, counts
 // Every file is written atomically (temporary name + rename) as frames are made.
 #include <filesystem>
+#include <map>
+#include <memory>
+#include <set>
 #include <string>
 
 #include "world.hpp"
 
+namespace invfem {
+class PvdWriter;
+class UsdaAnimationWriter;
+}
+
 namespace invfem::app {
+
+// Wall-clock seconds spent per phase of one frame.
+struct FrameTimings {
+  double simulate = 0, measure = 0, write = 0, render = 0;
+};
+
+// The formats a run writes per frame; "obj" by default.
+std::set<std::string> parse_formats(const std::string& list);  // "obj,ply,vtu,usd"
 
 class RunOutput {
  public:
-  RunOutput(std::filesystem::path dir, const World& world);  // creates folders, writes scene.json
+  // Creates folders and writes scene.json. `resume_csv` is the energies.csv content of a
+  // checkpoint being resumed (rows after it are dropped), or empty for a fresh run.
+  RunOutput(std::filesystem::path dir, const World& world, std::set<std::string> formats,
+            int first_frame = 0, const std::string& resume_csv = "");
+  ~RunOutput();
 
   void write_frame(int frame, const World& world, const FrameReport& report);
+  void write_stats(int frame, const World& world, const FrameReport& report, const FrameTimings& timings);
 
+  const std::string& csv() const { return csv_; }
   static std::string frame_name(int frame);  // "0012"
   const std::filesystem::path& dir() const { return dir_; }
 
  private:
   std::filesystem::path dir_;
-  std::string csv_;  // all rows so far; the CSV is rewritten whole each frame (atomic)
+  std::set<std::string> formats_;
+  std::string csv_;    // all rows so far; the CSV is rewritten whole each frame (atomic)
+  std::string stats_;  // likewise for stats.jsonl
+  std::map<std::string, std::unique_ptr<PvdWriter>> pvd_;
+  std::map<std::string, std::unique_ptr<UsdaAnimationWriter>> usd_;
 };
 
 }  // namespace invfem::app

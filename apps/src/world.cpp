@@ -42,6 +42,12 @@ void World::advance_to(double t_end, FrameReport& report) {
   time_ = t_end;
 }
 
+void World::resynchronize(double time) {
+  time_ = time;
+  for (auto& o : objects_)
+    for (auto& f : o.forces) f->update_positions(o.body.x, time);
+}
+
 void World::measure(FrameReport& r) const {
   for (const auto& o : objects_) {
     const Body& b = o.body;

@@ -53,6 +53,11 @@ class World {
   // Energies and element figures at the current state.
   void measure(FrameReport& report) const;
 
+  // Checkpoint restore: objects' state is written back by the checkpoint reader, then
+  // `resynchronize(time)` recomputes every force's position-dependent state.
+  std::vector<SimObject>& objects_for_restore() { return objects_; }
+  void resynchronize(double time);
+
  private:
   Scene scene_;
   double time_ = 0;

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Every documented error is triggered by a bad input, and its exit code and message checked.
+#   errors.sh INVFEM SOURCE_DIR WORKDIR
+set -uo pipefail
+invfem="$1" src="$2" work="$3"
+rm -rf "$work" && mkdir -p "$work"
+good="$src/apps/scenes/torus_puddle.json"
+fail=0
+
+# expect CODE PATTERN -- ARGS...: run invfem with ARGS, want exit CODE and PATTERN in stderr.
+expect() {
+  local code="$1" pattern="$2"
+  shift 3
+  local err
+  err=$("$invfem" "$@" 2>&1 >/dev/null)
+  local got=$?
+  if [ "$got" -ne "$code" ] || ! grep -qF -- "$pattern" <<<"$err"; then
+    echo "FAIL: invfem $*: exit $got (want $code), stderr: $err (want: $pattern)"
+    fail=1
+  fi
+}
+scene() {  # scene NAME JSON: write a scene file beside a copy of the torus mesh
+  mkdir -p "$work/data"
+  cp -n "$src/apps/scenes/data/torus_polyfem.msh" "$work/data/" 2>/dev/null || true
+  printf '%s\n' "$2" > "$work/$1.json"
+  echo "$work/$1.json"
+}
+solid='"solids": [{"name": "t", "mesh": "data/torus_polyfem.msh"'
+
+expect 2 "unknown command" -- bogus
+expect 2 "no scene file given" -- run --out "$work/o"
+expect 2 "--out DIR is required" -- run "$good"
+expect 2 "unknown option \"--bogus\"" -- run "$good" --out "$work/o" --bogus
+expect 2 "cannot open the scene file" -- run "$work/missing.json" --out "$work/o"
+expect 2 "not valid JSON" -- run "$(scene badjson '{ "frames": 3, ')" --out "$work/o"
+expect 2 "\$.framez: unknown field" -- run "$(scene unknown '{ "framez": 3, '"$solid"' }] }')" --out "$work/o"
+expect 2 "\$.frames: expected an integer" -- run "$(scene frames '{ "frames": "ten", '"$solid"' }] }')" --out "$work/o"
+expect 2 "\$.solids[0].material.poisson: expected a Poisson's ratio in (-1, 0.5)" -- \
+  run "$(scene poisson '{ '"$solid"', "material": {"poisson": 0.5} }] }')" --out "$work/o"
+expect 2 "\$.solids[0].material.density: expected a density > 0" -- \
+  run "$(scene density '{ '"$solid"', "material": {"density": -1} }] }')" --out "$work/o"
+expect 2 "\$.solids[0].mesh: expected an existing mesh file" -- \
+  run "$(scene nomesh '{ "solids": [{"name": "t", "mesh": "data/none.vtk"}] }')" --out "$work/o"
+expect 2 "a name unique in the scene" -- \
+  run "$(scene dup '{ '"$solid"' }, {"name": "t", "mesh": "data/torus_polyfem.msh"}] }')" --out "$work/o"
+expect 2 "\$.gravity: expected an array of 3" -- run "$(scene grav '{ "gravity": [0, 1], '"$solid"' }] }')" --out "$work/o"
+printf 'ASCII garbage\n' > "$work/data/broken.vtk"
+expect 2 "broken.vtk" -- run "$(scene broken '{ "solids": [{"name": "t", "mesh": "data/broken.vtk"}] }')" --out "$work/o"
+expect 2 "--set: \"frames\": expected path.to.field=value" -- run "$good" --out "$work/o" --set frames
+expect 2 "--threads: expected a whole number" -- run "$good" --out "$work/o" --threads zero
+expect 2 "--format: unknown format \"abc\"" -- run "$good" --out "$work/o" --format obj,abc
+expect 2 "--frames: expected a frame range" -- run "$good" --out "$work/o" --frames 9-3
+expect 2 "is past the scene's last frame" -- run "$good" --out "$work/o" --frames 0-100000
+mkdir -p "$work/empty_run" && cp "$good" "$work/empty_run/scene.json"
+expect 2 "no frames to render" -- render "$work/empty_run"
+expect 2 "cannot open" -- render "$work/nothing"
+expect 2 "no such scene file" -- batch "$work/missing.json" --out "$work/b"
+expect 2 "--shard: expected I/N" -- batch "$good" --out "$work/b" --shard 3/2
+if [ "$fail" -ne 0 ]; then exit 1; fi
+echo "every documented error gives its message and exit code 2"

@@ -9,6 +9,7 @@
 #include "batch_command.hpp"
 #include "render_command.hpp"
 #include "run_command.hpp"
+#include "tool_commands.hpp"
 
 namespace {
 
@@ -21,6 +22,8 @@ const char* const kHelp =
     "  run SCENE.json --out DIR   simulate a scene, writing frames and energies as it goes\n"
     "  render OUTDIR              render a run's frames to OUTDIR/png/NNNN.png (offscreen)\n"
     "  batch SCENE... --out DIR   run and render many scenes; a contact sheet of their last frames\n"
+    "  check-scene SCENE.json     validate a scene and its meshes without simulating\n"
+    "  mesh SURFACE --out MESH    tet-mesh a closed triangle surface (BCC lattice)\n"
     "  help [COMMAND]             this text, or a command's options\n"
     "\n"
     "Exit codes: 0 ok, 1 simulation failure, 2 bad input (scene, mesh or option).\n";
@@ -46,6 +49,8 @@ int main(int argc, char** argv) {
   try {
     if (cmd == "run") return invfem::app::run_command(rest);
     if (cmd == "render") return invfem::app::render_command(rest);
+    if (cmd == "check-scene") return invfem::app::check_scene_command(rest);
+    if (cmd == "mesh") return invfem::app::mesh_command(rest);
     if (cmd == "batch") return invfem::app::batch_command(rest, self_executable(argv[0]));
     std::cerr << "error: unknown command \"" << cmd << "\"\n\n" << kHelp;
     return 2;

@@ -7,6 +7,8 @@
 #include "invfem/shells/bending_force.hpp"
 #include "invfem/shells/membrane_force.hpp"
 #include "invfem/shells/triangle_mesh.hpp"
+#include "invfem/core/plasticity_control.hpp"
+#include "invfem/solids/bcc_mesher.hpp"
 #include "invfem/solids/mass.hpp"
 #include "invfem/solids/mesh_error.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
@@ -28,6 +30,29 @@ Body make_body(const Points& X, Eigen::VectorXd mass, const std::array<double, 3
   b.gravity = to_vec(scene.gravity);
   return b;
 }
+// Kind::Full constraints for every node whose rest position lies in one of the boxes.
+NodeConstraints pins_in_boxes(const Points& X, const std::vector<PinBox>& boxes, const std::string& what) {
+  NodeConstraints pins;
+  for (std::size_t b = 0; b < boxes.size(); ++b) {
+    const Vec3 lo = to_vec(boxes[b].min), hi = to_vec(boxes[b].max);
+    int count = 0;
+    for (Eigen::Index i = 0; i < X.rows(); ++i) {
+      const Vec3 x = X.row(i).transpose();
+      if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all()) {
+        pins.push_back({static_cast<int>(i), NodeConstraint::Kind::Full, Vec3::Zero(), Vec3::Zero()});
+        ++count;
+      }
+    }
+    if (count == 0) throw InputError(what + ": pin_boxes[" + std::to_string(b) + "] contains no node");
+  }
+  return pins;
+}
+
+bool is_tet_mesh_file(const std::filesystem::path& p) {
+  const std::string e = p.extension().string();
+  return e == ".vtk" || e == ".mesh" || e == ".msh";
+}
+
 }  // namespace
 
 void apply_transform(const Transform& t, Points& X) {
@@ -46,29 +71,67 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
   o.kind = SimObject::Kind::Solid;
   TetMesh mesh;
   try {
-    mesh = read_tet_mesh(spec.mesh.string());
-    apply_transform(spec.transform, mesh.X);
+    if (is_tet_mesh_file(spec.mesh)) {
+      mesh = read_tet_mesh(spec.mesh.string());
+      apply_transform(spec.transform, mesh.X);
+    } else {
+      // A closed surface: tet-mesh it by the BCC lattice (after the transform, so the
+      // resolution is in world units of the object's own size).
+      TriangleMesh surface = load_triangle_mesh(spec.mesh.string());
+      apply_transform(spec.transform, surface.X);
+      BccMeshOptions options;
+      options.resolution = spec.mesh_resolution;
+      BccMeshResult r = bcc_mesh(surface, options);
+      mesh = std::move(r.mesh);
+      std::cerr << "meshed " << spec.mesh.filename().string() << ": " << r.report.tets << " tets, volume ratio "
+                << r.report.volume_ratio << ", dihedral angles " << r.report.min_dihedral_deg << "-"
+                << r.report.max_dihedral_deg << " degrees\n";
+    }
     const TetMeshReport report = validate_and_orient(mesh);
     for (const auto& w : report.warnings) std::cerr << "warning: " << spec.mesh.string() << ": " << w << "\n";
     if (!report.unused_nodes.empty())
       throw MeshError(spec.mesh.string() + ": " + std::to_string(report.unused_nodes.size()) +
                       " nodes belong to no tetrahedron (first: node " + std::to_string(report.unused_nodes[0]) +
                       "); they would have no mass");
-  } catch (const MeshError& e) {
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {  // MeshError, loader and mesher errors name the file
     throw InputError(std::string("solid \"") + spec.name + "\": " + e.what());
   }
   const int n = static_cast<int>(mesh.X.rows());
   o.surface = compact_surface(boundary_triangles(mesh.tets), n);
   o.tets = mesh.tets;
   o.body = make_body(mesh.X, lumped_masses(mesh.X, mesh.tets, spec.material.density), spec.velocity, scene);
-  TetMaterial material;
+  const std::string what = scene.file.string() + ": solid \"" + spec.name + "\"";
+  std::unique_ptr<TetSolidForce> force;
   try {
-    material = make_tet_material(spec.material, scene.solver.cfl);
+    TetMaterial material = make_tet_material(spec.material, scene.solver.cfl);
+    if (spec.plasticity) {
+      PlasticParams p;
+      p.yield = spec.plasticity->yield;
+      p.deviatoric_only = spec.plasticity->deviatoric_only;
+      p.preserve_volume = spec.plasticity->preserve_volume;
+      p.max_stretch = spec.plasticity->max_stretch;
+      material.plasticity = p;
+    }
+    if (spec.plastic_goal) {
+      const Points goal = axis_scaled_goal(mesh.X, to_vec(spec.plastic_goal->center), to_vec(spec.plastic_goal->scale));
+      material.plastic_goal_log = make_plastic_goal(mesh.X, mesh.tets, goal).log_Fp_goal;
+    }
+    if (spec.fiber) {
+      material.fiber = FiberMaterial{spec.fiber->k_passive, spec.fiber->k_active, spec.fiber->max_contraction};
+      // The scene's direction is in world axes at rest; rotate it into the mesh's material frame
+      // (the rest frame is the world frame after the transform, so it is used as is).
+      material.fiber_directions.assign(mesh.tets.rows(), to_vec(spec.fiber->direction).normalized());
+      material.activation = spec.fiber->activation;
+    }
+    force = std::make_unique<TetSolidForce>(make_tet_rest(mesh.X, mesh.tets), std::move(material));
+    force->update_positions(o.body.x, 0.0);
   } catch (const std::invalid_argument& e) {
-    throw InputError(scene.file.string() + ": solid \"" + spec.name + "\": " + e.what());
+    throw InputError(what + ": " + e.what());
   }
-  auto force = std::make_unique<TetSolidForce>(make_tet_rest(mesh.X, mesh.tets), std::move(material));
-  force->update_positions(o.body.x, 0.0);
+  o.pinned = pins_in_boxes(mesh.X, spec.pin_boxes, what);
+  for (const auto& p : o.pinned) o.body.v.row(p.node).setZero();
   o.solid = force.get();
   o.forces.push_back(std::move(force));
   return o;
@@ -114,28 +177,10 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
                        " but the mesh has " + std::to_string(n) + " vertices");
     o.pinned.push_back({i, NodeConstraint::Kind::Full, Vec3::Zero(), Vec3::Zero()});
   }
-  if (spec.has_pin_box) {
-    const Vec3 lo = to_vec(spec.pin_box_min), hi = to_vec(spec.pin_box_max);
-    int count = 0;
-    for (int i = 0; i < n; ++i) {
-      const Vec3 x = mesh.X.row(i).transpose();
-      if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all()) {
-        o.pinned.push_back({i, NodeConstraint::Kind::Full, Vec3::Zero(), Vec3::Zero()});
-        ++count;
-      }
-    }
-    if (count == 0) throw InputError(scene.file.string() + ": " + what + ": pin_box contains no vertex of the cloth");
-  }
+  for (const auto& pin : pins_in_boxes(mesh.X, spec.pin_boxes, scene.file.string() + ": " + what)) o.pinned.push_back(pin);
   for (const auto& p : o.pinned) o.body.v.row(p.node).setZero();
   o.surface = compact_surface(mesh.tris, n);
   return o;
-}
-
-std::vector<RigidCollider> build_colliders(const Scene& scene) {
-  std::vector<RigidCollider> colliders;
-  for (const auto& c : scene.colliders)
-    colliders.push_back({std::make_shared<PlaneSurface>(to_vec(c.point), to_vec(c.normal)), c.friction});
-  return colliders;
 }
 
 }  // namespace invfem::app

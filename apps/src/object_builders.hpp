@@ -10,7 +10,6 @@ namespace invfem::app {
 
 SimObject build_solid(const SolidSpec& spec, const Scene& scene);
 SimObject build_cloth(const ClothSpec& spec, const Scene& scene);
-std::vector<RigidCollider> build_colliders(const Scene& scene);
 
 // Scale, rotate about x then y then z (degrees), translate: applied to every row of X.
 void apply_transform(const Transform& t, Points& X);

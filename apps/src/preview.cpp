@@ -4,6 +4,7 @@
 
 #include "invfem/renders/mesh_renderer.hpp"
 #include "invfem/solids/obj_writer.hpp"
+#include "collider_builders.hpp"
 #include "run_output.hpp"
 
 namespace invfem::app {
@@ -13,15 +14,19 @@ const Vec3 kSolidColor(0.45, 0.62, 0.85);
 const Vec3 kClothFront(0.86, 0.55, 0.32);
 const Vec3 kClothBack(0.55, 0.36, 0.62);
 
+const Vec3 kColliderColor(0.62, 0.62, 0.60);
+
 struct ObjectView {
   std::string name;
-  bool cloth = false;
+  enum class Kind { Solid, Cloth, Collider } kind = Kind::Solid;
 };
 
 std::vector<ObjectView> object_views(const Scene& scene) {
   std::vector<ObjectView> v;
-  for (const auto& s : scene.solids) v.push_back({s.name, false});
-  for (const auto& c : scene.cloths) v.push_back({c.name, true});
+  for (const auto& s : scene.solids) v.push_back({s.name, ObjectView::Kind::Solid});
+  for (const auto& c : scene.cloths) v.push_back({c.name, ObjectView::Kind::Cloth});
+  for (const auto& c : scene.colliders)
+    for (const auto& name : collider_body_names(c)) v.push_back({name, ObjectView::Kind::Collider});
   return v;
 }
 
@@ -48,8 +53,9 @@ struct PreviewRenderer::Impl {
       renders::RenderMesh m;
       m.positions = obj.x;
       m.triangles = obj.tris;
-      m.two_sided = o.cloth;
-      m.color = o.cloth ? kClothFront : kSolidColor;
+      const bool cloth = o.kind == ObjectView::Kind::Cloth;
+      m.two_sided = cloth;
+      m.color = cloth ? kClothFront : o.kind == ObjectView::Kind::Collider ? kColliderColor : kSolidColor;
       m.back_color = kClothBack;
       meshes.push_back(std::move(m));
     }

@@ -66,6 +66,8 @@ RunOutput::RunOutput(std::filesystem::path dir, const World& world, std::set<std
     : dir_(std::move(dir)), formats_(std::move(formats)) {
   std::filesystem::create_directories(dir_ / "frames");
   for (const auto& o : world.objects()) std::filesystem::create_directories(dir_ / "frames" / o.name);
+  for (const auto& c : world.colliders())
+    if (c.body_vertices.rows()) std::filesystem::create_directories(dir_ / "frames" / c.name);
   atomic_write(dir_ / "scene.json", to_json(world.scene()).dump(2) + "\n");
   csv_ = first_frame > 0 ? keep_rows_before(resume_csv, first_frame, true, false) : kCsvHeader;
   if (first_frame > 0) stats_ = keep_rows_before(read_file(dir_ / "stats.jsonl"), first_frame, false, true);
@@ -113,6 +115,11 @@ void RunOutput::write_frame(int frame, const World& world, const FrameReport& r)
       it->second->add(world.time(), o.name + "/" + frame_name(frame) + ".vtu");
     }
   }
+  // Rigid colliders, placed at this frame's time: for previews and for the user's own renders.
+  for (const auto& c : world.colliders())
+    if (c.body_vertices.rows() && formats_.count("obj"))
+      write_obj((dir_ / "frames" / c.name / (frame_name(frame) + ".obj")).string(), c.world_vertices(world.time()),
+                c.tris);
   char row[512];
   std::snprintf(row, sizeof row, "%d,%.6f,%.9g,%.9g,%.9g,%.9g,%d,%d,%.9g,%.9g,%.9g,%d,%d\n", frame, world.time(),
                 r.kinetic, r.elastic, r.gravity, r.kinetic + r.elastic + r.gravity, r.inverted, r.elements,

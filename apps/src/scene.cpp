@@ -66,6 +66,165 @@ Transform parse_transform(const Fields& f) {
   return t;
 }
 
+std::vector<PinBox> parse_pin_boxes(const Fields& f) {
+  std::vector<PinBox> boxes;
+  if (!f.has("pin_boxes")) return boxes;
+  const auto& v = f.raw("pin_boxes");
+  if (!v.is_array()) f.fail("pin_boxes", "an array of {\"min\": [x, y, z], \"max\": [x, y, z]} boxes");
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const Fields b(v[i], f.file(), f.path_of("pin_boxes") + "[" + std::to_string(i) + "]");
+    b.reject_unknown({"min", "max"});
+    PinBox box;
+    box.min = b.vec3("min", box.min);
+    box.max = b.vec3("max", box.max);
+    for (int k = 0; k < 3; ++k)
+      if (box.min[k] > box.max[k]) b.fail("max", "a box with min <= max in every coordinate");
+    boxes.push_back(box);
+  }
+  return boxes;
+}
+
+PlasticitySpec parse_plasticity(const Fields& f) {
+  f.reject_unknown({"yield", "deviatoric_only", "preserve_volume", "max_stretch"});
+  PlasticitySpec p;
+  p.yield = f.number("yield", p.yield);
+  if (!(p.yield > 0 && p.yield < 10)) f.fail("yield", "a yield log-strain in (0, 10)");
+  p.deviatoric_only = f.boolean("deviatoric_only", p.deviatoric_only);
+  p.preserve_volume = f.boolean("preserve_volume", p.preserve_volume);
+  p.max_stretch = f.number("max_stretch", p.max_stretch);
+  if (!(p.max_stretch > 1)) f.fail("max_stretch", "a stretch limit > 1");
+  return p;
+}
+
+PlasticGoalSpec parse_plastic_goal(const Fields& f) {
+  f.reject_unknown({"scale", "center"});
+  PlasticGoalSpec g;
+  g.scale = f.vec3("scale", g.scale);
+  for (double x : g.scale)
+    if (!(x > 0)) f.fail("scale", "per-axis scales > 0 (a goal must not be flat or inverted)");
+  g.center = f.vec3("center", g.center);
+  return g;
+}
+
+FiberSpec parse_fiber(const Fields& f) {
+  f.reject_unknown({"direction", "k_passive", "k_active", "max_contraction", "activation"});
+  FiberSpec fb;
+  fb.direction = f.vec3("direction", fb.direction);
+  if (std::hypot(fb.direction[0], fb.direction[1], fb.direction[2]) < 1e-12) f.fail("direction", "a non-zero vector");
+  fb.k_passive = f.number_in("k_passive", fb.k_passive, 0, 1e12);
+  fb.k_active = f.number_in("k_active", fb.k_active, 0, 1e12);
+  fb.max_contraction = f.number("max_contraction", fb.max_contraction);
+  if (!(fb.max_contraction >= 0 && fb.max_contraction < 1)) f.fail("max_contraction", "a number in [0, 1)");
+  fb.activation = parse_track(f, "activation", 0.0);
+  for (const auto& [t, a] : fb.activation.keys)
+    if (a > 1) f.fail("activation", "activation levels in [0, 1]");
+  return fb;
+}
+
+MotionSpec parse_motion(const Fields& f) {
+  f.reject_unknown({"velocity", "spin_axis", "spin_rate", "translate_keys", "rotate_keys"});
+  MotionSpec m;
+  const bool keyed = f.has("translate_keys") || f.has("rotate_keys");
+  const bool constant = f.has("velocity") || f.has("spin_rate") || f.has("spin_axis");
+  if (keyed && constant)
+    f.fail("translate_keys", "either keyframes or a constant velocity/spin, not both");
+  if (constant) {
+    m.kind = MotionSpec::Kind::ConstantVelocity;
+    m.velocity = f.vec3("velocity", m.velocity);
+    m.spin_axis = f.vec3("spin_axis", m.spin_axis);
+    if (std::hypot(m.spin_axis[0], m.spin_axis[1], m.spin_axis[2]) < 1e-12) f.fail("spin_axis", "a non-zero axis");
+    m.spin_rate = f.number("spin_rate", m.spin_rate);
+  }
+  if (keyed) {
+    m.kind = MotionSpec::Kind::Keyframed;
+    double last = -INFINITY;
+    if (f.has("translate_keys")) {
+      const auto& v = f.raw("translate_keys");
+      if (!v.is_array() || v.empty()) f.fail("translate_keys", "an array of [time, [x, y, z]] keys");
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        const auto& k = v[i];
+        if (!k.is_array() || k.size() != 2 || !k[0].is_number() || !k[1].is_array() || k[1].size() != 3)
+          f.fail("translate_keys", "[time, [x, y, z]] keys", "element " + std::to_string(i) + ": " + describe(k));
+        std::array<double, 3> p{};
+        for (int c = 0; c < 3; ++c) {
+          if (!k[1][c].is_number()) f.fail("translate_keys", "numbers", "element " + std::to_string(i) + ": " + describe(k));
+          p[c] = k[1][c].get<double>();
+        }
+        const double t = k[0].get<double>();
+        if (!std::isfinite(t) || t < last) f.fail("translate_keys", "finite times in increasing order", "element " + std::to_string(i));
+        last = t;
+        m.translate_keys.emplace_back(t, p);
+      }
+    }
+    last = -INFINITY;
+    if (f.has("rotate_keys")) {
+      const auto& v = f.raw("rotate_keys");
+      if (!v.is_array() || v.empty()) f.fail("rotate_keys", "an array of [time, [ax, ay, az], degrees] keys");
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        const auto& k = v[i];
+        if (!k.is_array() || k.size() != 3 || !k[0].is_number() || !k[1].is_array() || k[1].size() != 3 ||
+            !k[2].is_number())
+          f.fail("rotate_keys", "[time, [ax, ay, az], degrees] keys", "element " + std::to_string(i) + ": " + describe(k));
+        MotionSpec::RotateKey key{k[0].get<double>(), {}, k[2].get<double>()};
+        for (int c = 0; c < 3; ++c) {
+          if (!k[1][c].is_number()) f.fail("rotate_keys", "numbers", "element " + std::to_string(i));
+          key.axis[c] = k[1][c].get<double>();
+        }
+        if (std::hypot(key.axis[0], key.axis[1], key.axis[2]) < 1e-12)
+          f.fail("rotate_keys", "non-zero axes", "element " + std::to_string(i));
+        if (!std::isfinite(key.t) || key.t < last) f.fail("rotate_keys", "finite times in increasing order", "element " + std::to_string(i));
+        last = key.t;
+        m.rotate_keys.push_back(key);
+      }
+    }
+  }
+  return m;
+}
+
+ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, bool check_files) {
+  f.reject_unknown({"name", "type", "point", "normal", "radius", "half_extents", "half_height", "teeth",
+                    "outer_radius", "root_radius", "thickness", "clearance", "mesh", "query_radius", "transform",
+                    "motion", "friction"});
+  ColliderSpec c;
+  c.name = f.string("name");
+  c.type = f.string("type", c.type);
+  static const std::set<std::string> types{"plane", "sphere", "box", "cylinder", "gears", "mesh"};
+  if (!types.count(c.type)) f.fail("type", "one of plane, sphere, box, cylinder, gears, mesh");
+  c.friction = f.number_in("friction", c.friction, 0, 100);
+  if (c.type == "plane") {
+    for (const char* k : {"radius", "half_extents", "half_height", "teeth", "mesh", "transform", "motion"})
+      if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a plane (a plane is static: point and normal)");
+    c.point = f.vec3("point", c.point);
+    c.normal = f.vec3("normal", c.normal);
+    if (std::hypot(c.normal[0], c.normal[1], c.normal[2]) < 1e-12) f.fail("normal", "a non-zero vector");
+    return c;
+  }
+  c.radius = f.number_in("radius", c.radius, 1e-6, 1e4);
+  c.half_extents = f.vec3("half_extents", c.half_extents);
+  for (double h : c.half_extents)
+    if (!(h > 0)) f.fail("half_extents", "three half extents > 0");
+  c.half_height = f.number_in("half_height", c.half_height, 1e-6, 1e4);
+  c.teeth = f.integer("teeth", c.teeth, 3, 1000);
+  c.outer_radius = f.number_in("outer_radius", c.outer_radius, 1e-6, 1e4);
+  c.root_radius = f.number_in("root_radius", c.root_radius, 1e-6, 1e4);
+  if (c.type == "gears" && !(c.root_radius < c.outer_radius)) f.fail("root_radius", "a root radius below outer_radius");
+  c.thickness = f.number_in("thickness", c.thickness, 1e-6, 1e4);
+  c.clearance = f.number_in("clearance", c.clearance, 0, 1e4);
+  if (c.type == "mesh") {
+    c.mesh = std::filesystem::absolute(dir / f.string("mesh")).lexically_normal();
+    if (check_files && !std::filesystem::exists(c.mesh))
+      f.fail("mesh", "an existing mesh file", "\"" + c.mesh.string() + "\", which does not exist");
+  }
+  c.query_radius = f.number_in("query_radius", c.query_radius, 1e-9, 1e4);
+  c.transform = parse_transform(f.object_or_empty("transform"));
+  c.motion = parse_motion(f.object_or_empty("motion"));
+  if (c.motion.kind == MotionSpec::Kind::Keyframed && f.has("transform"))
+    f.fail("transform", "no transform with keyframed motion (the keys are absolute poses)");
+  if (c.type != "mesh" && f.object_or_empty("transform").has("scale"))
+    f.fail("transform", "no scale on an analytic collider (set its radius or extents)");
+  return c;
+}
+
 ClothMaterialSpec parse_cloth_material(const Fields& f) {
   f.reject_unknown({"young", "poisson", "density", "thickness", "damping", "bending_stiffness", "bending_damping"});
   ClothMaterialSpec m;
@@ -83,7 +242,7 @@ ClothMaterialSpec parse_cloth_material(const Fields& f) {
 }
 
 ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool check_files) {
-  f.reject_unknown({"name", "mesh", "grid", "transform", "velocity", "material", "pin_vertices", "pin_box"});
+  f.reject_unknown({"name", "mesh", "grid", "transform", "velocity", "material", "pin_vertices", "pin_boxes"});
   ClothSpec c;
   c.name = f.string("name");
   if (f.has("mesh") && f.has("grid")) f.fail("grid", "either \"mesh\" or \"grid\", not both");
@@ -111,15 +270,7 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
       c.pin_vertices.push_back(i.get<int>());
     }
   }
-  if (f.has("pin_box")) {
-    const Fields b = f.object("pin_box");
-    b.reject_unknown({"min", "max"});
-    c.has_pin_box = true;
-    c.pin_box_min = b.vec3("min", c.pin_box_min);
-    c.pin_box_max = b.vec3("max", c.pin_box_max);
-    for (int k = 0; k < 3; ++k)
-      if (c.pin_box_min[k] > c.pin_box_max[k]) b.fail("max", "a box with min <= max in every coordinate");
-  }
+  c.pin_boxes = parse_pin_boxes(f);
   return c;
 }
 
@@ -223,7 +374,8 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
     if (!j["solids"].is_array()) root.fail("solids", "an array of solid objects");
     for (std::size_t i = 0; i < j["solids"].size(); ++i) {
       Fields f(j["solids"][i], fname, "$.solids[" + std::to_string(i) + "]");
-      f.reject_unknown({"name", "mesh", "transform", "velocity", "material"});
+      f.reject_unknown({"name", "mesh", "mesh_resolution", "transform", "velocity", "material", "pin_boxes",
+                        "plasticity", "plastic_goal", "fiber"});
       SolidSpec solid;
       solid.name = f.string("name");
       unique_name(f, solid.name);
@@ -232,7 +384,17 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
         f.fail("mesh", "an existing mesh file", "\"" + solid.mesh.string() + "\", which does not exist");
       solid.transform = parse_transform(f.object_or_empty("transform"));
       solid.velocity = f.vec3("velocity", solid.velocity);
+      solid.mesh_resolution = f.integer("mesh_resolution", solid.mesh_resolution, 2, 1000);
       solid.material = parse_material(f.object_or_empty("material"));
+      solid.pin_boxes = parse_pin_boxes(f);
+      if (f.has("plasticity")) solid.plasticity = parse_plasticity(f.object("plasticity"));
+      if (f.has("plastic_goal")) {
+        if (!solid.plasticity) f.fail("plastic_goal", "a \"plasticity\" block as well (control steers plastic flow)");
+        if (solid.plasticity->preserve_volume)
+          f.fail("plastic_goal", "plasticity.preserve_volume false (ITF04 7: a goal rarely preserves volume)");
+        solid.plastic_goal = parse_plastic_goal(f.object("plastic_goal"));
+      }
+      if (f.has("fiber")) solid.fiber = parse_fiber(f.object("fiber"));
       s.solids.push_back(std::move(solid));
     }
   }
@@ -254,18 +416,10 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   if (j.contains("colliders")) {
     if (!j["colliders"].is_array()) root.fail("colliders", "an array of colliders");
     for (std::size_t i = 0; i < j["colliders"].size(); ++i) {
-      Fields f(j["colliders"][i], fname, "$.colliders[" + std::to_string(i) + "]");
-      f.reject_unknown({"name", "type", "point", "normal", "friction"});
-      ColliderSpec c;
-      c.name = f.string("name");
+      const Fields f(j["colliders"][i], fname, "$.colliders[" + std::to_string(i) + "]");
+      ColliderSpec c = parse_collider(f, dir, check_files);
       unique_name(f, c.name);
-      c.type = f.string("type", c.type);
-      if (c.type != "plane") f.fail("type", "\"plane\" (the only collider type so far)");
-      c.point = f.vec3("point", c.point);
-      c.normal = f.vec3("normal", c.normal);
-      if (std::hypot(c.normal[0], c.normal[1], c.normal[2]) < 1e-12) f.fail("normal", "a non-zero vector");
-      c.friction = f.number_in("friction", c.friction, 0, 100);
-      s.colliders.push_back(c);
+      s.colliders.push_back(std::move(c));
     }
   }
   return s;
@@ -295,6 +449,103 @@ nlohmann::json track_json(const ScalarTrack& t) {
   for (const auto& [time, v] : t.keys) a.push_back({time, v});
   return a;
 }
+
+nlohmann::json transform_json(const Transform& t) {
+  return {{"scale", t.scale}, {"rotate_degrees", t.rotate_degrees}, {"translate", t.translate}};
+}
+
+nlohmann::json pin_boxes_json(const std::vector<PinBox>& boxes) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const auto& b : boxes) a.push_back({{"min", b.min}, {"max", b.max}});
+  return a;
+}
+
+nlohmann::json motion_json(const MotionSpec& m) {
+  nlohmann::json j = nlohmann::json::object();
+  if (m.kind == MotionSpec::Kind::ConstantVelocity) {
+    j = {{"velocity", m.velocity}, {"spin_axis", m.spin_axis}, {"spin_rate", m.spin_rate}};
+  } else if (m.kind == MotionSpec::Kind::Keyframed) {
+    if (!m.translate_keys.empty()) {
+      j["translate_keys"] = nlohmann::json::array();
+      for (const auto& [t, p] : m.translate_keys) j["translate_keys"].push_back({t, p});
+    }
+    if (!m.rotate_keys.empty()) {
+      j["rotate_keys"] = nlohmann::json::array();
+      for (const auto& k : m.rotate_keys) j["rotate_keys"].push_back({k.t, k.axis, k.degrees});
+    }
+  }
+  return j;
+}
+
+nlohmann::json solid_json(const SolidSpec& o) {
+  const auto& m = o.material;
+  nlohmann::json j{
+      {"name", o.name},
+      {"mesh", o.mesh.string()},
+      {"mesh_resolution", o.mesh_resolution},
+      {"transform", transform_json(o.transform)},
+      {"velocity", o.velocity},
+      {"material", {{"model", m.model}, {"young", m.young}, {"poisson", m.poisson}, {"density", m.density},
+                    {"damping", m.damping}, {"compression_limit", m.compression_limit},
+                    {"hardening_deformation", m.hardening_deformation},
+                    {"hardening_strength", m.hardening_strength}, {"strength", track_json(m.strength)}}},
+      {"pin_boxes", pin_boxes_json(o.pin_boxes)}};
+  if (o.plasticity)
+    j["plasticity"] = {{"yield", o.plasticity->yield}, {"deviatoric_only", o.plasticity->deviatoric_only},
+                       {"preserve_volume", o.plasticity->preserve_volume}, {"max_stretch", o.plasticity->max_stretch}};
+  if (o.plastic_goal) j["plastic_goal"] = {{"scale", o.plastic_goal->scale}, {"center", o.plastic_goal->center}};
+  if (o.fiber)
+    j["fiber"] = {{"direction", o.fiber->direction}, {"k_passive", o.fiber->k_passive},
+                  {"k_active", o.fiber->k_active}, {"max_contraction", o.fiber->max_contraction},
+                  {"activation", track_json(o.fiber->activation)}};
+  return j;
+}
+
+nlohmann::json cloth_json(const ClothSpec& c) {
+  const auto& m = c.material;
+  nlohmann::json j{{"name", c.name},
+                   {"transform", transform_json(c.transform)},
+                   {"velocity", c.velocity},
+                   {"material", {{"young", m.young}, {"poisson", m.poisson}, {"density", m.density},
+                                 {"thickness", m.thickness}, {"damping", m.damping},
+                                 {"bending_stiffness", m.bending_stiffness}, {"bending_damping", m.bending_damping}}},
+                   {"pin_vertices", c.pin_vertices},
+                   {"pin_boxes", pin_boxes_json(c.pin_boxes)}};
+  if (c.mesh.empty())
+    j["grid"] = {{"width", c.grid.width}, {"height", c.grid.height}, {"nx", c.grid.nx}, {"ny", c.grid.ny}};
+  else
+    j["mesh"] = c.mesh.string();
+  return j;
+}
+
+nlohmann::json collider_json(const ColliderSpec& c) {
+  nlohmann::json j{{"name", c.name}, {"type", c.type}, {"friction", c.friction}};
+  if (c.type == "plane") {
+    j["point"] = c.point;
+    j["normal"] = c.normal;
+    return j;
+  }
+  if (c.type == "sphere") j["radius"] = c.radius;
+  if (c.type == "box") j["half_extents"] = c.half_extents;
+  if (c.type == "cylinder") {
+    j["radius"] = c.radius;
+    j["half_height"] = c.half_height;
+  }
+  if (c.type == "gears") {
+    j["teeth"] = c.teeth;
+    j["outer_radius"] = c.outer_radius;
+    j["root_radius"] = c.root_radius;
+    j["thickness"] = c.thickness;
+    j["clearance"] = c.clearance;
+  }
+  if (c.type == "mesh") {
+    j["mesh"] = c.mesh.string();
+    j["query_radius"] = c.query_radius;
+  }
+  if (c.motion.kind != MotionSpec::Kind::Keyframed) j["transform"] = transform_json(c.transform);
+  j["motion"] = motion_json(c.motion);
+  return j;
+}
 }  // namespace
 
 nlohmann::json to_json(const Scene& s) {
@@ -306,45 +557,15 @@ nlohmann::json to_json(const Scene& s) {
   j["solver"] = {{"cfl", s.solver.cfl}, {"max_dt", s.solver.max_dt}, {"cg_tolerance", s.solver.cg_tolerance},
                  {"cg_max_iterations", s.solver.cg_max_iterations}};
   j["solids"] = nlohmann::json::array();
-  for (const auto& o : s.solids) {
-    const auto& m = o.material;
-    j["solids"].push_back(
-        {{"name", o.name},
-         {"mesh", o.mesh.string()},
-         {"transform", {{"scale", o.transform.scale}, {"rotate_degrees", o.transform.rotate_degrees},
-                        {"translate", o.transform.translate}}},
-         {"velocity", o.velocity},
-         {"material", {{"model", m.model}, {"young", m.young}, {"poisson", m.poisson}, {"density", m.density},
-                       {"damping", m.damping}, {"compression_limit", m.compression_limit},
-                       {"hardening_deformation", m.hardening_deformation},
-                       {"hardening_strength", m.hardening_strength}, {"strength", track_json(m.strength)}}}});
-  }
+  for (const auto& o : s.solids) j["solids"].push_back(solid_json(o));
   j["cloths"] = nlohmann::json::array();
-  for (const auto& c : s.cloths) {
-    const auto& m = c.material;
-    nlohmann::json cj{{"name", c.name},
-                      {"transform", {{"scale", c.transform.scale}, {"rotate_degrees", c.transform.rotate_degrees},
-                                     {"translate", c.transform.translate}}},
-                      {"velocity", c.velocity},
-                      {"material", {{"young", m.young}, {"poisson", m.poisson}, {"density", m.density},
-                                    {"thickness", m.thickness}, {"damping", m.damping},
-                                    {"bending_stiffness", m.bending_stiffness}, {"bending_damping", m.bending_damping}}},
-                      {"pin_vertices", c.pin_vertices}};
-    if (c.mesh.empty())
-      cj["grid"] = {{"width", c.grid.width}, {"height", c.grid.height}, {"nx", c.grid.nx}, {"ny", c.grid.ny}};
-    else
-      cj["mesh"] = c.mesh.string();
-    if (c.has_pin_box) cj["pin_box"] = {{"min", c.pin_box_min}, {"max", c.pin_box_max}};
-    j["cloths"].push_back(cj);
-  }
+  for (const auto& c : s.cloths) j["cloths"].push_back(cloth_json(c));
+  j["colliders"] = nlohmann::json::array();
+  for (const auto& c : s.colliders) j["colliders"].push_back(collider_json(c));
   j["render"] = {{"width", s.render.width}, {"height", s.render.height}, {"ground", s.render.ground}};
   if (!s.render.camera.automatic)
     j["render"]["camera"] = {{"position", s.render.camera.position}, {"target", s.render.camera.target},
                              {"fov_degrees", s.render.camera.fov_degrees}};
-  j["colliders"] = nlohmann::json::array();
-  for (const auto& c : s.colliders)
-    j["colliders"].push_back({{"name", c.name}, {"type", c.type}, {"point", c.point}, {"normal", c.normal},
-                              {"friction", c.friction}});
   return j;
 }
 

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <optional>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -31,12 +32,41 @@ struct Transform {
   std::array<double, 3> translate{0, 0, 0};
 };
 
+struct PinBox {
+  std::array<double, 3> min{0, 0, 0}, max{0, 0, 0};  // world rest positions inside are held still
+};
+
+struct PlasticitySpec {       // ITF04 6.3
+  double yield = 0.1;         // gamma: ||ln F^e|| <= gamma
+  bool deviatoric_only = false;
+  bool preserve_volume = false;
+  double max_stretch = 10;    // the limit on Fp's singular values (and their inverses)
+};
+
+struct PlasticGoalSpec {      // ITF04 7: control toward the rest shape scaled per axis
+  std::array<double, 3> scale{1, 1, 1};
+  std::array<double, 3> center{0, 0, 0};
+};
+
+struct FiberSpec {            // ITF04 6.1: transversely isotropic muscle fibers
+  std::array<double, 3> direction{1, 0, 0};  // material (rest) direction, world axes
+  double k_passive = 0;       // [Pa]
+  double k_active = 0;        // [Pa]
+  double max_contraction = 0.3;
+  ScalarTrack activation = ScalarTrack::constant(0.0);
+};
+
 struct SolidSpec {
   std::string name;
   std::filesystem::path mesh;  // absolute, resolved against the scene file's folder
+  int mesh_resolution = 24;    // BCC cells along the longest side, when `mesh` is a surface
   Transform transform;
   std::array<double, 3> velocity{0, 0, 0};
   MaterialSpec material;
+  std::vector<PinBox> pin_boxes;
+  std::optional<PlasticitySpec> plasticity;
+  std::optional<PlasticGoalSpec> plastic_goal;
+  std::optional<FiberSpec> fiber;
 };
 
 struct ClothMaterialSpec {
@@ -62,8 +92,7 @@ struct ClothSpec {
   std::array<double, 3> velocity{0, 0, 0};
   ClothMaterialSpec material;
   std::vector<int> pin_vertices;  // vertex indices of the (welded) mesh, held in place
-  bool has_pin_box = false;       // every vertex whose world rest position lies in the box
-  std::array<double, 3> pin_box_min{0, 0, 0}, pin_box_max{0, 0, 0};
+  std::vector<PinBox> pin_boxes;  // every vertex whose world rest position lies in a box
 };
 
 struct CameraSpec {
@@ -78,11 +107,36 @@ struct RenderSpec {
   CameraSpec camera;
 };
 
+// How a rigid collider moves: fixed at its transform, at constant linear and angular
+// velocity from it, or by absolute keyframes.
+struct MotionSpec {
+  enum class Kind { Fixed, ConstantVelocity, Keyframed } kind = Kind::Fixed;
+  std::array<double, 3> velocity{0, 0, 0};    // [m/s]
+  std::array<double, 3> spin_axis{0, 0, 1};
+  double spin_rate = 0;                       // [rad/s], about the collider's translate point
+  std::vector<std::pair<double, std::array<double, 3>>> translate_keys;  // (t, world translation)
+  struct RotateKey {
+    double t;
+    std::array<double, 3> axis;
+    double degrees;
+  };
+  std::vector<RotateKey> rotate_keys;
+};
+
 struct ColliderSpec {
   std::string name;
-  std::string type = "plane";
-  std::array<double, 3> point{0, 0, 0};
-  std::array<double, 3> normal{0, 1, 0};
+  std::string type = "plane";  // plane | sphere | box | cylinder | gears | mesh
+  std::array<double, 3> point{0, 0, 0};      // plane
+  std::array<double, 3> normal{0, 1, 0};     // plane
+  double radius = 0.5;                        // sphere, cylinder
+  std::array<double, 3> half_extents{0.5, 0.5, 0.5};  // box
+  double half_height = 0.5;                   // cylinder (axis y in its frame)
+  int teeth = 12;                             // gears: a pair turning in opposite directions
+  double outer_radius = 0.5, root_radius = 0.4, thickness = 0.3, clearance = 0.0;
+  std::filesystem::path mesh;                 // mesh: any triangle surface assimp reads
+  double query_radius = 0.05;                 // mesh: contact search distance [m]
+  Transform transform;                        // body -> world at rest (not with keyframes)
+  MotionSpec motion;
   double friction = 0.3;
 };
 

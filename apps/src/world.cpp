@@ -17,7 +17,10 @@ std::vector<Force*> SimObject::force_pointers() const {
 World::World(const Scene& scene) : scene_(scene) {
   for (const auto& spec : scene.solids) objects_.push_back(build_solid(spec, scene));
   for (const auto& spec : scene.cloths) objects_.push_back(build_cloth(spec, scene));
-  collisions_ = std::make_unique<RigidCollisions>(build_colliders(scene));
+  colliders_ = build_colliders(scene);
+  std::vector<RigidCollider> rigid;
+  for (const auto& c : colliders_) rigid.push_back({c.surface, c.friction});
+  collisions_ = std::make_unique<RigidCollisions>(std::move(rigid));
 }
 
 void World::advance_to(double t_end, FrameReport& report) {

@@ -9,6 +9,7 @@
 #include "invfem/core/newmark_step.hpp"
 #include "invfem/solids/boundary.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
+#include "collider_builders.hpp"
 #include "scene.hpp"
 
 namespace invfem::app {
@@ -47,6 +48,7 @@ class World {
   double time() const { return time_; }
   const Scene& scene() const { return scene_; }
   const std::vector<SimObject>& objects() const { return objects_; }
+  const std::vector<ColliderBody>& colliders() const { return colliders_; }
 
   // Substep from time() to t_end; fills the step counts of `report`.
   void advance_to(double t_end, FrameReport& report);
@@ -62,6 +64,7 @@ class World {
   Scene scene_;
   double time_ = 0;
   std::vector<SimObject> objects_;
+  std::vector<ColliderBody> colliders_;
   std::unique_ptr<RigidCollisions> collisions_;
 };
 

@@ -2,12 +2,17 @@
 
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
+#include "invfem/core/elasticity.hpp"
+#include "invfem/core/plasticity_control.hpp"
 #include "invfem/core/rotated_damping.hpp"
 
 namespace invfem {
@@ -21,22 +26,90 @@ template <class Body> void for_each_element(int m, const Body& body) {
     for (int e = r.begin(); e < r.end(); ++e) body(e);
   });
 }
+
+// Adds V |grad N_i|^2 of one element to its four nodes. Rows of Dinv are the gradients of nodes
+// 1..3's shape functions; node 0's is minus their sum.
+void add_node_stiffness(const Tets& tets, int e, const Mat3& Dinv, double volume, Eigen::VectorXd& k) {
+  k(tets(e, 0)) += volume * Dinv.colwise().sum().squaredNorm();
+  for (int j = 0; j < 3; ++j) k(tets(e, j + 1)) += volume * Dinv.row(j).squaredNorm();
+}
+
+void validate_activation(const ScalarTrack& track) {
+  for (std::size_t i = 0; i < track.keys.size(); ++i) {
+    const double a = track.keys[i].second;
+    if (!(a >= 0 && a <= 1))
+      throw std::invalid_argument("tet material: activation key " + std::to_string(i) +
+                                  " has value " + std::to_string(a) + ", must lie in [0, 1]");
+  }
+}
+
+// Fp^-1 of a checkpoint or a caller: finite, symmetric and positive definite (plasticity.hpp).
+void validate_Fp_inv(const Mat3& A, std::size_t e) {
+  const std::string where = "plastic state: element " + std::to_string(e) + ": Fp^-1 ";
+  if (!A.allFinite()) throw std::invalid_argument(where + "is not finite");
+  if (!((A - A.transpose()).norm() <= 1e-9 * A.norm()))
+    throw std::invalid_argument(where + "is not symmetric");
+  if (Eigen::LLT<Mat3>(A).info() != Eigen::Success || !(A.determinant() > 0))
+    throw std::invalid_argument(where + "is not positive definite");
+}
 }  // namespace
 
 TetSolidForce::TetSolidForce(TetRest rest, TetMaterial material)
     : rest_(std::move(rest)), material_(std::move(material)) {
   const std::size_t m = rest_.volume.size();
+  if (material_.plasticity) material_.plasticity->validate("tet material: plasticity");
+  if (!material_.plastic_goal_log.empty()) {
+    if (!material_.plasticity)
+      throw std::invalid_argument("tet material: plastic_goal_log is set but plasticity is off");
+    if (material_.plasticity->preserve_volume)
+      throw std::invalid_argument(
+          "tet material: plastic_goal_log needs plasticity.preserve_volume = false (ITF04 7)");
+    if (material_.plastic_goal_log.size() != m)
+      throw std::invalid_argument("tet material: plastic_goal_log has " +
+                                  std::to_string(material_.plastic_goal_log.size()) +
+                                  " entries for " + std::to_string(m) + " elements");
+    for (std::size_t e = 0; e < m; ++e)
+      if (!material_.plastic_goal_log[e].allFinite())
+        throw std::invalid_argument("tet material: plastic_goal_log element " + std::to_string(e) +
+                                    " is not finite");
+  }
+  if (material_.fiber) {
+    material_.fiber->validate("tet material: fiber");
+    if (material_.fiber_directions.size() != m)
+      throw std::invalid_argument("tet material: fiber_directions has " +
+                                  std::to_string(material_.fiber_directions.size()) +
+                                  " entries for " + std::to_string(m) + " elements");
+    for (std::size_t e = 0; e < m; ++e) {
+      const double n2 = material_.fiber_directions[e].squaredNorm();
+      if (!(std::abs(n2 - 1) <= 1e-6))
+        throw std::invalid_argument("tet material: fiber direction of element " + std::to_string(e) +
+                                    " is not a unit vector (|a|^2 = " + std::to_string(n2) + ")");
+    }
+    validate_activation(material_.activation);
+    fiber_stretch_.assign(m, 1.0);
+  }
+  plastic_ = make_plastic_state(static_cast<int>(m));
   diag_.resize(m);
   det_F_.resize(m);
+  yielded_.assign(m, 0);
   G_.resize(m);
   G_scratch_.resize(m);
   node_stiffness_ = Eigen::VectorXd::Zero(rest_.tets.size() ? rest_.tets.maxCoeff() + 1 : 0);
-  for (std::size_t e = 0; e < m; ++e) {
-    // Rows of Dm^-1 are the gradients of nodes 1..3's shape functions; node 0's is minus their sum.
-    const Mat3& Di = rest_.Dm_inv[e];
-    node_stiffness_(rest_.tets(e, 0)) += rest_.volume[e] * Di.colwise().sum().squaredNorm();
-    for (int k = 0; k < 3; ++k) node_stiffness_(rest_.tets(e, k + 1)) += rest_.volume[e] * Di.row(k).squaredNorm();
+  for (std::size_t e = 0; e < m; ++e)
+    add_node_stiffness(rest_.tets, static_cast<int>(e), rest_.Dm_inv[e], rest_.volume[e], node_stiffness_);
+}
+
+void TetSolidForce::set_plastic_state(PlasticState state) {
+  if (state.Fp_inv.size() != diag_.size())
+    throw std::invalid_argument("plastic state: " + std::to_string(state.Fp_inv.size()) +
+                                " elements for a mesh of " + std::to_string(diag_.size()));
+  bool identity = true;
+  for (std::size_t e = 0; e < state.Fp_inv.size(); ++e) {
+    validate_Fp_inv(state.Fp_inv[e], e);
+    identity = identity && state.Fp_inv[e] == Mat3::Identity();
   }
+  plastic_ = std::move(state);
+  plastic_identity_ = identity;
 }
 
 void TetSolidForce::update_positions(const Points& x, double time) {
@@ -44,17 +117,57 @@ void TetSolidForce::update_positions(const Points& x, double time) {
   strength_ = material_.strength.at(time);
   const IsotropicModel model = with_strength(material_.model, strength_);
   const int m = static_cast<int>(diag_.size());
+  const PlasticParams* plasticity = material_.plasticity ? &*material_.plasticity : nullptr;
+  const bool control = !material_.plastic_goal_log.empty();
+  const FiberMaterial* fiber = material_.fiber ? &*material_.fiber : nullptr;
+  if (fiber) {
+    activation_ = material_.activation.at(time);
+    if (!(activation_ >= 0 && activation_ <= 1))
+      throw std::invalid_argument("tet material: activation at t = " + std::to_string(time) +
+                                  " is " + std::to_string(activation_) + ", must lie in [0, 1]");
+  }
+  // With no plasticity and Fp = Id (the common case) the Fp^-1 products are skipped.
+  const bool plain = !plasticity && plastic_identity_;
   std::visit(
       [&](const auto& mdl) {
         for_each_element(m, [&](int e) {
           const Mat3 F = deformation_gradient(rest_, e, x);
           det_F_[e] = F.determinant();
-          const Diagonalization3& d = diag_[e] = diagonalize(F);
-          const Vec3 P_hat = mdl.template psi_gradient<3>(d.sigma);
-          G_[e] = d.U * P_hat.asDiagonal() * d.V.transpose() * rest_.Bm[e];
+          Mat3& Fp_inv = plastic_.Fp_inv[e];
+          Mat3 P;
+          if (plain) {
+            const Diagonalization3& d = diag_[e] = diagonalize(F);
+            P = energy_gradient(mdl, d);
+          } else {
+            if (plasticity) {
+              // ITF04 6.3 / 7: flow once per position update; u.elastic diagonalizes F Fp^-1 with
+              // the updated Fp.
+              PlasticUpdate u = control ? controlled_plastic_flow(F, Fp_inv, material_.plastic_goal_log[e], *plasticity)
+                                        : plastic_flow(F, Fp_inv, *plasticity);
+              yielded_[e] = u.yielded;
+              diag_[e] = u.elastic;
+            } else {
+              diag_[e] = diagonalize(Mat3(F * Fp_inv));
+            }
+            P = plastic_stress(energy_gradient(mdl, diag_[e]), Fp_inv);  // det(Fp) P(Fe) Fp^-T
+          }
+          if (fiber) {
+            // On the total F (see the header): P_f = Psi_f'/lambda F a a^T = U P^_f V^T of F.
+            const Vec3& a = material_.fiber_directions[e];
+            fiber_stretch_[e] = fiber_stretch(F, a);
+            P += fiber_stress(*fiber, F, a, activation_);
+          }
+          G_[e] = P * rest_.Bm[e];
         });
       },
       model);
+  if (!plasticity) {
+    std::fill(yielded_.begin(), yielded_.end(), 0);
+  } else {
+    // Flow moves Fp away from the identity; keep the flag conservative (sequential, cheap).
+    plastic_identity_ = std::all_of(plastic_.Fp_inv.begin(), plastic_.Fp_inv.end(),
+                                    [](const Mat3& A) { return A == Mat3::Identity(); });
+  }
 }
 
 void TetSolidForce::add_elastic_forces(Points& f) const { scatter_tet_forces(rest_.tets, G_, f); }
@@ -65,9 +178,17 @@ void TetSolidForce::add_damping_forces(const Points& v, Points& f) const {
   const auto [mu, lambda] = std::visit([](const auto& m) { return std::pair(m.mu, m.lambda); }, model);
   const RotatedDamping damping{material_.damping * lambda, material_.damping * mu};
   const int m = static_cast<int>(diag_.size());
+  const bool plain = plastic_identity_;
   for_each_element(m, [&](int e) {
     const Mat3 F_dot = deformation_gradient(rest_, e, v);  // velocity gradient, same formula
-    G_scratch_[e] = damping_stress(damping, diag_[e], F_dot) * rest_.Bm[e];
+    if (plain) {
+      G_scratch_[e] = damping_stress(damping, diag_[e], F_dot) * rest_.Bm[e];
+    } else {
+      // Rate of Fe = F Fp^-1 with Fp frozen over the step, stress mapped back like the elastic one.
+      const Mat3& Fp_inv = plastic_.Fp_inv[e];
+      G_scratch_[e] =
+          plastic_stress(damping_stress(damping, diag_[e], Mat3(F_dot * Fp_inv)), Fp_inv) * rest_.Bm[e];
+    }
   });
   scatter_tet_forces(rest_.tets, G_scratch_, f);
 }
@@ -77,8 +198,12 @@ double TetSolidForce::elastic_energy() const {
   double energy = 0;  // sequential sum: reproducible
   std::visit(
       [&](const auto& mdl) {
-        for (std::size_t e = 0; e < diag_.size(); ++e)
-          energy += rest_.volume[e] * mdl.template psi<3>(diag_[e].sigma);
+        for (std::size_t e = 0; e < diag_.size(); ++e) {
+          double w = mdl.template psi<3>(diag_[e].sigma);
+          if (!plastic_identity_) w *= plastic_volume_factor(plastic_.Fp_inv[e]);
+          if (material_.fiber) w += material_.fiber->psi(fiber_stretch_[e], activation_);
+          energy += rest_.volume[e] * w;
+        }
       },
       model);
   return energy;
@@ -94,15 +219,39 @@ double TetSolidForce::stable_time_step(const Eigen::VectorXd& mass) const {
   for (const auto& [t, v] : material_.strength.keys)
     if (t > time_ && t < time_ + 0.1) k = std::max(k, v);
   const double modulus = k * wave_modulus(material_.model);
-  if (!(modulus > 0)) return std::numeric_limits<double>::infinity();
+  // The fiber stiffness is bounded by k_passive + k_active for every stretch and activation
+  // (Psi_f'/lambda and Psi_f'' both are); it acts on the original rest shape.
+  const double fiber_modulus = material_.fiber ? material_.fiber->wave_modulus() : 0.0;
+  if (!(modulus > 0) && !(fiber_modulus > 0)) return std::numeric_limits<double>::infinity();
+  // With plasticity the isotropic term lives on the plastic rest shape Fp Dm (volume V0 det Fp,
+  // shape gradients Fp^-T grad N): its node stiffness is recomputed from the current Fp, so the
+  // bound holds at the current plastic state. Later flow is bounded by max_stretch (cond Fp).
+  Eigen::VectorXd plastic_stiffness;
+  const Eigen::VectorXd* iso = &node_stiffness_;
+  if (!plastic_identity_) {
+    plastic_stiffness = Eigen::VectorXd::Zero(node_stiffness_.size());
+    for (std::size_t e = 0; e < diag_.size(); ++e) {
+      const Mat3& Fp_inv = plastic_.Fp_inv[e];
+      add_node_stiffness(rest_.tets, static_cast<int>(e), Mat3(rest_.Dm_inv[e] * Fp_inv),
+                         rest_.volume[e] * plastic_volume_factor(Fp_inv), plastic_stiffness);
+    }
+    iso = &plastic_stiffness;
+  }
   double omega2 = 0;
   for (Eigen::Index i = 0; i < node_stiffness_.size(); ++i)
-    if (mass(i) > 0) omega2 = std::max(omega2, 2 * modulus * node_stiffness_(i) / mass(i));
+    if (mass(i) > 0)
+      omega2 = std::max(omega2, 2 * (std::max(modulus, 0.0) * (*iso)(i) +
+                                     fiber_modulus * node_stiffness_(i)) / mass(i));
+  if (!(omega2 > 0)) return std::numeric_limits<double>::infinity();
   return material_.cfl * 2 / std::sqrt(omega2);
 }
 
 int TetSolidForce::inverted_count() const {
   return static_cast<int>(std::count_if(det_F_.begin(), det_F_.end(), [](double d) { return d < 0; }));
+}
+
+int TetSolidForce::yielded_count() const {
+  return static_cast<int>(std::count(yielded_.begin(), yielded_.end(), 1));
 }
 
 double TetSolidForce::min_det_F() const {

@@ -2,10 +2,25 @@
 // Volumetric elasticity and damping of a tetrahedral solid: the ITF04 invertible FE force.
 // Per step (update_positions) each element's F is diagonalized once (ITF04 sections 5, 9);
 // elastic forces are G = U P^(F^) V^T Bm (eq. 2) and damping uses the same U, V (section 6.2).
+//
+// Optional terms, all off by default:
+//  - plasticity (ITF04 6.3) and plasticity control toward a goal (ITF04 7): F = Fe Fp, flowed once
+//    per update_positions. The element energy is V0 det(Fp) Psi(Fe) and the forces are
+//    G = det(Fp) U P^(F^e) V^T Fp^-T Bm (core/plasticity.hpp), U, V from diagonalizing Fe = F Fp^-1.
+//    The plastic state applies even with plasticity off (then Fp is held fixed: a restored
+//    checkpoint, or a test).
+//  - a fiber (muscle) term (ITF04 6.1), energy V0 Psi_f(|F a|) with a the element's material-space
+//    fiber. It is measured on the TOTAL F, i.e. against the original rest shape: plastic flow
+//    relaxes the isotropic part only and a fiber never forgets its rest length.
+// Damping acts on the elastic part: Fe_dot = F_dot Fp^-1 with the elastic U, V, mapped back like
+// the elastic stress (det(Fp) P_d Fp^-T); still symmetric negative semidefinite in v.
+#include <optional>
 #include <vector>
 
 #include "invfem/core/force.hpp"
+#include "invfem/core/materials/fiber.hpp"
 #include "invfem/core/materials/model.hpp"
+#include "invfem/core/plasticity.hpp"
 #include "invfem/core/scalar_track.hpp"
 #include "invfem/core/tet_kernel.hpp"
 
@@ -17,16 +32,29 @@ struct TetMaterial {
   double density = 1000;           // [kg/m^3]
   double damping = 0;              // Rayleigh-like coefficient k [s]: alpha = k lambda, beta = k mu
   double cfl = 0.5;                // fraction of the elastic wave crossing time used as dt bound
+
+  std::optional<PlasticParams> plasticity{};          // ITF04 6.3, off when empty
+  std::vector<Mat3> plastic_goal_log{};               // ITF04 7: per element L_goal (plasticity_control.hpp), empty = no control
+  std::optional<FiberMaterial> fiber{};               // ITF04 6.1 (not scaled by `strength`)
+  std::vector<Vec3> fiber_directions{};               // per element unit fiber (material space), required with fiber
+  ScalarTrack activation = ScalarTrack::constant(0);  // fiber activation over time, in [0, 1]
 };
 
 class TetSolidForce final : public Force {
  public:
+  // Throws std::invalid_argument naming the field (and element) when the plasticity parameters,
+  // goal size, fiber material, fiber directions (count, unit length) or activation keys are invalid,
+  // or a goal is given without plasticity or with preserve_volume.
   TetSolidForce(TetRest rest, TetMaterial material);
 
+  // Diagonalization, plastic flow (when enabled) and element forces at x; time picks the
+  // strength and activation. Throws std::invalid_argument for non-finite positions.
   void update_positions(const Points& x, double time) override;
   void add_elastic_forces(Points& f) const override;
   void add_damping_forces(const Points& v, Points& f) const override;
+  // sum_e V0 (det(Fp) Psi(Fe) + Psi_f(|F a|)) at the last update.
   double elastic_energy() const override;
+  // Gershgorin bound on the current plastic rest shape (see the .cpp), fiber stiffness included.
   double stable_time_step(const Eigen::VectorXd& mass) const override;
 
   // Diagnostics at the state of the last update_positions.
@@ -35,17 +63,30 @@ class TetSolidForce final : public Force {
   const std::vector<double>& det_F() const { return det_F_; }
   const TetRest& rest() const { return rest_; }
   double total_rest_volume() const;
+  int yielded_count() const;            // elements whose trial strain yielded in the last update
+
+  // The plastic state (one symmetric positive definite Fp^-1 per element; identity at rest).
+  // The setter is for checkpoints and tests: it takes effect at the next update_positions (which,
+  // with plasticity on, flows from it). Throws std::invalid_argument on a wrong element count or an
+  // element whose Fp^-1 is non-finite, not symmetric or not positive definite.
+  const PlasticState& plastic_state() const { return plastic_; }
+  void set_plastic_state(PlasticState state);
 
  private:
   TetRest rest_;
   TetMaterial material_;
   double time_ = 0;
   double strength_ = 1;                      // strength at time_
-  std::vector<Diagonalization3> diag_;       // per element, at the last positions
+  double activation_ = 0;                    // fiber activation at time_
+  PlasticState plastic_;                     // Fp^-1 per element
+  bool plastic_identity_ = true;             // every Fp^-1 is exactly the identity
+  std::vector<Diagonalization3> diag_;       // per element, of Fe = F Fp^-1 at the last positions
   std::vector<double> det_F_;
+  std::vector<double> fiber_stretch_;        // per element |F a| (only with a fiber)
+  std::vector<char> yielded_;                // per element, last update
   std::vector<Mat3> G_;                      // elastic element forces
   mutable std::vector<Mat3> G_scratch_;      // damping element forces
-  Eigen::VectorXd node_stiffness_;           // per node, sum_e V_e |grad N_i|^2 [m] (CFL bound)
+  Eigen::VectorXd node_stiffness_;           // per node, sum_e V_e |grad N_i|^2 [m] at the original rest
 };
 
 }  // namespace invfem

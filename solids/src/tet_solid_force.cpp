@@ -137,6 +137,10 @@ void TetSolidForce::update_positions(const Points& x, double time) {
           Mat3 P;
           if (plain) {
             const Diagonalization3& d = diag_[e] = diagonalize(F);
+            if (!fiber) {  // the plain ITF04 force, same expression (and rounding) as before
+              G_[e] = d.U * mdl.template psi_gradient<3>(d.sigma).asDiagonal() * d.V.transpose() * rest_.Bm[e];
+              return;
+            }
             P = energy_gradient(mdl, d);
           } else {
             if (plasticity) {

@@ -60,7 +60,7 @@ int render_command(const std::vector<std::string>& raw) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {
     throw InputError(scene_file.string() + ": not valid JSON: " + e.what());
   }
   const Scene scene = parse_scene(j, scene_file, /*check_files=*/false);

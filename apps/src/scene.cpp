@@ -300,7 +300,7 @@ RenderSpec parse_render(const Fields& f) {
 nlohmann::json parse_override_value(const std::string& text) {
   try {
     return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error&) {
+  } catch (const nlohmann::json::exception&) {
     return text;
   }
 }
@@ -431,7 +431,7 @@ Scene load_scene(const std::filesystem::path& file, const std::vector<std::strin
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse errors, and numbers out of range (1e309)
     throw InputError(file.string() + ": not valid JSON: " + e.what());
   }
   if (quick && j.is_object() && j.contains("quick") && j["quick"].is_object()) {

@@ -19,8 +19,7 @@ int RigidCollisions::process(const Points& x_old, Points& x_new, Points& v, doub
   const Eigen::Index n = x_new.rows();
   for (Eigen::Index i = 0; i < n; ++i) {
     bool collided = false;
-    Vec3 last_normal = Vec3::Zero();
-    Vec3 last_velocity = Vec3::Zero();
+    NodeConstraint contact{static_cast<int>(i), NodeConstraint::Kind::Normal};
     for (const RigidCollider& c : colliders_) {
       Vec3 x = x_new.row(i).transpose();
       const double phi = c.surface->phi(x, t_new);
@@ -46,11 +45,13 @@ int RigidCollisions::process(const Points& x_old, Points& x_new, Points& v, doub
 
       x_new.row(i) = x.transpose();
       collided = true;
-      last_normal = N;
-      last_velocity = v.row(i).transpose();
+      contact.normal = N;
+      contact.velocity = v_obj + std::max(vn, 0.0) * N;  // body's tangential, the held normal
+      contact.friction = c.friction;
+      contact.friction_charged = dv_N + dx_N / dt;
     }
     if (collided) {
-      constraints.push_back({static_cast<int>(i), NodeConstraint::Kind::Normal, last_normal, last_velocity});
+      constraints.push_back(contact);
       ++count;
     }
   }

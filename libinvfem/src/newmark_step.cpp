@@ -14,19 +14,50 @@ Points elastic_and_gravity(const Body& body, const std::vector<Force*>& forces) 
   return f;
 }
 
-// Solve (M - tau D) v_out = M v_in + tau rhs_force with D at the forces' current state.
+// A p = (M - tau D) p, with D at the forces' current state.
+void apply_system(const Body& body, const std::vector<Force*>& forces, double tau, const Points& p, Points& Ap) {
+  Points Dp = Points::Zero(p.rows(), 3);
+  for (const Force* force : forces) force->add_damping_forces(p, Dp);
+  Ap = body.mass.asDiagonal() * p - tau * Dp;
+}
+
+// Solve (M - tau D) v_out = M v_in + tau rhs_force.
 CGResult damping_solve(const Body& body, const std::vector<Force*>& forces, double tau,
                        const Points& v_in, const Points& rhs_force, const NodeConstraints& constraints,
                        const CGSettings& cg, Points& v_out) {
   const Eigen::VectorXd inv_mass = body.mass.cwiseInverse();
-  auto apply_A = [&](const Points& p, Points& Ap) {
-    Points Dp = Points::Zero(p.rows(), 3);
-    for (const Force* force : forces) force->add_damping_forces(p, Dp);
-    Ap = body.mass.asDiagonal() * p - tau * Dp;
-  };
+  auto apply_A = [&](const Points& p, Points& Ap) { apply_system(body, forces, tau, p, Ap); };
   const Points b = body.mass.asDiagonal() * v_in + tau * rhs_force;
   v_out = v_in;  // warm start
   return projected_cg(apply_A, b, inv_mass, constraints, v_out, cg);
+}
+
+// Coulomb friction for the impulse the normal constraints absorbed in the solve A v = b:
+// at a constrained node the residual J = A v - b is the constraint's impulse [kg m/s]. Its
+// normal part J_N > 0 (pushing out of the body) is a normal velocity change J_N / m, of which
+// collision processing already charged `friction_charged` (for a node at rest, dx_N/dt =
+// dt a_N / 2 of the step's dt a_N). The rest buys a tangential velocity change of mu times it,
+// toward the body's tangential velocity (time-integration.md step 8). Without it a block on a
+// slope would feel about half its friction.
+void constraint_friction(const Body& body, const std::vector<Force*>& forces, double tau, const Points& b,
+                         const NodeConstraints& constraints, Points& v) {
+  bool any = false;
+  for (const auto& c : constraints) any = any || (c.kind == NodeConstraint::Kind::Normal && c.friction > 0);
+  if (!any) return;
+  Points Av;
+  apply_system(body, forces, tau, v, Av);
+  for (const auto& c : constraints) {
+    if (c.kind != NodeConstraint::Kind::Normal || c.friction <= 0) continue;
+    const double dv_N = (Av.row(c.node) - b.row(c.node)).dot(c.normal.transpose()) / body.mass(c.node) -
+                        c.friction_charged;
+    if (dv_N <= 0) continue;
+    const Vec3 v_rel = v.row(c.node).transpose() - c.velocity;
+    const Vec3 v_T = v_rel - v_rel.dot(c.normal) * c.normal;
+    const double len = v_T.norm();
+    if (len <= 0) continue;
+    const double keep = std::max(0.0, 1.0 - c.friction * dv_N / len);
+    v.row(c.node) -= ((1.0 - keep) * v_T).transpose();
+  }
 }
 
 }  // namespace
@@ -59,8 +90,10 @@ StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionP
 
   // 5. Trapezoid: (M - dt/2 D(n+1)) v(n+1) = M v~(n) + dt/2 (f(n) + fe(n+1)).
   const Points fe_new = elastic_and_gravity(body, forces);
+  const Points rhs_force = f_old + fe_new;
   Points v_new;
-  stats.trapezoid = damping_solve(body, forces, tau, v_n, f_old + fe_new, constraints, cg, v_new);
+  stats.trapezoid = damping_solve(body, forces, tau, v_n, rhs_force, constraints, cg, v_new);
+  constraint_friction(body, forces, tau, body.mass.asDiagonal() * v_n + tau * rhs_force, constraints, v_new);
 
   body.x = std::move(x_new);
   body.v = std::move(v_new);

@@ -184,13 +184,10 @@ SlopeRun run_incline(double theta, double mu, double duration) {
   return r;
 }
 
-// KNOWN FAILURE, disabled until collisions/src/rigid_collisions.cpp is fixed (reported): in resting
-// contact the friction budget mu (dv_N + dx_N/dt) sees only dx_N/dt = dt a_N / 2, half of the
-// step's normal impulse; the trapezoid's constraint removes the other half with no friction. The
-// effective coefficient is ~mu/2 (a lone particle slides at g (sin - mu/2 cos), this block at
-// ~0.42 mu), so mu = 1.5 tan(theta) slides (0.61 m at 20 deg, 1.03 m at 35 deg in 1 s) and the
-// sliding acceleration is 58% (20 deg) / 58% (35 deg) above Coulomb's.
-TEST(Contact, DISABLED_ParticleOnInclineFollowsCoulomb) {
+// Coulomb friction on a slope. These failed (effective friction ~mu/2) until the time step
+// charged friction for the normal impulse the trapezoid's constraint absorbs, beyond the
+// dv_N + dx_N/dt that collision processing charges (newmark_step.cpp, constraint_friction).
+TEST(Contact, ParticleOnInclineFollowsCoulomb) {
   // One free node (no elastic force) on a 30 deg incline: the minimal reproduction.
   const double theta = std::numbers::pi / 6;
   const Vec3 normal(-std::sin(theta), std::cos(theta), 0), downhill(-std::cos(theta), -std::sin(theta), 0);
@@ -207,18 +204,19 @@ TEST(Contact, DISABLED_ParticleOnInclineFollowsCoulomb) {
   }
 }
 
-TEST(Contact, DISABLED_BlockOnInclineSticksWhenFrictionExceedsTangent) {
+TEST(Contact, BlockOnInclineSticksWhenFrictionExceedsTangent) {
   for (double deg : {20.0, 35.0}) {
     const double theta = deg * std::numbers::pi / 180;
     const SlopeRun r = run_incline(theta, 1.5 * std::tan(theta), 1.0);
-    // Free sliding would cover g sin(theta) / 2 ~ 1.7-2.8 m in 1 s; elastic shear sag is ~1e-5 m.
-    EXPECT_LT(std::abs(r.s.back()), 1e-4) << deg << " deg";
+    // Free sliding would cover g sin(theta) / 2 ~ 1.7-2.8 m in 1 s; landing and elastic shear
+    // settle the block by ~1e-4 m at 35 deg.
+    EXPECT_LT(std::abs(r.s.back()), 1e-3) << deg << " deg";
     // Not creeping either: the last half second adds less than 1e-5 m.
     EXPECT_LT(std::abs(r.s.back() - r.s[r.s.size() / 2]), 1e-5) << deg << " deg";
   }
 }
 
-TEST(Contact, DISABLED_BlockOnInclineSlidesWithCoulombAcceleration) {
+TEST(Contact, BlockOnInclineSlidesWithCoulombAcceleration) {
   for (double deg : {20.0, 35.0}) {
     const double theta = deg * std::numbers::pi / 180;
     const double mu = 0.5 * std::tan(theta);

@@ -5,10 +5,13 @@
 
 namespace invfem::detail {
 
-// Walks the header and the whole body (ASCII or binary, either endianness). Throws
-// std::runtime_error naming `path` for: no "ply" magic, an unknown format or property type, no
-// end_header, no vertex element with x, y, z, a truncated body, or a face index outside the
-// vertex range.
+// Walks the header and the whole body (ASCII or binary, either endianness) and accepts only a
+// structure assimp reads safely: one vertex element of scalars with x, y, z, one face element
+// with one integer vertex_indices list (plus scalars), every element with properties, no
+// duplicate element or property names. ASCII: one line per element holding exactly its declared
+// values (list counts respected), each a strict number in its type's range. Binary: exactly the
+// declared size. Throws std::runtime_error naming `path` and the problem otherwise (also for a
+// face with < 3 corners or an index outside the vertex range).
 void check_ply_structure(const std::string& path);
 
 }  // namespace invfem::detail

@@ -10,6 +10,9 @@ namespace invfem {
 namespace {
 
 constexpr int kVtkTetra = 10;
+// Largest node count accepted for one cell: VTK's biggest fixed cells have 27 nodes and
+// polyhedra a few hundred; anything above is corrupt input, not a mesh.
+constexpr long long kMaxCellNodes = 1000;
 
 struct Cells {
   std::vector<long long> offsets;  // size ncells + 1, into conn
@@ -68,9 +71,16 @@ void read_cells(detail::TextScanner& s, Cells& c) {
   for (long long i = 0; i < a; ++i) {
     const long long k = s.integer("node count of cell", i);
     c.lines.push_back(s.line());
-    if (k < 0 || used + 1 + k > b)
+    // Bounded before any arithmetic: k comes straight from the file (up to LLONG_MAX).
+    if (k < 0 || k > kMaxCellNodes)
+      s.fail("cell " + std::to_string(i) + " lists " + std::to_string(k) +
+             " nodes; a cell has 0 to " + std::to_string(kMaxCellNodes));
+    if (k > b - used - 1)  // used <= b here, so no overflow
       s.fail("cell " + std::to_string(i) + " lists " + std::to_string(k) +
              " nodes, which overruns the CELLS size " + std::to_string(b));
+    if (k > static_cast<long long>(s.remaining_bytes() + 1) / 2)
+      s.fail("cell " + std::to_string(i) + " lists " + std::to_string(k) +
+             " nodes, more than the rest of the file holds");
     used += 1 + k;
     for (long long j = 0; j < k; ++j) c.conn.push_back(s.integer("node index of cell", i));
     c.offsets.push_back(static_cast<long long>(c.conn.size()));

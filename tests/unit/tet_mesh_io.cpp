@@ -179,6 +179,7 @@ TEST(TetMeshIO, MalformedFilesGiveSpecificErrors) {
       {"unknown_extension.xyz", "unknown tet mesh extension '.xyz'", false},
       {"no_tets.vtk", "no tetrahedra (VTK cell type 10)", false},
       {"cell_types_mismatch.vtk", "CELL_TYPES count 2 does not match the CELLS count 1", false},
+      {"huge_cell_node_count.vtk", ":11: cell 0 lists 9223372036854775807 nodes; a cell has 0 to 1000", false},
       {"duplicate_node.mesh", "tet 0 repeats node 1", true},
       {"inf_coord.mesh", ":7: vertex 3: coordinate is not finite", false},
       {"index_out_of_range.mesh", "tetrahedron 1: vertex index 9 out of range [1, 4]", false},

@@ -195,6 +195,84 @@ TEST(TriangleMesh, MalformedFilesGiveErrorsNamingTheFile) {
   expect_error_naming(missing, [&] { load_triangle_mesh(missing.string()); });
 }
 
+// Expects `fn` to throw std::runtime_error naming `path` and containing `phrase`.
+template <class Fn> void expect_error_saying(const fs::path& path, const std::string& phrase, Fn fn) {
+  SCOPED_TRACE(path.filename().string());
+  try {
+    fn();
+    ADD_FAILURE() << "no error for " << path;
+  } catch (const std::runtime_error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(path.string()), std::string::npos) << msg;
+    EXPECT_NE(msg.find(phrase), std::string::npos) << msg;
+  }
+}
+
+// Regressions from tests/fuzz (fuzz_readers): each file crashed, hung or aborted the loader
+// (inside assimp) before the PLY pre-check rejected it.
+TEST(TriangleMesh, PlyFuzzFindingsGiveErrorsNamingTheFile) {
+  const std::string vertex_header =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+      "property float z\n";
+  const std::string face_header = "element face 1\nproperty list uchar int vertex_indices\n";
+  const std::string body = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n";
+  auto load = [](const fs::path& p) { return [p] { (void)load_triangle_mesh(p.string()); }; };
+
+  // The control: the same pieces, well formed, load.
+  const fs::path good = temp_file("fuzz_good.ply", vertex_header + face_header + "end_header\n" + body);
+  EXPECT_EQ(load_triangle_mesh(good.string()).tris.rows(), 1);
+
+  // ASCII file ending at "end_header" without a newline (was std::out_of_range from substr).
+  const fs::path no_newline =
+      temp_file("fuzz_end_header_eof.ply", vertex_header + face_header + "end_header");
+  expect_error_saying(no_newline, "body ends before vertex 0", load(no_newline));
+
+  // Many property-less face elements (assimp hung seeking in the stream).
+  std::string repeated = vertex_header;
+  for (int i = 0; i < 184; ++i) repeated += "element face 4\n";
+  const fs::path no_props = temp_file("fuzz_no_properties.ply", repeated + "end_header\n" + body);
+  expect_error_saying(no_props, "second 'face' element", load(no_props));
+  const fs::path one_empty = temp_file(
+      "fuzz_one_empty_element.ply", vertex_header + "element face 4\nend_header\n0 0 0\n");
+  expect_error_saying(one_empty, "element face (header line 7) has no properties", load(one_empty));
+
+  // A NUL byte and junk inside a vertex line (assimp's triangulation asserted and aborted).
+  std::string junk = "0 0 0\n1 0 0\n0 1 0\n0 0";
+  junk += '\0';
+  junk += "-{$\r 1 0\n3 0 2 1\n";
+  const fs::path nul = temp_file("fuzz_nul_byte.ply", vertex_header + face_header + "end_header\n" + junk);
+  expect_error_saying(nul, "vertex 3: '0\\x00-{$\\x0d' is not a valid real", load(nul));
+
+  // Values moved between lines keep the token total but break the one-line-per-element layout.
+  const fs::path shifted = temp_file("fuzz_shifted_values.ply",
+                                     vertex_header + face_header + "end_header\n" +
+                                         "0 0\n0 1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n");
+  expect_error_saying(shifted, "vertex 0: the line has 2 values", load(shifted));
+
+  // A list count larger than the values on its line.
+  const fs::path long_list = temp_file("fuzz_long_list.ply", vertex_header + face_header +
+                                                                  "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n4 0 2 1\n");
+  expect_error_saying(long_list, "face 0: list count 4 exceeds the values present", load(long_list));
+
+  // A binary body longer than the header declares.
+  std::string bin = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                    "property float y\nproperty float z\n" + face_header + "end_header\n";
+  const float xyz[3][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  bin.append(reinterpret_cast<const char*>(xyz), sizeof(xyz));
+  bin.push_back(3);
+  const int32_t tri[3] = {0, 1, 2};
+  bin.append(reinterpret_cast<const char*>(tri), sizeof(tri));
+  const fs::path exact = temp_file("fuzz_binary_exact.ply", bin);
+  EXPECT_EQ(load_triangle_mesh(exact.string()).tris.rows(), 1);
+  const fs::path longer = temp_file("fuzz_binary_longer.ply", bin + "xyz");
+  expect_error_saying(longer, "3 bytes after the last element", load(longer));
+
+  // A property declared twice.
+  const fs::path twice = temp_file(
+      "fuzz_property_twice.ply", vertex_header + "property float x\n" + face_header + "end_header\n" + body);
+  expect_error_saying(twice, "declares property 'x' twice", load(twice));
+}
+
 TEST(TriangleMesh, ValidateRejectsBadMeshes) {
   TriangleMesh m = make_grid(1.0, 1.0, 2, 2);
   EXPECT_NO_THROW(validate_triangle_mesh(m, "cloth"));

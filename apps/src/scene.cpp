@@ -542,7 +542,10 @@ nlohmann::json collider_json(const ColliderSpec& c) {
     j["mesh"] = c.mesh.string();
     j["query_radius"] = c.query_radius;
   }
-  if (c.motion.kind != MotionSpec::Kind::Keyframed) j["transform"] = transform_json(c.transform);
+  if (c.motion.kind != MotionSpec::Kind::Keyframed) {
+    j["transform"] = transform_json(c.transform);
+    if (c.type != "mesh") j["transform"].erase("scale");  // analytic shapes are sized, not scaled
+  }
   j["motion"] = motion_json(c.motion);
   return j;
 }

@@ -19,14 +19,6 @@ constexpr double kPi = 3.14159265358979323846;
 
 Vec3 to_vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
-Mat3 rotation_of(const Transform& t) {
-  constexpr double kDeg = kPi / 180;
-  return (Eigen::AngleAxisd(t.rotate_degrees[2] * kDeg, Vec3::UnitZ()) *
-          Eigen::AngleAxisd(t.rotate_degrees[1] * kDeg, Vec3::UnitY()) *
-          Eigen::AngleAxisd(t.rotate_degrees[0] * kDeg, Vec3::UnitX()))
-      .toRotationMatrix();
-}
-
 Motion make_motion(const ColliderSpec& c) {
   RigidTransform pose;
   pose.rotation = rotation_of(c.transform);

@@ -55,12 +55,16 @@ bool is_tet_mesh_file(const std::filesystem::path& p) {
 
 }  // namespace
 
-void apply_transform(const Transform& t, Points& X) {
+Mat3 rotation_of(const Transform& t) {
   constexpr double kDeg = 3.14159265358979323846 / 180;
-  const Mat3 R = (Eigen::AngleAxisd(t.rotate_degrees[2] * kDeg, Vec3::UnitZ()) *
-                  Eigen::AngleAxisd(t.rotate_degrees[1] * kDeg, Vec3::UnitY()) *
-                  Eigen::AngleAxisd(t.rotate_degrees[0] * kDeg, Vec3::UnitX()))
-                     .toRotationMatrix();
+  return (Eigen::AngleAxisd(t.rotate_degrees[2] * kDeg, Vec3::UnitZ()) *
+          Eigen::AngleAxisd(t.rotate_degrees[1] * kDeg, Vec3::UnitY()) *
+          Eigen::AngleAxisd(t.rotate_degrees[0] * kDeg, Vec3::UnitX()))
+      .toRotationMatrix();
+}
+
+void apply_transform(const Transform& t, Points& X) {
+  const Mat3 R = rotation_of(t);
   const Vec3 shift = to_vec(t.translate);
   for (Eigen::Index i = 0; i < X.rows(); ++i) X.row(i) = (t.scale * R * X.row(i).transpose() + shift).transpose();
 }
@@ -120,8 +124,8 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
     }
     if (spec.fiber) {
       material.fiber = FiberMaterial{spec.fiber->k_passive, spec.fiber->k_active, spec.fiber->max_contraction};
-      // The scene's direction is in world axes at rest; rotate it into the mesh's material frame
-      // (the rest frame is the world frame after the transform, so it is used as is).
+      // Material space is the transformed rest mesh, so a direction in world axes at rest is
+      // already a material direction.
       material.fiber_directions.assign(mesh.tets.rows(), to_vec(spec.fiber->direction).normalized());
       material.activation = spec.fiber->activation;
     }

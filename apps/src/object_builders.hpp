@@ -11,7 +11,10 @@ namespace invfem::app {
 SimObject build_solid(const SolidSpec& spec, const Scene& scene);
 SimObject build_cloth(const ClothSpec& spec, const Scene& scene);
 
-// Scale, rotate about x then y then z (degrees), translate: applied to every row of X.
+// The transform's rotation: about x, then y, then z, by rotate_degrees.
+Mat3 rotation_of(const Transform& t);
+
+// Scale, rotate (rotation_of), translate: applied to every row of X.
 void apply_transform(const Transform& t, Points& X);
 
 }  // namespace invfem::app

@@ -51,18 +51,23 @@ inline bool update_golden() {
   return v && std::string(v) == "1";
 }
 
+// In update mode, copy `actual` over `golden` and return true (nothing to compare). Otherwise
+// require the golden to exist (a fatal failure naming the update command if it does not).
+inline bool replace_golden_if_updating(const std::filesystem::path& actual, const std::filesystem::path& golden) {
+  if (!update_golden()) return false;
+  std::filesystem::create_directories(golden.parent_path());
+  std::filesystem::copy_file(actual, golden, std::filesystem::copy_options::overwrite_existing);
+  std::cout << "updated golden " << golden << "\n";
+  return true;
+}
+
 // Compare the listed columns of `actual` with the golden CSV, frame by frame:
 // |a - g| <= rtol |g| + atol_frac * max_frames |g| (per column), so columns that pass through
 // zero are judged on their own scale. With INVFEM_UPDATE_GOLDEN=1 the golden is rewritten.
 inline void expect_matches_golden_csv(const std::filesystem::path& actual_path,
                                       const std::filesystem::path& golden_path,
                                       const std::vector<std::string>& columns, double rtol, double atol_frac) {
-  if (update_golden()) {
-    std::filesystem::create_directories(golden_path.parent_path());
-    std::filesystem::copy_file(actual_path, golden_path, std::filesystem::copy_options::overwrite_existing);
-    std::cout << "updated golden " << golden_path << "\n";
-    return;
-  }
+  if (replace_golden_if_updating(actual_path, golden_path)) return;
   ASSERT_TRUE(std::filesystem::exists(golden_path))
       << golden_path << " is missing; run INVFEM_UPDATE_GOLDEN=1 tests/run.sh to create it";
   const Csv a = read_csv(actual_path), g = read_csv(golden_path);
@@ -98,12 +103,7 @@ inline std::string frame_file(int frame, const char* ext = "obj") {
 inline void expect_matches_golden_png(const std::filesystem::path& actual_path,
                                       const std::filesystem::path& golden_path, int threshold = 24,
                                       double max_fraction = 0.01) {
-  if (update_golden()) {
-    std::filesystem::create_directories(golden_path.parent_path());
-    std::filesystem::copy_file(actual_path, golden_path, std::filesystem::copy_options::overwrite_existing);
-    std::cout << "updated golden " << golden_path << "\n";
-    return;
-  }
+  if (replace_golden_if_updating(actual_path, golden_path)) return;
   ASSERT_TRUE(std::filesystem::exists(golden_path))
       << golden_path << " is missing; run INVFEM_UPDATE_GOLDEN=1 tests/run.sh to create it";
   const renders::Image a = renders::read_png(actual_path.string());

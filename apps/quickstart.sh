@@ -9,6 +9,7 @@ build="$root/build"
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j"$(nproc)" --target invfem
 out="${1:-$root/out/torus_puddle}"
-"$build/apps/invfem" run "$root/apps/scenes/torus_puddle.json" --out "$out"
+"$build/apps/invfem" run "$root/apps/scenes/torus_puddle.json" --out "$out" --render
 echo "frames:   $out/frames/torus/NNNN.obj"
+echo "previews: $out/png/NNNN.png"
 echo "energies: $out/energies.csv"

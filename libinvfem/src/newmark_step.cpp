@@ -21,14 +21,17 @@ void apply_system(const Body& body, const std::vector<Force*>& forces, double ta
   Ap = body.mass.asDiagonal() * p - tau * Dp;
 }
 
-// Solve (M - tau D) v_out = M v_in + tau rhs_force.
-CGResult damping_solve(const Body& body, const std::vector<Force*>& forces, double tau,
-                       const Points& v_in, const Points& rhs_force, const NodeConstraints& constraints,
-                       const CGSettings& cg, Points& v_out) {
+// The right-hand side M v_in + tau f of the implicit solves.
+Points solve_rhs(const Body& body, double tau, const Points& v_in, const Points& force) {
+  return body.mass.asDiagonal() * v_in + tau * force;
+}
+
+// Solve (M - tau D) v_out = b, warm-started from v_in.
+CGResult damping_solve(const Body& body, const std::vector<Force*>& forces, double tau, const Points& v_in,
+                       const Points& b, const NodeConstraints& constraints, const CGSettings& cg, Points& v_out) {
   const Eigen::VectorXd inv_mass = body.mass.cwiseInverse();
   auto apply_A = [&](const Points& p, Points& Ap) { apply_system(body, forces, tau, p, Ap); };
-  const Points b = body.mass.asDiagonal() * v_in + tau * rhs_force;
-  v_out = v_in;  // warm start
+  v_out = v_in;
   return projected_cg(apply_A, b, inv_mass, constraints, v_out, cg);
 }
 
@@ -70,7 +73,7 @@ StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionP
   // 1. Half step: elastic force explicit at x(n), damping implicit.
   const Points fe_n = elastic_and_gravity(body, forces);
   Points v_half;
-  stats.half_step = damping_solve(body, forces, tau, body.v, fe_n, pinned, cg, v_half);
+  stats.half_step = damping_solve(body, forces, tau, body.v, solve_rhs(body, tau, body.v, fe_n), pinned, cg, v_half);
 
   // 2. Predicted positions.
   Points x_new = body.x + dt * v_half;
@@ -90,10 +93,10 @@ StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionP
 
   // 5. Trapezoid: (M - dt/2 D(n+1)) v(n+1) = M v~(n) + dt/2 (f(n) + fe(n+1)).
   const Points fe_new = elastic_and_gravity(body, forces);
-  const Points rhs_force = f_old + fe_new;
+  const Points b = solve_rhs(body, tau, v_n, f_old + fe_new);
   Points v_new;
-  stats.trapezoid = damping_solve(body, forces, tau, v_n, rhs_force, constraints, cg, v_new);
-  constraint_friction(body, forces, tau, body.mass.asDiagonal() * v_n + tau * rhs_force, constraints, v_new);
+  stats.trapezoid = damping_solve(body, forces, tau, v_n, b, constraints, cg, v_new);
+  constraint_friction(body, forces, tau, b, constraints, v_new);
 
   body.x = std::move(x_new);
   body.v = std::move(v_new);

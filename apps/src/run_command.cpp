@@ -140,6 +140,7 @@ int run_command(const std::vector<std::string>& raw) {
   };
 
   const auto start = clock();
+  double recent_frame_seconds = 0;
   if (start_frame == 0) {
     FrameReport r;
     FrameTimings t;
@@ -158,10 +159,12 @@ int run_command(const std::vector<std::string>& raw) {
       return 1;
     }
     emit(frame, r, t);
+    // ETA from a moving average of recent frames: the cost per frame changes over a shot
+    // (the torus puddle's collapse is cheap, its recovery is not).
+    const double wall = seconds(t0, clock());
+    recent_frame_seconds = frame == start_frame + 1 ? wall : 0.7 * recent_frame_seconds + 0.3 * wall;
     if (!quiet) {
-      const auto now = clock();
-      const double wall = seconds(t0, now);
-      const double eta = seconds(start, now) / (frame - start_frame) * (last - frame);
+      const double eta = recent_frame_seconds * (last - frame);
       std::printf("frame %d/%d  t=%.3fs  %.2fs/frame  ETA %s  inverted %d (%.1f%%)  collisions %d  substeps %d  cg %d%s\n",
                   frame, last, world.time(), wall, format_duration(eta).c_str(), r.inverted,
                   100.0 * r.inverted / std::max(1, r.elements), r.colliding_nodes, r.substeps, r.cg_iterations,

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "fd_check.hpp"
+#include "force_checks.hpp"
 #include "invfem/shells/bending_force.hpp"
 #include "invfem/shells/hinge.hpp"
 #include "invfem/shells/triangle_mesh.hpp"
@@ -280,18 +281,8 @@ TEST(Bending, DampingIsSymmetricNegativeSemidefiniteAndRigidFree) {
   std::mt19937 rng(29);
   const Points x = m.X + random_points(m.X.rows(), 0.03, rng);
   f.update_positions(x, 0.0);
-  auto D = [&](const Points& v) {
-    Points out = Points::Zero(v.rows(), 3);
-    f.add_damping_forces(v, out);
-    return out;
-  };
-  for (int trial = 0; trial < 5; ++trial) {
-    const Points v = random_points(x.rows(), 1.0, rng), w = random_points(x.rows(), 1.0, rng);
-    const Points Dv = D(v), Dw = D(w);
-    const double wDv = (w.array() * Dv.array()).sum(), vDw = (v.array() * Dw.array()).sum();
-    EXPECT_NEAR(wDv, vDw, 1e-10 * (std::abs(wDv) + std::abs(vDw)));
-    EXPECT_LT((v.array() * Dv.array()).sum(), 0);
-  }
+  test::expect_symmetric_dissipative_damping(f, x.rows(), rng);
+  auto D = [&](const Points& v) { return test::damping_of(f, v); };
   const Vec3 omega(0.3, 1.0, -0.6), t(1.0, 2.0, -3.0);
   Points rigid(x.rows(), 3);
   for (Eigen::Index i = 0; i < x.rows(); ++i)

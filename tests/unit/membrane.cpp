@@ -9,6 +9,7 @@
 #include "fd_check.hpp"
 #include "invfem/core/materials/lame.hpp"
 #include "invfem/core/triangle_kernel.hpp"
+#include "force_checks.hpp"
 #include "invfem/shells/membrane_force.hpp"
 #include "invfem/shells/triangle_mesh.hpp"
 
@@ -188,18 +189,8 @@ TEST(Membrane, DampingIsSymmetricNegativeSemidefiniteAndRigidFree) {
   std::mt19937 rng(3);
   const Points x = m.X + random_points(m.X.rows(), 0.2, rng);
   f.update_positions(x, 0.0);
-  auto D = [&](const Points& v) {
-    Points out = Points::Zero(v.rows(), 3);
-    f.add_damping_forces(v, out);
-    return out;
-  };
-  for (int trial = 0; trial < 5; ++trial) {
-    const Points v = random_points(x.rows(), 1.0, rng), w = random_points(x.rows(), 1.0, rng);
-    const Points Dv = D(v), Dw = D(w);
-    const double wDv = (w.array() * Dv.array()).sum(), vDw = (v.array() * Dw.array()).sum();
-    EXPECT_NEAR(wDv, vDw, 1e-10 * (std::abs(wDv) + std::abs(vDw)));
-    EXPECT_LT((v.array() * Dv.array()).sum(), 0);
-  }
+  test::expect_symmetric_dissipative_damping(f, x.rows(), rng);
+  auto D = [&](const Points& v) { return test::damping_of(f, v); };
   // A rigid translation is never damped.
   Points vt(x.rows(), 3);
   vt.rowwise() = Eigen::RowVector3d(1.0, -2.0, 0.5);

@@ -1,0 +1,39 @@
+#pragma once
+// Checks every Force implementation's damping must pass (ITF04 section 6.2, time-integration.md
+// section 5): D(x) v is linear in v with D symmetric negative definite on non-rigid velocities, so
+// the implicit damping solve is SPD. Shared by the membrane, bending and tet force tests.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "invfem/core/force.hpp"
+
+namespace invfem::test {
+
+inline Points random_velocities(Eigen::Index n, std::mt19937& rng) {
+  std::normal_distribution<double> nd(0.0, 1.0);
+  Points p(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) p(i, k) = nd(rng);
+  return p;
+}
+
+inline Points damping_of(const Force& f, const Points& v) {
+  Points out = Points::Zero(v.rows(), 3);
+  f.add_damping_forces(v, out);
+  return out;
+}
+
+// w.D v == v.D w and v.D v < 0 for `trials` random velocity pairs, at the force's current state.
+inline void expect_symmetric_dissipative_damping(const Force& f, Eigen::Index n, std::mt19937& rng, int trials = 5) {
+  for (int trial = 0; trial < trials; ++trial) {
+    const Points v = random_velocities(n, rng), w = random_velocities(n, rng);
+    const Points Dv = damping_of(f, v), Dw = damping_of(f, w);
+    const double wDv = (w.array() * Dv.array()).sum(), vDw = (v.array() * Dw.array()).sum();
+    EXPECT_NEAR(wDv, vDw, 1e-10 * (std::abs(wDv) + std::abs(vDw))) << "trial " << trial;
+    EXPECT_LT((v.array() * Dv.array()).sum(), 0) << "trial " << trial;
+  }
+}
+
+}  // namespace invfem::test

@@ -165,7 +165,7 @@ CheckpointInfo load_checkpoint(const std::filesystem::path& file, World& world) 
     SimObject& o = objects[k];
     o.body.x = std::move(saved[k].x);
     o.body.v = std::move(saved[k].v);
-    if (o.solid) o.solid->set_plastic_state(PlasticState{std::move(saved[k].fp)});
+    if (o.solid) o.solid->restore_plastic_state(PlasticState{std::move(saved[k].fp)});
     if (BendingForce* b = bending_of(o)) b->rest_angles() = std::move(saved[k].angles);
   }
   world.resynchronize(info.time);

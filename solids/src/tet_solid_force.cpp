@@ -112,12 +112,19 @@ void TetSolidForce::set_plastic_state(PlasticState state) {
   plastic_identity_ = identity;
 }
 
+void TetSolidForce::restore_plastic_state(PlasticState state) {
+  set_plastic_state(std::move(state));
+  skip_next_flow_ = true;
+}
+
 void TetSolidForce::update_positions(const Points& x, double time) {
   time_ = time;
   strength_ = material_.strength.at(time);
   const IsotropicModel model = with_strength(material_.model, strength_);
   const int m = static_cast<int>(diag_.size());
   const PlasticParams* plasticity = material_.plasticity ? &*material_.plasticity : nullptr;
+  const bool flow = plasticity && !skip_next_flow_;  // a restored state already holds this flow
+  skip_next_flow_ = false;
   const bool control = !material_.plastic_goal_log.empty();
   const FiberMaterial* fiber = material_.fiber ? &*material_.fiber : nullptr;
   if (fiber) {
@@ -143,7 +150,7 @@ void TetSolidForce::update_positions(const Points& x, double time) {
             }
             P = energy_gradient(mdl, d);
           } else {
-            if (plasticity) {
+            if (flow) {
               // ITF04 6.3 / 7: flow once per position update; u.elastic diagonalizes F Fp^-1 with
               // the updated Fp.
               PlasticUpdate u = control ? controlled_plastic_flow(F, Fp_inv, material_.plastic_goal_log[e], *plasticity)
@@ -165,7 +172,7 @@ void TetSolidForce::update_positions(const Points& x, double time) {
         });
       },
       model);
-  if (!plasticity) {
+  if (!flow) {
     std::fill(yielded_.begin(), yielded_.end(), 0);
   } else {
     // Flow moves Fp away from the identity; keep the flag conservative (sequential, cheap).

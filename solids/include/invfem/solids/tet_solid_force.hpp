@@ -71,6 +71,10 @@ class TetSolidForce final : public Force {
   // element whose Fp^-1 is non-finite, not symmetric or not positive definite.
   const PlasticState& plastic_state() const { return plastic_; }
   void set_plastic_state(PlasticState state);
+  // For checkpoints: a state saved right after update_positions(x) already holds the plastic flow
+  // at x, so the next update_positions (with that same x) must not flow again. Same checks as
+  // set_plastic_state; a resumed run is then bit-identical to one that never stopped.
+  void restore_plastic_state(PlasticState state);
 
  private:
   TetRest rest_;
@@ -79,6 +83,7 @@ class TetSolidForce final : public Force {
   double strength_ = 1;                      // strength at time_
   double activation_ = 0;                    // fiber activation at time_
   PlasticState plastic_;                     // Fp^-1 per element
+  bool skip_next_flow_ = false;              // set by restore_plastic_state
   bool plastic_identity_ = true;             // every Fp^-1 is exactly the identity
   std::vector<Diagonalization3> diag_;       // per element, of Fe = F Fp^-1 at the last positions
   std::vector<double> det_F_;

@@ -36,4 +36,20 @@ inline void expect_symmetric_dissipative_damping(const Force& f, Eigen::Index n,
   }
 }
 
+// Internal forces g (n x 3) at positions x carry no net force and no net torque (translation and
+// rotation invariance of the energy), relative to the forces' own size sum |g_i| (1 + |x_i|).
+// `min_size` guards against a vacuous pass on (near) zero forces.
+inline void expect_zero_net_force_and_torque(const Points& x, const Points& g, double min_size) {
+  Vec3 net = Vec3::Zero(), torque = Vec3::Zero();
+  double size = 0;
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    net += g.row(i).transpose();
+    torque += x.row(i).transpose().cross(g.row(i).transpose());
+    size += g.row(i).norm() * (1 + x.row(i).norm());
+  }
+  ASSERT_GT(size, min_size);
+  EXPECT_LT(net.norm(), 1e-12 * size);
+  EXPECT_LT(torque.norm(), 1e-12 * size);
+}
+
 }  // namespace invfem::test

@@ -15,11 +15,13 @@
 #include "invfem/shells/triangle_mesh.hpp"
 
 using namespace invfem;
+using invfem::test::elastic_forces_at;
+using invfem::test::random_points;
+using invfem::test::flat;
+using invfem::test::unflat;
 
 namespace {
 
-Eigen::VectorXd flat(const Points& p) { return Eigen::Map<const Eigen::VectorXd>(p.data(), p.size()); }
-Points unflat(const Eigen::VectorXd& v) { return Eigen::Map<const Points>(v.data(), v.size() / 3, 3); }
 
 // A hinge angle as a function of its four nodes' positions, flattened (12 values, node k of the
 // hinge at 3k..3k+2), and its analytic gradient -u (bending-BMF03.md).
@@ -33,14 +35,6 @@ Eigen::VectorXd hinge_nodes(const Points& x, const Hinge& h) {
   Eigen::VectorXd out(12);
   for (int k = 0; k < 4; ++k) out.segment<3>(3 * k) = x.row(h[k]).transpose();
   return out;
-}
-
-Points random_points(Eigen::Index n, double scale, std::mt19937& rng) {
-  std::normal_distribution<double> nd(0.0, scale);
-  Points p(n, 3);
-  for (Eigen::Index i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) p(i, k) = nd(rng);
-  return p;
 }
 
 // One hinge on the edge x3 = 0, x4 = e_x; wing 1 below (y < 0), wing 2 rotated by phi about
@@ -59,13 +53,6 @@ Tris hinge_tris() {
   t << 0, 2, 3,
        1, 3, 2;
   return t;
-}
-
-Points bending_forces(BendingForce& f, const Points& x) {
-  f.update_positions(x, 0.0);
-  Points out = Points::Zero(x.rows(), 3);
-  f.add_elastic_forces(out);
-  return out;
 }
 
 // A sheet rolled around the x axis: every interior hinge is bent by the same angle.
@@ -149,7 +136,7 @@ TEST(Bending, ZeroForceAtRestAngle) {
   const TriangleMesh m = rolled_sheet(0.8);
   BendingForce f(m.X, m.tris, BendingParams{0.01, 0.0});
   for (std::size_t h = 0; h < f.hinges().size(); ++h) EXPECT_NEAR(f.angle(h), f.rest_angles()[h], 0);
-  const Points g = bending_forces(f, m.X);
+  const Points g = elastic_forces_at(f, m.X);
   EXPECT_EQ(g.cwiseAbs().maxCoeff(), 0.0);
   EXPECT_NEAR(f.elastic_energy(), 0.0, 1e-18);
   // Some hinges really are bent at rest.
@@ -159,7 +146,7 @@ TEST(Bending, ZeroForceAtRestAngle) {
   // The same mesh from a flat rest state feels a force here.
   const TriangleMesh flat = make_grid(1.0, 1.5, 4, 5);
   BendingForce flat_rest(flat.X, flat.tris, BendingParams{0.01, 0.0});
-  EXPECT_GT(bending_forces(flat_rest, m.X).cwiseAbs().maxCoeff(), 1e-4);
+  EXPECT_GT(elastic_forces_at(flat_rest, m.X).cwiseAbs().maxCoeff(), 1e-4);
   // Plasticity moves the rest angles: setting them to the current angles removes the force.
   for (std::size_t h = 0; h < flat_rest.hinges().size(); ++h)
     flat_rest.rest_angles()[h] = flat_rest.angle(h);
@@ -176,7 +163,7 @@ TEST(Bending, ForceRestoresAFlatHinge) {
   const Vec3 n1 = g0.u[0].normalized();  // u1 = |E| N1/|N1|^2
   Points lifted = flat;
   lifted.row(0) += 0.1 * n1.transpose();
-  const Points g = bending_forces(f, lifted);
+  const Points g = elastic_forces_at(f, lifted);
   EXPECT_LT(g.row(0).dot(n1.transpose()), 0);
   EXPECT_GT(f.elastic_energy(), 0);
 }
@@ -187,7 +174,7 @@ TEST(Bending, ZeroNetForceAndTorque) {
   std::mt19937 rng(13);
   for (int trial = 0; trial < 10; ++trial) {
     const Points x = m.X + random_points(m.X.rows(), 0.05, rng);
-    test::expect_zero_net_force_and_torque(x, bending_forces(f, x), 1e-6);
+    test::expect_zero_net_force_and_torque(x, elastic_forces_at(f, x), 1e-6);
   }
 }
 
@@ -207,7 +194,7 @@ TEST(Bending, ForceMatchesEnergyGradientNearRest) {
     return f.elastic_energy();
   };
   auto minus_force = [&](const Eigen::VectorXd& y) -> Eigen::VectorXd {
-    return -flat(bending_forces(f, unflat(y)));
+    return -flat(elastic_forces_at(f, unflat(y)));
   };
   fd::Options single_step;
   single_step.eps_max = single_step.eps_min = 1e-7;
@@ -215,7 +202,7 @@ TEST(Bending, ForceMatchesEnergyGradientNearRest) {
   double previous = 0;
   for (double eps : {1e-2, 1e-3}) {
     const Points x = m.X + eps * dir;
-    ASSERT_GT(bending_forces(f, x).norm(), 1e-8);  // the helper's value_scale floor stays inactive
+    ASSERT_GT(elastic_forces_at(f, x).norm(), 1e-8);  // the helper's value_scale floor stays inactive
     const fd::Result r = fd::check_gradient(energy, minus_force, flat(x), single_step);
     ASSERT_EQ(r.error.size(), 1u) << r.report;
     const double rel = r.error[0];
@@ -296,7 +283,7 @@ TEST(Bending, DegenerateHingesGiveFiniteForces) {
   nearly.row(0) << 0.4, 1e-9, 1e-9;  // wing just off the edge line
   states.push_back(nearly);
   for (const Points& x : states) {
-    const Points g = bending_forces(f, x);
+    const Points g = elastic_forces_at(f, x);
     Points d = Points::Zero(4, 3);
     f.add_damping_forces(v, d);
     EXPECT_TRUE(g.allFinite());

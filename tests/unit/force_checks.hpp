@@ -11,12 +11,25 @@
 
 namespace invfem::test {
 
-inline Points random_velocities(Eigen::Index n, std::mt19937& rng) {
-  std::normal_distribution<double> nd(0.0, 1.0);
+// Points (n x 3, row-major) <-> the flat vector [x0 y0 z0 x1 ...] the FD helper takes.
+inline Eigen::VectorXd flat(const Points& p) { return Eigen::Map<const Eigen::VectorXd>(p.data(), p.size()); }
+inline Points unflat(const Eigen::VectorXd& v) { return Eigen::Map<const Points>(v.data(), v.size() / 3, 3); }
+
+// n x 3 normally distributed values with standard deviation `scale` (perturbations, velocities).
+inline Points random_points(Eigen::Index n, double scale, std::mt19937& rng) {
+  std::normal_distribution<double> nd(0.0, scale);
   Points p(n, 3);
   for (Eigen::Index i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k) p(i, k) = nd(rng);
   return p;
+}
+
+// The elastic forces (n x 3) of `f` at positions x (updates the force's state to x).
+inline Points elastic_forces_at(Force& f, const Points& x) {
+  f.update_positions(x, 0.0);
+  Points out = Points::Zero(x.rows(), 3);
+  f.add_elastic_forces(out);
+  return out;
 }
 
 inline Points damping_of(const Force& f, const Points& v) {
@@ -28,7 +41,7 @@ inline Points damping_of(const Force& f, const Points& v) {
 // w.D v == v.D w and v.D v < 0 for `trials` random velocity pairs, at the force's current state.
 inline void expect_symmetric_dissipative_damping(const Force& f, Eigen::Index n, std::mt19937& rng, int trials = 5) {
   for (int trial = 0; trial < trials; ++trial) {
-    const Points v = random_velocities(n, rng), w = random_velocities(n, rng);
+    const Points v = random_points(n, 1.0, rng), w = random_points(n, 1.0, rng);
     const Points Dv = damping_of(f, v), Dw = damping_of(f, w);
     const double wDv = (w.array() * Dv.array()).sum(), vDw = (v.array() * Dw.array()).sum();
     EXPECT_NEAR(wDv, vDw, 1e-10 * (std::abs(wDv) + std::abs(vDw))) << "trial " << trial;

@@ -14,19 +14,13 @@
 #include "invfem/shells/triangle_mesh.hpp"
 
 using namespace invfem;
+using invfem::test::elastic_forces_at;
+using invfem::test::random_points;
+using invfem::test::flat;
+using invfem::test::unflat;
 
 namespace {
 
-Eigen::VectorXd flat(const Points& p) { return Eigen::Map<const Eigen::VectorXd>(p.data(), p.size()); }
-Points unflat(const Eigen::VectorXd& v) { return Eigen::Map<const Points>(v.data(), v.size() / 3, 3); }
-
-Points random_points(Eigen::Index n, double scale, std::mt19937& rng) {
-  std::normal_distribution<double> nd(0.0, scale);
-  Points p(n, 3);
-  for (Eigen::Index i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) p(i, k) = nd(rng);
-  return p;
-}
 
 MembraneParams cloth_params(double rayleigh = 0.0) {
   const Lame l = lame_from_young_poisson(1e4, 0.3);
@@ -38,13 +32,6 @@ TriangleMesh curved_sheet() {
   TriangleMesh m = make_grid(1.0, 0.7, 3, 2);
   for (Eigen::Index i = 0; i < m.X.rows(); ++i) m.X(i, 2) = 0.2 * std::sin(2.0 * m.X(i, 0));
   return m;
-}
-
-Points forces(MembraneForce& f, const Points& x) {
-  f.update_positions(x, 0.0);
-  Points out = Points::Zero(x.rows(), 3);
-  f.add_elastic_forces(out);
-  return out;
 }
 
 Mat3 random_rotation(std::mt19937& rng) {
@@ -67,7 +54,7 @@ TEST(Membrane, PlaneStressLame) {
 TEST(Membrane, ZeroForceAtRest) {
   const TriangleMesh m = curved_sheet();
   MembraneForce f(m.X, m.tris, cloth_params());
-  const Points g = forces(f, m.X);
+  const Points g = elastic_forces_at(f, m.X);
   EXPECT_LT(g.cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT(f.elastic_energy(), 1e-20);
 }
@@ -78,14 +65,14 @@ TEST(Membrane, ForceIsMinusEnergyGradient) {
   std::mt19937 rng(7);
   for (int trial = 0; trial < 5; ++trial) {
     const Points x = m.X + random_points(m.X.rows(), 0.15, rng);
-    const Points g = forces(f, x);
+    const Points g = elastic_forces_at(f, x);
     const double scale = g.cwiseAbs().maxCoeff();
     ASSERT_GT(scale, 1e-3);
     auto energy = [&](const Eigen::VectorXd& y) {
       f.update_positions(unflat(y), 0.0);
       return f.elastic_energy();
     };
-    auto gradient = [&](const Eigen::VectorXd& y) -> Eigen::VectorXd { return -flat(forces(f, unflat(y))); };
+    auto gradient = [&](const Eigen::VectorXd& y) -> Eigen::VectorXd { return -flat(elastic_forces_at(f, unflat(y))); };
     // The 2-norm bound |fd - grad| < tol |grad| with tol = 1e-6 / sqrt(3n) implies the
     // per-component bound max |fd + force| < 1e-6 max |force| this test has always asserted.
     fd::Options o;
@@ -122,7 +109,7 @@ TEST(Membrane, ZeroNetForceAndTorque) {
   std::mt19937 rng(11);
   for (int trial = 0; trial < 10; ++trial) {
     const Points x = m.X + random_points(m.X.rows(), 0.3, rng);
-    test::expect_zero_net_force_and_torque(x, forces(f, x), 0);
+    test::expect_zero_net_force_and_torque(x, elastic_forces_at(f, x), 0);
   }
 }
 
@@ -131,13 +118,13 @@ TEST(Membrane, RotationInvariance) {
   MembraneForce f(m.X, m.tris, cloth_params());
   std::mt19937 rng(5);
   const Points x = m.X + random_points(m.X.rows(), 0.2, rng);
-  const Points g = forces(f, x);
+  const Points g = elastic_forces_at(f, x);
   const double e = f.elastic_energy();
   const Mat3 R = random_rotation(rng);
   const Vec3 t(0.3, -1.0, 2.0);
   Points xr(x.rows(), 3);
   for (Eigen::Index i = 0; i < x.rows(); ++i) xr.row(i) = (R * x.row(i).transpose() + t).transpose();
-  const Points gr = forces(f, xr);
+  const Points gr = elastic_forces_at(f, xr);
   EXPECT_NEAR(f.elastic_energy(), e, 1e-12 * e);
   for (Eigen::Index i = 0; i < x.rows(); ++i)
     EXPECT_LT((gr.row(i).transpose() - R * g.row(i).transpose()).norm(),
@@ -150,7 +137,7 @@ TEST(Membrane, DegenerateTrianglesGiveFiniteRestoringForces) {
   // Collapse to a segment: every node on the x axis.
   Points seg = m.X;
   seg.col(1).setZero();
-  Points g = forces(f, seg);
+  Points g = elastic_forces_at(f, seg);
   EXPECT_TRUE(g.allFinite());
   EXPECT_TRUE(std::isfinite(f.elastic_energy()));
   EXPECT_GT(f.elastic_energy(), 0);
@@ -161,7 +148,7 @@ TEST(Membrane, DegenerateTrianglesGiveFiniteRestoringForces) {
   EXPECT_LT((top + bottom).norm(), 1e-12 * g.norm());
   // Collapse to a point.
   Points pt = Points::Zero(4, 3);
-  g = forces(f, pt);
+  g = elastic_forces_at(f, pt);
   EXPECT_TRUE(g.allFinite());
   EXPECT_GT(g.norm(), 0);
   EXPECT_TRUE(std::isfinite(f.elastic_energy()));
@@ -169,7 +156,7 @@ TEST(Membrane, DegenerateTrianglesGiveFiniteRestoringForces) {
   // triangles in 3D, so it costs nothing.
   Points mirrored = m.X;
   mirrored.col(0) *= -1;
-  g = forces(f, mirrored);
+  g = elastic_forces_at(f, mirrored);
   EXPECT_LT(g.cwiseAbs().maxCoeff(), 1e-12);
 }
 
@@ -217,7 +204,7 @@ TEST(Membrane, DeterministicAcrossCalls) {
   MembraneForce f(m.X, m.tris, cloth_params());
   std::mt19937 rng(1);
   const Points x = m.X + random_points(m.X.rows(), 0.01, rng);
-  const Points a = forces(f, x), b = forces(f, x);
+  const Points a = elastic_forces_at(f, x), b = elastic_forces_at(f, x);
   EXPECT_EQ((a - b).cwiseAbs().maxCoeff(), 0.0);
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fd_check.hpp"
+#include "force_checks.hpp"
 #include "invfem/core/newmark_step.hpp"
 #include "invfem/core/plasticity_control.hpp"
 #include "invfem/solids/mass.hpp"
@@ -19,6 +20,8 @@
 namespace {
 
 using namespace invfem;
+using invfem::test::flat;
+using invfem::test::unflat;
 
 // An nx x ny x nz lattice of unit-h cubes, each split into 6 tets around its (0,0,0)-(1,1,1)
 // diagonal (conforming: neighbours share face diagonals), every tet positively oriented.
@@ -56,8 +59,6 @@ Mat3 random_rotation(std::mt19937& rng) {
   return q.normalized().toRotationMatrix();
 }
 
-Eigen::VectorXd flat(const Points& p) { return Eigen::Map<const Eigen::VectorXd>(p.data(), p.size()); }
-Points unflat(const Eigen::VectorXd& v) { return Eigen::Map<const Points>(v.data(), v.size() / 3, 3); }
 
 // A few tets: a 2x1x1 lattice (12 tets) with jittered rest nodes.
 struct SmallMesh {

@@ -7,15 +7,13 @@
 #include "invfem/collisions/gear.hpp"
 #include "invfem/collisions/mesh_surface.hpp"
 #include "invfem/collisions/moving_surface.hpp"
-#include "invfem/shells/triangle_mesh.hpp"
+#include "invfem/core/surface_io.hpp"
 #include "json_fields.hpp"
 #include "object_builders.hpp"
 
 namespace invfem::app {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 Vec3 to_vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
@@ -41,85 +39,7 @@ Motion make_motion(const ColliderSpec& c) {
   return Motion::fixed(pose);
 }
 
-// Closed triangle meshes of the analytic shapes in their body frames, outward winding.
-void add_quad(std::vector<Eigen::Vector3i>& t, int a, int b, int c, int d) {
-  t.emplace_back(a, b, c);
-  t.emplace_back(a, c, d);
-}
-
-TriangleMesh to_mesh(const std::vector<Vec3>& v, const std::vector<Eigen::Vector3i>& t) {
-  TriangleMesh m;
-  m.X.resize(static_cast<Eigen::Index>(v.size()), 3);
-  for (std::size_t i = 0; i < v.size(); ++i) m.X.row(static_cast<Eigen::Index>(i)) = v[i].transpose();
-  m.tris.resize(static_cast<Eigen::Index>(t.size()), 3);
-  for (std::size_t i = 0; i < t.size(); ++i) m.tris.row(static_cast<Eigen::Index>(i)) = t[i].transpose();
-  return m;
-}
-
-TriangleMesh sphere_mesh(double r) {
-  const int nu = 32, nv = 16;
-  std::vector<Vec3> v{Vec3(0, r, 0)};
-  for (int j = 1; j < nv; ++j)
-    for (int i = 0; i < nu; ++i) {
-      const double th = kPi * j / nv, ph = 2 * kPi * i / nu;
-      v.emplace_back(r * std::sin(th) * std::cos(ph), r * std::cos(th), -r * std::sin(th) * std::sin(ph));
-    }
-  v.emplace_back(0, -r, 0);
-  std::vector<Eigen::Vector3i> t;
-  const int south = static_cast<int>(v.size()) - 1;
-  auto id = [&](int j, int i) { return 1 + (j - 1) * nu + (i % nu); };
-  for (int i = 0; i < nu; ++i) t.emplace_back(0, id(1, i), id(1, i + 1));
-  for (int j = 1; j < nv - 1; ++j)
-    for (int i = 0; i < nu; ++i) add_quad(t, id(j, i), id(j + 1, i), id(j + 1, i + 1), id(j, i + 1));
-  for (int i = 0; i < nu; ++i) t.emplace_back(south, id(nv - 1, i + 1), id(nv - 1, i));
-  return to_mesh(v, t);
-}
-
-// A prism over a star-shaped closed polygon (counter-clockwise about `axis`), from -h to +h
-// along the axis; `up` maps (x, y, h) in the profile plane to the body frame.
-TriangleMesh prism_mesh(const std::vector<Vec2>& profile, double h, bool axis_is_y) {
-  auto point = [&](const Vec2& p, double z) { return axis_is_y ? Vec3(p.x(), z, -p.y()) : Vec3(p.x(), p.y(), z); };
-  const int n = static_cast<int>(profile.size());
-  std::vector<Vec3> v{point(Vec2::Zero(), -h), point(Vec2::Zero(), h)};
-  for (const auto& p : profile) v.push_back(point(p, -h));
-  for (const auto& p : profile) v.push_back(point(p, h));
-  std::vector<Eigen::Vector3i> t;
-  for (int i = 0; i < n; ++i) {
-    const int a = 2 + i, b = 2 + (i + 1) % n, A = a + n, B = b + n;
-    t.emplace_back(0, b, a);   // bottom cap faces -axis
-    t.emplace_back(1, A, B);   // top cap faces +axis
-    add_quad(t, a, b, B, A);   // side
-  }
-  return to_mesh(v, t);
-}
-
-TriangleMesh box_mesh(const Vec3& e) {
-  std::vector<Vec3> v;
-  for (int k = 0; k < 8; ++k) v.emplace_back((k & 1 ? 1 : -1) * e.x(), (k & 2 ? 1 : -1) * e.y(), (k & 4 ? 1 : -1) * e.z());
-  std::vector<Eigen::Vector3i> t;
-  add_quad(t, 0, 4, 6, 2);  // -x
-  add_quad(t, 1, 3, 7, 5);  // +x
-  add_quad(t, 0, 1, 5, 4);  // -y
-  add_quad(t, 2, 6, 7, 3);  // +y
-  add_quad(t, 0, 2, 3, 1);  // -z
-  add_quad(t, 4, 5, 7, 6);  // +z
-  return to_mesh(v, t);
-}
-
-ColliderBody body(const std::string& name, std::shared_ptr<const ImplicitSurface> s, double friction,
-                  const TriangleMesh& mesh, Motion motion) {
-  return ColliderBody{name, std::move(s), friction, mesh.X, mesh.tris, std::move(motion)};
-}
-
 }  // namespace
-
-Points ColliderBody::world_vertices(double t) const {
-  const RigidTransform T = motion.body_to_world(t);
-  Points out(body_vertices.rows(), 3);
-  for (Eigen::Index i = 0; i < body_vertices.rows(); ++i)
-    out.row(i) = T.apply(body_vertices.row(i).transpose()).transpose();
-  return out;
-}
 
 std::vector<std::string> collider_body_names(const ColliderSpec& c) {
   if (c.type == "plane") return {};
@@ -127,14 +47,14 @@ std::vector<std::string> collider_body_names(const ColliderSpec& c) {
   return {c.name};
 }
 
-std::vector<ColliderBody> build_colliders(const Scene& scene) {
-  std::vector<ColliderBody> out;
+std::vector<std::shared_ptr<RigidBody>> build_colliders(const Scene& scene) {
+  std::vector<std::shared_ptr<RigidBody>> out;
   for (const auto& c : scene.colliders) {
     const std::string what = scene.file.string() + ": collider \"" + c.name + "\": ";
     try {
       if (c.type == "plane") {
-        out.push_back({c.name, std::make_shared<PlaneSurface>(to_vec(c.point), to_vec(c.normal)), c.friction, {}, {},
-                       Motion{}});
+        out.push_back(std::make_shared<RigidBody>(c.name, std::make_shared<PlaneSurface>(to_vec(c.point), to_vec(c.normal)),
+                                                  c.friction, TriangleSurface{}, Motion{}));
       } else if (c.type == "gears") {
         if (c.motion.kind == MotionSpec::Kind::Keyframed ||
             (c.motion.kind == MotionSpec::Kind::ConstantVelocity && to_vec(c.motion.velocity).norm() > 0))
@@ -152,40 +72,33 @@ std::vector<ColliderBody> build_colliders(const Scene& scene) {
         int k = 1;
         for (const auto& g : {pair.first, pair.second}) {
           const auto& gear = dynamic_cast<const GearSurface&>(g->body());
-          std::vector<Vec2> profile;
-          const int samples = 16 * c.teeth;
-          for (int i = 0; i < samples; ++i) {
-            const double th = 2 * kPi * i / samples;
-            profile.push_back(gear.tooth_radius(th) * Vec2(std::cos(th), std::sin(th)));
-          }
-          out.push_back(body(c.name + "_" + std::to_string(k++), g, c.friction, prism_mesh(profile, c.thickness / 2, false),
-                             g->motion()));
+          out.push_back(std::make_shared<RigidBody>(c.name + "_" + std::to_string(k++), g, c.friction,
+                                                    gear_triangles(gear), g->motion()));
         }
       } else if (c.type == "mesh") {
         if (c.motion.kind != MotionSpec::Kind::Fixed) throw InputError(what + "a mesh collider is static (no motion yet)");
-        TriangleMesh mesh = load_triangle_mesh(c.mesh.string());
-        apply_transform(c.transform, mesh.X);
+        TriangleSurface mesh = load_triangle_surface(c.mesh.string());
+        apply_transform(c.transform, mesh.x);
         MeshSurfaceOptions options;
         options.query_radius = c.query_radius;
-        auto surface = std::make_shared<MeshSurface>(mesh.X, mesh.tris, options);
-        out.push_back(body(c.name, surface, c.friction, mesh, Motion{}));
+        auto surface = std::make_shared<MeshSurface>(mesh, options);
+        out.push_back(std::make_shared<RigidBody>(c.name, surface, c.friction, std::move(mesh), Motion{}));
       } else {
         std::shared_ptr<const ImplicitSurface> shape;
-        TriangleMesh mesh;
+        TriangleSurface mesh;
         if (c.type == "sphere") {
           shape = std::make_shared<SphereSurface>(Vec3::Zero(), c.radius);
-          mesh = sphere_mesh(c.radius);
+          mesh = sphere_triangles(c.radius);
         } else if (c.type == "box") {
           shape = std::make_shared<BoxSurface>(to_vec(c.half_extents));
-          mesh = box_mesh(to_vec(c.half_extents));
+          mesh = box_triangles(to_vec(c.half_extents));
         } else {  // cylinder, axis y
           shape = std::make_shared<CappedCylinderSurface>(c.radius, c.half_height);
-          std::vector<Vec2> circle;
-          for (int i = 0; i < 48; ++i) circle.push_back(c.radius * Vec2(std::cos(2 * kPi * i / 48), std::sin(2 * kPi * i / 48)));
-          mesh = prism_mesh(circle, c.half_height, true);
+          mesh = cylinder_triangles(c.radius, c.half_height);
         }
         Motion motion = make_motion(c);
-        out.push_back(body(c.name, std::make_shared<MovingSurface>(shape, motion), c.friction, mesh, motion));
+        out.push_back(std::make_shared<RigidBody>(c.name, std::make_shared<MovingSurface>(shape, motion), c.friction,
+                                                  std::move(mesh), motion));
       }
     } catch (const InputError&) {
       throw;

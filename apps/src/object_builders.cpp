@@ -2,15 +2,17 @@
 
 #include <Eigen/Geometry>
 #include <iostream>
+#include <optional>
 
 #include "invfem/core/materials/lame.hpp"
-#include "invfem/shells/bending_force.hpp"
-#include "invfem/shells/membrane_force.hpp"
-#include "invfem/shells/triangle_mesh.hpp"
+#include "invfem/core/mesh_error.hpp"
+#include "invfem/core/pins.hpp"
 #include "invfem/core/plasticity_control.hpp"
+#include "invfem/core/surface_io.hpp"
+#include "invfem/shells/cloth_object.hpp"
+#include "invfem/shells/shapes.hpp"
 #include "invfem/solids/bcc_mesher.hpp"
-#include "invfem/solids/mass.hpp"
-#include "invfem/solids/mesh_error.hpp"
+#include "invfem/solids/solid_object.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
 #include "json_fields.hpp"
@@ -21,29 +23,13 @@ namespace invfem::app {
 namespace {
 Vec3 to_vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
-Body make_body(const Points& X, Eigen::VectorXd mass, const std::array<double, 3>& velocity, const Scene& scene) {
-  Body b;
-  b.x = X;
-  b.v = Points(X.rows(), 3);
-  b.v.rowwise() = to_vec(velocity).transpose();
-  b.mass = std::move(mass);
-  b.gravity = to_vec(scene.gravity);
-  return b;
-}
-// Kind::Full constraints for every node whose rest position lies in one of the boxes.
-NodeConstraints pins_in_boxes(const Points& X, const std::vector<PinBox>& boxes, const std::string& what) {
-  NodeConstraints pins;
+// One pin group per box: every node whose rest position lies in it, held still.
+std::vector<PinGroup> pins_in_boxes(const Points& X, const std::vector<PinBox>& boxes, const std::string& what) {
+  std::vector<PinGroup> pins;
   for (std::size_t b = 0; b < boxes.size(); ++b) {
-    const Vec3 lo = to_vec(boxes[b].min), hi = to_vec(boxes[b].max);
-    int count = 0;
-    for (Eigen::Index i = 0; i < X.rows(); ++i) {
-      const Vec3 x = X.row(i).transpose();
-      if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all()) {
-        pins.push_back({static_cast<int>(i), NodeConstraint::Kind::Full, Vec3::Zero(), Vec3::Zero()});
-        ++count;
-      }
-    }
-    if (count == 0) throw InputError(what + ": pin_boxes[" + std::to_string(b) + "] contains no node");
+    std::vector<int> nodes = nodes_in_box(X, to_vec(boxes[b].min), to_vec(boxes[b].max));
+    if (nodes.empty()) throw InputError(what + ": pin_boxes[" + std::to_string(b) + "] contains no node");
+    pins.push_back(make_pin_group(X, std::move(nodes), std::nullopt, what));
   }
   return pins;
 }
@@ -70,9 +56,6 @@ void apply_transform(const Transform& t, Points& X) {
 }
 
 SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
-  SimObject o;
-  o.name = spec.name;
-  o.kind = SimObject::Kind::Solid;
   TetMesh mesh;
   try {
     if (is_tet_mesh_file(spec.mesh)) {
@@ -81,8 +64,8 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
     } else {
       // A closed surface: tet-mesh it by the BCC lattice (after the transform, so the
       // resolution is in world units of the object's own size).
-      TriangleMesh surface = load_triangle_mesh(spec.mesh.string());
-      apply_transform(spec.transform, surface.X);
+      TriangleSurface surface = load_triangle_surface(spec.mesh.string());
+      apply_transform(spec.transform, surface.x);
       BccMeshOptions options;
       options.resolution = spec.mesh_resolution;
       BccMeshResult r = bcc_mesh(surface, options);
@@ -102,12 +85,11 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
   } catch (const std::exception& e) {  // MeshError, loader and mesher errors name the file
     throw InputError(std::string("solid \"") + spec.name + "\": " + e.what());
   }
-  const int n = static_cast<int>(mesh.X.rows());
-  o.surface = compact_surface(boundary_triangles(mesh.tets), n);
-  o.tets = mesh.tets;
-  o.body = make_body(mesh.X, lumped_masses(mesh.X, mesh.tets, spec.material.density), spec.velocity, scene);
   const std::string what = scene.file.string() + ": solid \"" + spec.name + "\"";
-  std::unique_ptr<TetSolidForce> force;
+  SolidObjectParams params;
+  params.velocity = to_vec(spec.velocity);
+  params.gravity = to_vec(scene.gravity);
+  params.pins = pins_in_boxes(mesh.X, spec.pin_boxes, what);
   try {
     TetMaterial material = make_tet_material(spec.material, scene.solver.cfl);
     if (spec.plasticity) {
@@ -129,62 +111,50 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
       material.fiber_directions.assign(mesh.tets.rows(), to_vec(spec.fiber->direction).normalized());
       material.activation = spec.fiber->activation;
     }
-    force = std::make_unique<TetSolidForce>(make_tet_rest(mesh.X, mesh.tets), std::move(material));
-    force->update_positions(o.body.x, 0.0);
+    params.material = std::move(material);
+    return make_solid_object(spec.name, mesh, std::move(params));
   } catch (const std::invalid_argument& e) {
     throw InputError(what + ": " + e.what());
   }
-  o.pinned = pins_in_boxes(mesh.X, spec.pin_boxes, what);
-  for (const auto& p : o.pinned) o.body.v.row(p.node).setZero();
-  o.solid = force.get();
-  o.forces.push_back(std::move(force));
-  return o;
 }
 
 SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
-  SimObject o;
-  o.name = spec.name;
-  o.kind = SimObject::Kind::Cloth;
   const std::string what = "cloth \"" + spec.name + "\"";
-  TriangleMesh mesh;
+  TriangleSurface mesh;
   try {
     // A grid lies in the x-z plane (y up), centred on the origin, before the transform.
     mesh = spec.mesh.empty()
                ? make_grid(spec.grid.width, spec.grid.height, spec.grid.nx, spec.grid.ny,
                            Vec3(-spec.grid.width / 2, 0, -spec.grid.height / 2), Vec3::UnitX(), Vec3::UnitZ())
-               : load_triangle_mesh(spec.mesh.string());
+               : load_triangle_surface(spec.mesh.string());
   } catch (const std::exception& e) {
     throw InputError(what + ": " + e.what());
   }
-  apply_transform(spec.transform, mesh.X);
-  const int n = static_cast<int>(mesh.X.rows());
+  apply_transform(spec.transform, mesh.x);
+  const int n = static_cast<int>(mesh.x.rows());
   const auto& m = spec.material;
-  Lame lame;
-  try {
-    lame = lame_from_young_poisson(m.young, m.poisson, what);
-    auto membrane = std::make_unique<MembraneForce>(
-        mesh.X, mesh.tris, MembraneParams{RotatedLinear{lame.mu, lame.lambda}, m.thickness, m.damping}, what);
-    o.body = make_body(mesh.X, lumped_triangle_masses(membrane->rest(), m.density * m.thickness), spec.velocity,
-                       scene);
-    auto bending = std::make_unique<BendingForce>(mesh.X, mesh.tris,
-                                                  BendingParams{m.bending_stiffness, m.bending_damping}, what);
-    membrane->update_positions(o.body.x, 0.0);
-    bending->update_positions(o.body.x, 0.0);
-    o.forces.push_back(std::move(membrane));
-    o.forces.push_back(std::move(bending));
-  } catch (const std::invalid_argument& e) {
-    throw InputError(scene.file.string() + ": " + e.what());
-  }
-  for (int i : spec.pin_vertices) {
+  ClothObjectParams params;
+  params.thickness = m.thickness;
+  params.density = m.density;
+  params.damping = m.damping;
+  params.bending = BendingParams{m.bending_stiffness, m.bending_damping};
+  params.velocity = to_vec(spec.velocity);
+  params.gravity = to_vec(scene.gravity);
+  for (int i : spec.pin_vertices)
     if (i >= n)
       throw InputError(scene.file.string() + ": " + what + ": pin_vertices has vertex " + std::to_string(i) +
                        " but the mesh has " + std::to_string(n) + " vertices");
-    o.pinned.push_back({i, NodeConstraint::Kind::Full, Vec3::Zero(), Vec3::Zero()});
+  try {
+    const Lame lame = lame_from_young_poisson(m.young, m.poisson, what);
+    params.model = RotatedLinear{lame.mu, lame.lambda};
+    if (!spec.pin_vertices.empty())
+      params.pins.push_back(make_pin_group(mesh.x, spec.pin_vertices, std::nullopt, what + ": pin_vertices"));
+    for (auto& g : pins_in_boxes(mesh.x, spec.pin_boxes, scene.file.string() + ": " + what))
+      params.pins.push_back(std::move(g));
+    return make_cloth_object(spec.name, mesh, std::move(params));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(scene.file.string() + ": " + e.what());
   }
-  for (const auto& pin : pins_in_boxes(mesh.X, spec.pin_boxes, scene.file.string() + ": " + what)) o.pinned.push_back(pin);
-  for (const auto& p : o.pinned) o.body.v.row(p.node).setZero();
-  o.surface = compact_surface(mesh.tris, n);
-  return o;
 }
 
 }  // namespace invfem::app

@@ -1,10 +1,8 @@
 #pragma once
-// Scene specs -> simulated objects and colliders. Mesh loading errors become InputErrors that
-// name the object and the file.
-#include <vector>
-
-#include "invfem/collisions/rigid_collisions.hpp"
-#include "world.hpp"
+// Scene specs -> simulated objects, through the solids and shells libraries. Mesh loading errors
+// become InputErrors that name the object and the file.
+#include "invfem/core/world.hpp"
+#include "scene.hpp"
 
 namespace invfem::app {
 

@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "invfem/renders/mesh_renderer.hpp"
-#include "invfem/solids/obj_writer.hpp"
+#include "invfem/solids/obj_reader.hpp"
 #include "collider_builders.hpp"
 #include "run_output.hpp"
 
@@ -46,13 +46,11 @@ struct PreviewRenderer::Impl {
   renders::Camera camera;
   renders::RenderSettings settings;
 
-  std::vector<renders::RenderMesh> load(int frame) const {
-    std::vector<renders::RenderMesh> meshes;
+  std::vector<renders::Drawable> load(int frame) const {
+    std::vector<renders::Drawable> meshes;
     for (const auto& o : objects) {
-      const ObjPositions obj = read_obj_positions(obj_path(dir, o.name, frame).string());
-      renders::RenderMesh m;
-      m.positions = obj.x;
-      m.triangles = obj.tris;
+      renders::Drawable m;
+      m.surface = read_obj_positions(obj_path(dir, o.name, frame).string());
       const bool cloth = o.kind == ObjectView::Kind::Cloth;
       m.two_sided = cloth;
       m.color = cloth ? kClothFront : o.kind == ObjectView::Kind::Collider ? kColliderColor : kSolidColor;

@@ -14,7 +14,7 @@
 #include "preview.hpp"
 #include "run_output.hpp"
 #include "scene.hpp"
-#include "world.hpp"
+#include "world_builder.hpp"
 
 namespace invfem::app {
 
@@ -62,12 +62,6 @@ std::string format_duration(double s) {
   return buf;
 }
 
-bool finite_state(const World& world) {
-  for (const auto& o : world.objects())
-    if (!o.body.x.allFinite() || !o.body.v.allFinite()) return false;
-  return true;
-}
-
 }  // namespace
 
 int run_command(const std::vector<std::string>& raw) {
@@ -101,13 +95,13 @@ int run_command(const std::vector<std::string>& raw) {
   if (last > scene.frames)
     throw InputError("--frames: frame " + std::to_string(last) + " is past the scene's last frame " +
                      std::to_string(scene.frames));
-  World world(scene);
+  World world = build_world(scene);
 
   // Where to start: the newest checkpoint at or before the first frame asked for.
   int start_frame = 0;
   std::string resume_csv;
   if (args.flag("--resume") || first_out > 0) {
-    if (auto ck = resume_latest(out_dir, world, args.flag("--resume") ? last : first_out)) {
+    if (auto ck = resume_latest(out_dir, scene, world, args.flag("--resume") ? last : first_out)) {
       start_frame = ck->frame;
       resume_csv = ck->csv;
       if (!quiet) std::printf("resuming from the checkpoint of frame %d (t = %.3fs)\n", ck->frame, ck->time);
@@ -115,7 +109,7 @@ int run_command(const std::vector<std::string>& raw) {
       std::printf("no usable checkpoint in %s: starting from frame 0\n", out_dir.string().c_str());
     }
   }
-  RunOutput output(out_dir, world, formats, start_frame > 0 ? start_frame + 1 : 0, resume_csv);
+  RunOutput output(out_dir, scene, world, formats, start_frame > 0 ? start_frame + 1 : 0, resume_csv);
   std::unique_ptr<PreviewRenderer> preview;
   auto clock = [] { return std::chrono::steady_clock::now(); };
   auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
@@ -136,7 +130,7 @@ int run_command(const std::vector<std::string>& raw) {
     t.render = seconds(t2, clock());
     output.write_stats(frame, world, r, t);
     if (checkpoint_every > 0 && frame > 0 && (frame % checkpoint_every == 0 || frame == last))
-      save_checkpoint(out_dir, world, frame, output.csv());
+      save_checkpoint(out_dir, scene, world, frame, output.csv());
   };
 
   const auto start = clock();
@@ -152,7 +146,7 @@ int run_command(const std::vector<std::string>& raw) {
     FrameTimings t;
     world.advance_to(frame / scene.fps, r);
     t.simulate = seconds(t0, clock());
-    if (!finite_state(world)) {
+    if (!world.state_is_finite()) {
       std::cerr << "error: " << scene_path << ": the simulation produced a non-finite state in frame " << frame
                 << " (t = " << world.time() << " s); frames up to " << frame - 1 << " are in " << out_dir.string()
                 << "\n";
@@ -166,8 +160,8 @@ int run_command(const std::vector<std::string>& raw) {
     if (!quiet) {
       const double eta = recent_frame_seconds * (last - frame);
       std::printf("frame %d/%d  t=%.3fs  %.2fs/frame  ETA %s  inverted %d (%.1f%%)  collisions %d  substeps %d  cg %d%s\n",
-                  frame, last, world.time(), wall, format_duration(eta).c_str(), r.inverted,
-                  100.0 * r.inverted / std::max(1, r.elements), r.colliding_nodes, r.substeps, r.cg_iterations,
+                  frame, last, world.time(), wall, format_duration(eta).c_str(), r.elements.inverted,
+                  100.0 * r.elements.inverted / std::max(1, r.elements.elements), r.colliding_nodes, r.substeps, r.cg_iterations,
                   r.cg_all_converged ? "" : " (CG hit its iteration limit)");
       std::fflush(stdout);
     }

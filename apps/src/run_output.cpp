@@ -5,10 +5,11 @@
 #include <sstream>
 
 #include "invfem/core/atomic_file.hpp"
-#include "invfem/solids/obj_writer.hpp"
-#include "invfem/solids/ply_writer.hpp"
-#include "invfem/solids/usd_writer.hpp"
-#include "invfem/solids/vtu_writer.hpp"
+#include "invfem/core/obj_writer.hpp"
+#include "invfem/core/ply_writer.hpp"
+#include "invfem/core/usd_writer.hpp"
+#include "invfem/core/vtu_writer.hpp"
+#include "invfem/solids/obj_reader.hpp"
 #include "json_fields.hpp"
 
 namespace invfem::app {
@@ -61,26 +62,27 @@ std::set<std::string> parse_formats(const std::string& list) {
   return out;
 }
 
-RunOutput::RunOutput(std::filesystem::path dir, const World& world, std::set<std::string> formats, int first_frame,
-                     const std::string& resume_csv)
+RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World& world, std::set<std::string> formats,
+                     int first_frame, const std::string& resume_csv)
     : dir_(std::move(dir)), formats_(std::move(formats)) {
   std::filesystem::create_directories(dir_ / "frames");
   for (const auto& o : world.objects()) std::filesystem::create_directories(dir_ / "frames" / o.name);
-  for (const auto& c : world.colliders())
-    if (c.body_vertices.rows()) std::filesystem::create_directories(dir_ / "frames" / c.name);
-  atomic_write(dir_ / "scene.json", to_json(world.scene()).dump(2) + "\n");
+  for (const auto& k : world.kinematic_bodies())
+    if (k->surface()) std::filesystem::create_directories(dir_ / "frames" / k->name());
+  atomic_write(dir_ / "scene.json", to_json(scene).dump(2) + "\n");
+  const double fps = scene.fps;
   csv_ = first_frame > 0 ? keep_rows_before(resume_csv, first_frame, true, false) : kCsvHeader;
   if (first_frame > 0) stats_ = keep_rows_before(read_file(dir_ / "stats.jsonl"), first_frame, false, true);
   for (const auto& o : world.objects()) {
-    if (formats_.count("vtu") && o.solid) {
+    if (formats_.count("vtu") && o.tets.rows()) {
       pvd_[o.name] = std::make_unique<PvdWriter>((dir_ / (o.name + ".pvd")).string());
       for (int f = 0; f < first_frame; ++f)
         if (std::filesystem::exists(dir_ / "frames" / o.name / (frame_name(f) + ".vtu")))
-          pvd_[o.name]->add(f / world.scene().fps, o.name + "/" + frame_name(f) + ".vtu");
+          pvd_[o.name]->add(f / fps, o.name + "/" + frame_name(f) + ".vtu");
     }
     if (formats_.count("usd")) {
       usd_[o.name] = std::make_unique<UsdaAnimationWriter>((dir_ / "frames" / (o.name + ".usda")).string(), o.name,
-                                                           o.surface.tris, world.scene().fps);
+                                                           o.surface.tris, fps);
       // A resumed run rebuilds the animation's earlier samples from the OBJ frames.
       for (int f = 0; f < first_frame; ++f) {
         const auto obj = dir_ / "frames" / o.name / (frame_name(f) + ".obj");
@@ -101,29 +103,26 @@ std::string RunOutput::frame_name(int frame) {
 void RunOutput::write_frame(int frame, const World& world, const FrameReport& r) {
   for (const auto& o : world.objects()) {
     const auto base = dir_ / "frames" / o.name / frame_name(frame);
-    const Points surface = o.surface.gather(o.body.x);
-    if (formats_.count("obj")) write_obj(base.string() + ".obj", surface, o.surface.tris);
-    if (formats_.count("ply")) write_ply(base.string() + ".ply", surface, o.surface.tris);
-    if (auto it = usd_.find(o.name); it != usd_.end()) it->second->add_frame(frame, surface);
+    if (formats_.count("obj")) write_obj(base.string() + ".obj", o.surface);
+    if (formats_.count("ply")) write_ply(base.string() + ".ply", o.surface.x, o.surface.tris);
+    if (auto it = usd_.find(o.name); it != usd_.end()) it->second->add_frame(frame, o.surface.x);
     if (auto it = pvd_.find(o.name); it != pvd_.end()) {
       VtuFields fields;
-      const auto& det = o.solid->det_F();
-      fields.cell_scalars["det_F"] = Eigen::Map<const Eigen::VectorXd>(det.data(), static_cast<Eigen::Index>(det.size()));
-      fields.cell_scalars["inverted"] = (fields.cell_scalars["det_F"].array() < 0).cast<double>();
+      for (const auto& f : o.forces) f->add_cell_fields(fields.cell_scalars);
       fields.point_vectors["velocity"] = o.body.v;
       write_vtu(base.string() + ".vtu", o.body.x, o.tets, fields);
       it->second->add(world.time(), o.name + "/" + frame_name(frame) + ".vtu");
     }
   }
-  // Rigid colliders, placed at this frame's time: for previews and for the user's own renders.
-  for (const auto& c : world.colliders())
-    if (c.body_vertices.rows() && formats_.count("obj"))
-      write_obj((dir_ / "frames" / c.name / (frame_name(frame) + ".obj")).string(), c.world_vertices(world.time()),
-                c.tris);
+  // Kinematic bodies, placed at this frame's time: for previews and for the user's own renders.
+  for (const auto& k : world.kinematic_bodies())
+    if (const TriangleSurface* s = k->surface(); s && formats_.count("obj"))
+      write_obj((dir_ / "frames" / k->name() / (frame_name(frame) + ".obj")).string(), *s);
   char row[512];
   std::snprintf(row, sizeof row, "%d,%.6f,%.9g,%.9g,%.9g,%.9g,%d,%d,%.9g,%.9g,%.9g,%d,%d\n", frame, world.time(),
-                r.kinetic, r.elastic, r.gravity, r.kinetic + r.elastic + r.gravity, r.inverted, r.elements,
-                r.min_det_F, r.volume, r.rest_volume, r.substeps, r.cg_iterations);
+                r.kinetic, r.elastic, r.gravity, r.kinetic + r.elastic + r.gravity, r.elements.inverted,
+                r.elements.elements, r.elements.min_det_F, r.elements.volume, r.elements.rest_volume, r.substeps,
+                r.cg_iterations);
   csv_ += row;
   atomic_write(dir_ / "energies.csv", csv_);
 }
@@ -136,7 +135,8 @@ void RunOutput::write_stats(int frame, const World& world, const FrameReport& r,
                 "\"colliding_nodes\":%d,\"inverted\":%d,\"elements\":%d,\"min_det_F\":%.9g,"
                 "\"seconds\":{\"simulate\":%.6f,\"measure\":%.6f,\"write\":%.6f,\"render\":%.6f}}\n",
                 frame, world.time(), r.substeps, r.cg_iterations, r.cg_all_converged ? "true" : "false",
-                r.colliding_nodes, r.inverted, r.elements, r.min_det_F, t.simulate, t.measure, t.write, t.render);
+                r.colliding_nodes, r.elements.inverted, r.elements.elements, r.elements.min_det_F, t.simulate, t.measure,
+                t.write, t.render);
   stats_ += line;
   atomic_write(dir_ / "stats.jsonl", stats_);
 }

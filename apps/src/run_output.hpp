@@ -1,7 +1,8 @@
 #pragma once
 // The output layout of a run (DESIGN.md "Output layout of a run"):
 //   OUT/scene.json                 the scene as run
-//   OUT/frames/<object>/NNNN.obj   (and/or .ply; .vtu + <object>.pvd for solids; <object>.usda)
+//   OUT/frames/<object>/NNNN.obj   each object's surface and each kinematic body's (and/or .ply;
+//                                  .vtu + <object>.pvd for solids; <object>.usda)
 //   OUT/energies.csv               one row per frame
 //   OUT/stats.jsonl                one JSON record per frame: timings per phase, counts
 // Every file is written atomically (temporary name + rename) as frames are made.
@@ -11,7 +12,8 @@
 #include <set>
 #include <string>
 
-#include "world.hpp"
+#include "invfem/core/world.hpp"
+#include "scene.hpp"
 
 namespace invfem {
 class PvdWriter;
@@ -32,7 +34,7 @@ class RunOutput {
  public:
   // Creates folders and writes scene.json. `resume_csv` is the energies.csv content of a
   // checkpoint being resumed (rows after it are dropped), or empty for a fresh run.
-  RunOutput(std::filesystem::path dir, const World& world, std::set<std::string> formats,
+  RunOutput(std::filesystem::path dir, const Scene& scene, const World& world, std::set<std::string> formats,
             int first_frame = 0, const std::string& resume_csv = "");
   ~RunOutput();
 

@@ -7,7 +7,7 @@
 #include "invfem/solids/bcc_mesher.hpp"
 #include "json_fields.hpp"
 #include "scene.hpp"
-#include "world.hpp"
+#include "world_builder.hpp"
 
 namespace invfem::app {
 
@@ -37,7 +37,7 @@ int check_scene_command(const std::vector<std::string>& raw) {
   }
   if (args.positional.size() != 1) throw InputError("check-scene: expected one scene file (see invfem check-scene --help)");
   const Scene scene = load_scene(args.positional[0], args.all("--set"), args.flag("--quick"));
-  const World world(scene);  // loads and validates every mesh
+  const World world = build_world(scene);  // loads and validates every mesh
   std::cout << to_json(scene).dump(2) << "\n";
   std::size_t nodes = 0;
   for (const auto& o : world.objects()) nodes += o.body.x.rows();

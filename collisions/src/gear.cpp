@@ -1,8 +1,10 @@
 #include "invfem/collisions/gear.hpp"
+#include "invfem/collisions/rigid_body.hpp"
 
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -162,6 +164,19 @@ GearPair make_gear_pair(const GearPairParams& params) {
   pair.second = std::make_shared<MovingSurface>(std::make_shared<GearSurface>(g2),
                                                 Motion::constant_velocity(pose2, c2, Vec3::Zero(), axis, -params.spin_rate));
   return pair;
+}
+
+TriangleSurface gear_triangles(const GearSurface& gear) {
+  const GearParams& p = gear.params();
+  std::vector<Vec2> profile;
+  const int samples = 16 * p.teeth;
+  for (int i = 0; i < samples; ++i) {
+    const double th = 2 * std::numbers::pi * i / samples;
+    profile.push_back(gear.tooth_radius(th) * Vec2(std::cos(th), std::sin(th)));
+  }
+  TriangleSurface s = prism_triangles(profile, p.thickness / 2, false);
+  s.source = "gear";
+  return s;
 }
 
 }  // namespace invfem

@@ -16,28 +16,28 @@ namespace invfem::renders {
 
 using detail::check_gl;
 
-Eigen::AlignedBox3d mesh_bounds(const std::vector<RenderMesh>& meshes) {
+Eigen::AlignedBox3d mesh_bounds(const std::vector<Drawable>& meshes) {
   Eigen::AlignedBox3d box;  // starts empty
-  for (const RenderMesh& mesh : meshes)
-    for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v)
-      box.extend(Vec3(mesh.positions.row(v).transpose()));
+  for (const Drawable& mesh : meshes)
+    for (Eigen::Index v = 0; v < mesh.surface.x.rows(); ++v)
+      box.extend(Vec3(mesh.surface.x.row(v).transpose()));
   return box;
 }
 
-Camera frame_camera(const std::vector<RenderMesh>& meshes, double aspect, const Vec3& view_direction,
+Camera frame_camera(const std::vector<Drawable>& meshes, double aspect, const Vec3& view_direction,
                     double fov_y_degrees) {
   return frame_camera(mesh_bounds(meshes), aspect, view_direction, fov_y_degrees);
 }
 
-void validate_render_mesh(const RenderMesh& mesh, std::size_t index) {
-  const std::string name = "RenderMesh " + std::to_string(index);
-  const Eigen::Index n = mesh.positions.rows();
+void validate_drawable(const Drawable& mesh, std::size_t index) {
+  const std::string name = "Drawable " + std::to_string(index);
+  const Eigen::Index n = mesh.surface.x.rows();
   for (Eigen::Index v = 0; v < n; ++v)
-    if (!mesh.positions.row(v).allFinite())
+    if (!mesh.surface.x.row(v).allFinite())
       throw std::invalid_argument(name + ": positions row " + std::to_string(v) + " is not finite");
-  for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f)
+  for (Eigen::Index f = 0; f < mesh.surface.tris.rows(); ++f)
     for (int k = 0; k < 3; ++k) {
-      const int v = mesh.triangles(f, k);
+      const int v = mesh.surface.tris(f, k);
       if (v < 0 || v >= n)
         throw std::invalid_argument(name + ": triangles row " + std::to_string(f) + " refers to vertex " +
                                     std::to_string(v) + " but the mesh has " + std::to_string(n) +
@@ -62,9 +62,9 @@ void validate_render_mesh(const RenderMesh& mesh, std::size_t index) {
       throw std::invalid_argument(name + ": scalar_min / scalar_max must be finite");
   }
   if (mesh.face_colors.rows() > 0) {
-    if (mesh.face_colors.rows() != mesh.triangles.rows())
+    if (mesh.face_colors.rows() != mesh.surface.tris.rows())
       throw std::invalid_argument(name + ": face_colors has " + std::to_string(mesh.face_colors.rows()) +
-                                  " rows for " + std::to_string(mesh.triangles.rows()) + " triangles");
+                                  " rows for " + std::to_string(mesh.surface.tris.rows()) + " triangles");
     for (Eigen::Index f = 0; f < mesh.face_colors.rows(); ++f)
       check_color(mesh.face_colors.row(f).transpose(), "face_colors row " + std::to_string(f));
   }
@@ -208,11 +208,11 @@ MeshRenderer::~MeshRenderer() {
   context_.reset();
 }
 
-Image MeshRenderer::render(const std::vector<RenderMesh>& meshes, const Camera& camera,
+Image MeshRenderer::render(const std::vector<Drawable>& meshes, const Camera& camera,
                            const RenderSettings& settings) {
   validate_settings(settings);
   validate_camera(camera);
-  for (std::size_t i = 0; i < meshes.size(); ++i) validate_render_mesh(meshes[i], i);
+  for (std::size_t i = 0; i < meshes.size(); ++i) validate_drawable(meshes[i], i);
 
   context_->resize(settings.width, settings.height);
   GlState& gl = *gl_;
@@ -227,7 +227,7 @@ Image MeshRenderer::render(const std::vector<RenderMesh>& meshes, const Camera& 
 
   gl.vertices.clear();
   std::vector<std::size_t> first_vertex;
-  for (const RenderMesh& mesh : meshes) {
+  for (const Drawable& mesh : meshes) {
     first_vertex.push_back(gl.vertices.size() / detail::kFloatsPerVertex);
     detail::append_mesh_vertices(mesh, origin, gl.vertices);
   }
@@ -294,7 +294,7 @@ Image MeshRenderer::render(const std::vector<RenderMesh>& meshes, const Camera& 
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(gl.vertices.size() * sizeof(float)),
                  gl.vertices.data(), GL_STREAM_DRAW);
     for (std::size_t i = 0; i < meshes.size(); ++i) {
-      const RenderMesh& mesh = meshes[i];
+      const Drawable& mesh = meshes[i];
       const bool custom = mesh.vertex_scalar.size() > 0 || mesh.face_colors.rows() > 0;
       set_vec3(gl.mesh_program, "u_back_color", mesh.back_color);
       glUniform1f(glGetUniformLocation(gl.mesh_program, "u_back_mix"),

@@ -1,24 +1,16 @@
 #include "invfem/shells/bending_force.hpp"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "invfem/core/parallel.hpp"
 
 namespace invfem {
 
 namespace {
 using Mat34 = Eigen::Matrix<double, 3, 4>;
 constexpr std::size_t kGrain = 1024;
-
-template <class Body> void for_each_hinge(std::size_t m, Body body) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, kGrain),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t h = r.begin(); h != r.end(); ++h) body(h);
-                    });
-}
 }  // namespace
 
 void scatter_hinge_forces(const std::vector<Hinge>& hinges, const std::vector<Mat34>& G,
@@ -57,13 +49,13 @@ void BendingForce::update_positions(const Points& x, double /*time*/) {
     throw std::invalid_argument(what_ + ": positions have " + std::to_string(x.rows()) +
                                 " rows, the mesh has " + std::to_string(n_nodes_) + " nodes");
   if (!x.allFinite()) throw std::invalid_argument(what_ + ": positions contain NaN or inf");
-  for_each_hinge(hinges_.size(), [&](std::size_t h) { geom_[h] = hinge_geometry(x, hinges_[h]); });
+  parallel_for_each(hinges_.size(), kGrain, [&](std::size_t h) { geom_[h] = hinge_geometry(x, hinges_[h]); });
 }
 
 void BendingForce::add_elastic_forces(Points& f) const {
   if (params_.stiffness == 0) return;
   std::vector<Mat34> G(hinges_.size());
-  for_each_hinge(G.size(), [&](std::size_t h) {
+  parallel_for_each(G.size(), kGrain, [&](std::size_t h) {
     const HingeGeometry& g = geom_[h];
     const double c =
         params_.stiffness * g.scale * (g.sin_half - std::sin(0.5 * rest_angles_[h]));
@@ -75,7 +67,7 @@ void BendingForce::add_elastic_forces(Points& f) const {
 void BendingForce::add_damping_forces(const Points& v, Points& f) const {
   if (params_.damping == 0) return;
   std::vector<Mat34> G(hinges_.size());
-  for_each_hinge(G.size(), [&](std::size_t h) {
+  parallel_for_each(G.size(), kGrain, [&](std::size_t h) {
     const HingeGeometry& g = geom_[h];
     double rate = 0;
     for (int k = 0; k < 4; ++k) rate += g.u[k].dot(v.row(hinges_[h][k]).transpose());
@@ -83,6 +75,16 @@ void BendingForce::add_damping_forces(const Points& v, Points& f) const {
     for (int k = 0; k < 4; ++k) G[h].col(k) = c * g.u[k];
   });
   scatter_hinge_forces(hinges_, G, f);
+}
+
+void BendingForce::save_state(StateWriter& out) const { out.doubles(rest_angles_); }
+
+void BendingForce::restore_state(StateReader& in) {
+  std::vector<double> angles;
+  in.doubles(angles, rest_angles_.size(), what_ + ": rest angles");
+  for (std::size_t h = 0; h < angles.size(); ++h)
+    if (!std::isfinite(angles[h])) throw StateError(what_ + ": rest angle of hinge " + std::to_string(h) + " is not finite");
+  rest_angles_ = std::move(angles);
 }
 
 double BendingForce::elastic_energy() const {

@@ -3,21 +3,12 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <stdexcept>
 #include <string>
-#include <utility>
 
 namespace invfem {
 
 std::vector<Hinge> build_hinges(const Tris& tris, Eigen::Index n_nodes, HingeStats* stats) {
-  // Undirected edge (min, max) -> the (triangle, local edge) uses in triangle order.
-  struct Use {
-    int tri;
-    int a, b, wing;  // directed edge a -> b in the triangle's winding, opposite node
-  };
-  std::map<std::pair<int, int>, std::vector<Use>> uses;
-  std::vector<std::pair<int, int>> order;  // edges in order of first appearance
   for (Eigen::Index t = 0; t < tris.rows(); ++t) {
     for (int k = 0; k < 3; ++k) {
       const int i = tris(t, k);
@@ -29,26 +20,21 @@ std::vector<Hinge> build_hinges(const Tris& tris, Eigen::Index n_nodes, HingeSta
     if (tris(t, 0) == tris(t, 1) || tris(t, 1) == tris(t, 2) || tris(t, 2) == tris(t, 0))
       throw std::invalid_argument("build_hinges: triangle " + std::to_string(t) +
                                   " repeats a node index");
-    for (int k = 0; k < 3; ++k) {
-      const int a = tris(t, k), b = tris(t, (k + 1) % 3), c = tris(t, (k + 2) % 3);
-      const auto key = std::minmax(a, b);
-      auto& list = uses[{key.first, key.second}];
-      if (list.empty()) order.emplace_back(key.first, key.second);
-      list.push_back({static_cast<int>(t), a, b, c});
-    }
   }
+  const SurfaceEdges edges = surface_edges(tris, n_nodes);
   HingeStats s;
   std::vector<Hinge> hinges;
-  for (const auto& key : order) {
-    const auto& list = uses[key];
-    if (list.size() == 1) {
+  for (Eigen::Index e = 0; e < edges.count(); ++e) {
+    const int uses = edges.use_count(e);
+    if (uses == 1) {
       ++s.boundary_edges;
-    } else if (list.size() > 2) {
+    } else if (uses > 2) {
       ++s.nonmanifold_edges;
     } else {
       ++s.interior_edges;
-      const Use& t1 = list[0];
-      hinges.push_back({t1.wing, list[1].wing, t1.a, t1.b});
+      const SurfaceEdges::Use u1 = edges.use(e, 0), u2 = edges.use(e, 1);
+      const int a = tris(u1.triangle, u1.local), b = tris(u1.triangle, (u1.local + 1) % 3);
+      hinges.push_back({tris(u1.triangle, (u1.local + 2) % 3), tris(u2.triangle, (u2.local + 2) % 3), a, b});
     }
   }
   if (stats) *stats = s;

@@ -1,11 +1,10 @@
 #include "invfem/shells/membrane_force.hpp"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "invfem/core/parallel.hpp"
 
 namespace invfem {
 
@@ -13,13 +12,6 @@ namespace {
 // Elements per TBB task: a triangle costs about a microsecond, so smaller grains only add
 // scheduling overhead.
 constexpr std::size_t kGrain = 512;
-
-template <class Body> void for_each_element(std::size_t m, Body body) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, kGrain),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t e = r.begin(); e != r.end(); ++e) body(e);
-                    });
-}
 
 double model_mu(const IsotropicModel& m) {
   return std::visit([](const auto& x) { return x.mu; }, m);
@@ -66,7 +58,7 @@ void MembraneForce::update_positions(const Points& x, double /*time*/) {
   // Visit the model once for the whole batch; the element loop is then monomorphic.
   std::visit(
       [&](const auto& model) {
-        for_each_element(rest_.area.size(), [&](std::size_t e) {
+        parallel_for_each(rest_.area.size(), kGrain, [&](std::size_t e) {
           const Mat32 F = deformation_gradient(rest_, static_cast<int>(e), x);
           diag_[e] = diagonalize(F);
           psi_[e] = model.template psi<2>(diag_[e].sigma);
@@ -84,7 +76,7 @@ void MembraneForce::add_damping_forces(const Points& v, Points& f) const {
   const double alpha = rayleigh_ * model_lambda(model_);
   const double beta = rayleigh_ * model_mu(model_);
   std::vector<Mat32> Gd(rest_.area.size());
-  for_each_element(Gd.size(), [&](std::size_t e) {
+  parallel_for_each(Gd.size(), kGrain, [&](std::size_t e) {
     const Diagonalization32& d = diag_[e];
     const Mat2 Fdot_hat = d.U.transpose() * velocity_gradient(rest_, static_cast<int>(e), v) * d.V;
     const Mat2 Pd_hat = beta * (Fdot_hat + Fdot_hat.transpose()) +

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "invfem/solids/boundary.hpp"
-#include "invfem/solids/mesh_error.hpp"
+#include "invfem/core/mesh_error.hpp"
 #include "invfem/solids/tet_mesh_writer.hpp"
 
 namespace invfem {
@@ -99,7 +99,7 @@ Compression compress_boundary(const InsideTest& inside, TetMesh& mesh, double h)
   Points& X = mesh.X;
   const Tets& T = mesh.tets;
   const Eigen::Index n = X.rows();
-  const SurfaceMesh surf = compact_surface(boundary_triangles(T), static_cast<int>(n));
+  const std::vector<int> nodes = boundary_nodes(T, static_cast<int>(n));
   std::vector<int> start(static_cast<std::size_t>(n) + 1, 0), adj;
   for (Eigen::Index e = 0; e < T.rows(); ++e)
     for (int k = 0; k < 4; ++k) ++start[static_cast<std::size_t>(T(e, k)) + 1];
@@ -121,7 +121,6 @@ Compression compress_boundary(const InsideTest& inside, TetMesh& mesh, double h)
     return true;
   };
 
-  const std::vector<int>& nodes = surf.nodes;
   std::vector<char> full(nodes.size(), 0), moved(nodes.size(), 0);
   std::vector<std::optional<Vec3>> target(nodes.size());
   for (int pass = 0; pass < 3; ++pass) {
@@ -190,7 +189,7 @@ void dihedral_angle_range(const Points& X, const Tets& tets, double& min_deg, do
   max_deg = hi;
 }
 
-BccMeshResult bcc_mesh(const TriangleMesh& surface, const BccMeshOptions& options) {
+BccMeshResult bcc_mesh(const TriangleSurface& surface, const BccMeshOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::string& src = surface.source;
   if (options.resolution < 1 || options.resolution > 1000)
@@ -204,8 +203,8 @@ BccMeshResult bcc_mesh(const TriangleMesh& surface, const BccMeshOptions& option
                     "from outside; use the winding-number or auto method");
 
   // Lattice: h from the longest side, 2 spare cells on every side, centred on the box.
-  const Vec3 lo = surface.X.colwise().minCoeff().transpose();
-  const Vec3 hi = surface.X.colwise().maxCoeff().transpose();
+  const Vec3 lo = surface.x.colwise().minCoeff().transpose();
+  const Vec3 hi = surface.x.colwise().maxCoeff().transpose();
   const Vec3 extent = hi - lo;
   Lattice L;
   L.h = extent.maxCoeff() / options.resolution;
@@ -272,7 +271,7 @@ BccMeshResult bcc_mesh(const TriangleMesh& surface, const BccMeshOptions& option
     rep.partly_snapped_nodes = c.partly;
   } else {
     rep.boundary_nodes = static_cast<int>(
-        compact_surface(boundary_triangles(mesh.tets), n_nodes).nodes.size());
+        boundary_nodes(mesh.tets, n_nodes).size());
   }
 
   rep.tets = static_cast<int>(mesh.tets.rows());
@@ -291,7 +290,7 @@ BccMeshResult bcc_mesh(const TriangleMesh& surface, const BccMeshOptions& option
 
 BccMeshReport mesh_surface_file(const std::string& surface_path, const std::string& out_path,
                                 const BccMeshOptions& options) {
-  const TriangleMesh surface = load_triangle_mesh(surface_path);
+  const TriangleSurface surface = load_triangle_surface(surface_path);
   BccMeshResult r = bcc_mesh(surface, options);
   write_tet_mesh(out_path, r.mesh);
   return r.report;

@@ -85,38 +85,21 @@ FaceSharing face_sharing(const Tets& tets) {
   return s;
 }
 
-Points SurfaceMesh::gather(const Points& x) const {
-  Points out(static_cast<Eigen::Index>(nodes.size()), 3);
-  for (std::size_t s = 0; s < nodes.size(); ++s) {
-    if (nodes[s] >= x.rows())
-      throw std::invalid_argument("SurfaceMesh::gather: node " + std::to_string(nodes[s]) +
-                                  " outside the " + std::to_string(x.rows()) + " given positions");
-    out.row(static_cast<Eigen::Index>(s)) = x.row(nodes[s]);
-  }
-  return out;
-}
-
-SurfaceMesh compact_surface(const Tris& tris, int num_nodes) {
-  std::vector<int> compact(static_cast<std::size_t>(std::max(num_nodes, 0)), -1);
-  for (Eigen::Index t = 0; t < tris.rows(); ++t)
+std::vector<int> boundary_nodes(const Tets& tets, int num_nodes) {
+  const Tris faces = boundary_triangles(tets);
+  std::vector<char> used(static_cast<std::size_t>(std::max(num_nodes, 0)), 0);
+  for (Eigen::Index t = 0; t < faces.rows(); ++t)
     for (int k = 0; k < 3; ++k) {
-      const int v = tris(t, k);
+      const int v = faces(t, k);
       if (v < 0 || v >= num_nodes)
-        throw std::invalid_argument("compact_surface: triangle " + std::to_string(t) + " node " +
-                                    std::to_string(v) + " outside [0, " +
-                                    std::to_string(num_nodes) + ")");
-      compact[v] = 0;
+        throw std::invalid_argument("boundary_nodes: face " + std::to_string(t) + " node " + std::to_string(v) +
+                                    " outside [0, " + std::to_string(num_nodes) + ")");
+      used[static_cast<std::size_t>(v)] = 1;
     }
-  SurfaceMesh s;
+  std::vector<int> nodes;
   for (int v = 0; v < num_nodes; ++v)
-    if (compact[v] == 0) {
-      compact[v] = static_cast<int>(s.nodes.size());
-      s.nodes.push_back(v);
-    }
-  s.tris.resize(tris.rows(), 3);
-  for (Eigen::Index t = 0; t < tris.rows(); ++t)
-    for (int k = 0; k < 3; ++k) s.tris(t, k) = compact[tris(t, k)];
-  return s;
+    if (used[static_cast<std::size_t>(v)]) nodes.push_back(v);
+  return nodes;
 }
 
 }  // namespace invfem

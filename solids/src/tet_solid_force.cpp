@@ -1,7 +1,5 @@
 #include "invfem/solids/tet_solid_force.hpp"
 
-#include <tbb/parallel_for.h>
-
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
@@ -12,6 +10,7 @@
 #include <string>
 
 #include "invfem/core/elasticity.hpp"
+#include "invfem/core/parallel.hpp"
 #include "invfem/core/plasticity_control.hpp"
 #include "invfem/core/rotated_damping.hpp"
 
@@ -19,13 +18,7 @@ namespace invfem {
 
 namespace {
 // Element loops below ~2K elements are not worth a TBB task.
-constexpr int kGrain = 512;
-
-template <class Body> void for_each_element(int m, const Body& body) {
-  tbb::parallel_for(tbb::blocked_range<int>(0, m, kGrain), [&](const tbb::blocked_range<int>& r) {
-    for (int e = r.begin(); e < r.end(); ++e) body(e);
-  });
-}
+constexpr std::size_t kGrain = 512;
 
 // Adds V |grad N_i|^2 of one element to its four nodes. Rows of Dinv are the gradients of nodes
 // 1..3's shape functions; node 0's is minus their sum.
@@ -137,7 +130,8 @@ void TetSolidForce::update_positions(const Points& x, double time) {
   const bool plain = !plasticity && plastic_identity_;
   std::visit(
       [&](const auto& mdl) {
-        for_each_element(m, [&](int e) {
+        parallel_for_each(static_cast<std::size_t>(m), kGrain, [&](std::size_t i) {
+          const int e = static_cast<int>(i);
           const Mat3 F = deformation_gradient(rest_, e, x);
           det_F_[e] = F.determinant();
           Mat3& Fp_inv = plastic_.Fp_inv[e];
@@ -190,7 +184,8 @@ void TetSolidForce::add_damping_forces(const Points& v, Points& f) const {
   const RotatedDamping damping{material_.damping * lambda, material_.damping * mu};
   const int m = static_cast<int>(diag_.size());
   const bool plain = plastic_identity_;
-  for_each_element(m, [&](int e) {
+  parallel_for_each(static_cast<std::size_t>(m), kGrain, [&](std::size_t i) {
+    const int e = static_cast<int>(i);
     const Mat3 F_dot = deformation_gradient(rest_, e, v);  // velocity gradient, same formula
     if (plain) {
       G_scratch_[e] = damping_stress(damping, diag_[e], F_dot) * rest_.Bm[e];
@@ -267,6 +262,34 @@ int TetSolidForce::yielded_count() const {
 
 double TetSolidForce::min_det_F() const {
   return det_F_.empty() ? 1.0 : *std::min_element(det_F_.begin(), det_F_.end());
+}
+
+void TetSolidForce::save_state(StateWriter& out) const { out.matrices(plastic_.Fp_inv); }
+
+void TetSolidForce::restore_state(StateReader& in) {
+  std::vector<Mat3> fp;
+  in.matrices(fp, diag_.size(), "the plastic state (Fp^-1 per element)");
+  try {
+    restore_plastic_state(PlasticState{std::move(fp)});
+  } catch (const std::invalid_argument& e) {
+    throw StateError(e.what());
+  }
+}
+
+void TetSolidForce::add_element_stats(ElementStats& s) const {
+  s.inverted += inverted_count();
+  s.elements += static_cast<int>(diag_.size());
+  s.min_det_F = std::min(s.min_det_F, min_det_F());
+  for (std::size_t e = 0; e < rest_.volume.size(); ++e) {
+    s.volume += rest_.volume[e] * det_F_[e];
+    s.rest_volume += rest_.volume[e];
+  }
+}
+
+void TetSolidForce::add_cell_fields(CellFields& fields) const {
+  const Eigen::Map<const Eigen::VectorXd> det(det_F_.data(), static_cast<Eigen::Index>(det_F_.size()));
+  fields["det_F"] = det;
+  fields["inverted"] = (det.array() < 0).cast<double>();
 }
 
 double TetSolidForce::total_rest_volume() const {

@@ -15,21 +15,21 @@ using namespace invfem::renders;
 namespace {
 
 // n x n quads on [-1, 1]^2 in x-z, y a gentle wave so the shading varies: 2 n^2 triangles.
-RenderMesh wavy_grid(int n) {
-  RenderMesh mesh;
-  mesh.positions.resize(static_cast<Eigen::Index>(n + 1) * (n + 1), 3);
+Drawable wavy_grid(int n) {
+  Drawable mesh;
+  mesh.surface.x.resize(static_cast<Eigen::Index>(n + 1) * (n + 1), 3);
   for (int i = 0; i <= n; ++i)
     for (int j = 0; j <= n; ++j) {
       const double x = -1.0 + 2.0 * i / n, z = -1.0 + 2.0 * j / n;
-      mesh.positions.row(i * (n + 1) + j) << x, 0.6 + 0.15 * std::sin(6 * x) * std::cos(5 * z), z;
+      mesh.surface.x.row(i * (n + 1) + j) << x, 0.6 + 0.15 * std::sin(6 * x) * std::cos(5 * z), z;
     }
-  mesh.triangles.resize(2 * static_cast<Eigen::Index>(n) * n, 3);
+  mesh.surface.tris.resize(2 * static_cast<Eigen::Index>(n) * n, 3);
   Eigen::Index t = 0;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       const int a = i * (n + 1) + j, b = a + n + 1;
-      mesh.triangles.row(t++) << a, a + 1, b;
-      mesh.triangles.row(t++) << b, a + 1, b + 1;
+      mesh.surface.tris.row(t++) << a, a + 1, b;
+      mesh.surface.tris.row(t++) << b, a + 1, b + 1;
     }
   mesh.two_sided = true;
   return mesh;
@@ -41,7 +41,7 @@ MeshRenderer& renderer() {
 }
 
 void BM_RenderFrame(benchmark::State& state) {
-  const std::vector<RenderMesh> scene{wavy_grid(static_cast<int>(state.range(0)))};
+  const std::vector<Drawable> scene{wavy_grid(static_cast<int>(state.range(0)))};
   RenderSettings settings;
   settings.width = 1280;
   settings.height = 720;
@@ -58,13 +58,13 @@ void BM_RenderFrame(benchmark::State& state) {
     write_png(std::string(dir) + "/bench_render_" + std::to_string(state.range(0)) + "_" +
                   std::to_string(state.range(1)) + ".png",
               renderer().render(scene, camera, settings));
-  state.counters["triangles"] = static_cast<double>(scene[0].triangles.rows());
+  state.counters["triangles"] = static_cast<double>(scene[0].surface.tris.rows());
 }
 // Args: grid size (224 -> 100,352 triangles; 500 -> 500,000), MSAA samples (4 default, 0 none).
 BENCHMARK(BM_RenderFrame)->Args({1, 4})->Args({1, 0})->Args({224, 4})->Args({500, 4})->Args({224, 0})->Args({500, 0})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_WritePng(benchmark::State& state) {
-  const std::vector<RenderMesh> scene{wavy_grid(224)};
+  const std::vector<Drawable> scene{wavy_grid(224)};
   RenderSettings settings;
   settings.width = 1280;
   settings.height = 720;

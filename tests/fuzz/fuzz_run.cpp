@@ -1,11 +1,11 @@
 // Fuzz runner: feeds every file of a corpus directory to the reader its extension names, each in
 // its own forked process with a time bound, and classifies the outcome. Readers:
 //   .vtk .mesh .msh  read_tet_mesh, then validate_and_orient
-//   .obj             read_obj_positions; separately load_triangle_mesh, then validate_triangle_mesh
-//   .ply             load_triangle_mesh, then validate_triangle_mesh
+//   .obj             read_obj_positions; separately load_triangle_surface, then validate_surface
+//   .ply             load_triangle_surface, then validate_surface
 //   .json            invfem::app::load_scene
 // Allowed: success, or an exception derived from std::runtime_error (MeshError, InputError, the
-// loader's runtime_error), or std::invalid_argument from validate_triangle_mesh. Findings: any
+// loader's runtime_error), or std::invalid_argument from validate_surface. Findings: any
 // other exception (bad_alloc included: allocations are capped), a signal (crash, sanitizer
 // abort), a timeout, or a seed (a file without ".mNNNNN." in its name) that is not accepted.
 // Each finding's input and captured stderr are copied to DIR/findings/. Exit 1 if any.
@@ -32,9 +32,10 @@
 #include <typeinfo>
 #include <vector>
 
-#include "invfem/shells/triangle_mesh.hpp"
-#include "invfem/solids/mesh_error.hpp"
-#include "invfem/solids/obj_writer.hpp"
+#include "invfem/core/surface_io.hpp"
+#include "invfem/core/mesh_error.hpp"
+#include "invfem/core/obj_writer.hpp"
+#include "invfem/solids/obj_reader.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
 #include "json_fields.hpp"
@@ -115,7 +116,7 @@ int probe_tet(const std::string& path) {
 }
 
 int probe_obj_positions(const std::string& path) {
-  invfem::ObjPositions o;
+  invfem::TriangleSurface o;
   bool contract = true;
   const int r = run_caught(
       path, [&] { o = invfem::read_obj_positions(path); },
@@ -130,9 +131,9 @@ int probe_obj_positions(const std::string& path) {
 }
 
 int probe_triangle_mesh(const std::string& path) {
-  invfem::TriangleMesh m;
-  return run_caught(path, [&] { m = invfem::load_triangle_mesh(path); },
-                    [&] { invfem::validate_triangle_mesh(m, path); });
+  invfem::TriangleSurface m;
+  return run_caught(path, [&] { m = invfem::load_triangle_surface(path); },
+                    [&] { invfem::validate_surface(m, path); });
 }
 
 int probe_scene(const std::string& path) {
@@ -143,8 +144,8 @@ std::vector<std::pair<std::string, Probe>> probes_for(const fs::path& p) {
   std::string ext = p.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   if (ext == ".vtk" || ext == ".mesh" || ext == ".msh") return {{"read_tet_mesh", probe_tet}};
-  if (ext == ".obj") return {{"read_obj_positions", probe_obj_positions}, {"load_triangle_mesh", probe_triangle_mesh}};
-  if (ext == ".ply") return {{"load_triangle_mesh", probe_triangle_mesh}};
+  if (ext == ".obj") return {{"read_obj_positions", probe_obj_positions}, {"load_triangle_surface", probe_triangle_mesh}};
+  if (ext == ".ply") return {{"load_triangle_surface", probe_triangle_mesh}};
   if (ext == ".json") return {{"load_scene", probe_scene}};
   return {};
 }

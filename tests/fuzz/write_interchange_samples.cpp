@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <iostream>
 
-#include "invfem/solids/ply_writer.hpp"
-#include "invfem/solids/usd_writer.hpp"
-#include "invfem/solids/vtu_writer.hpp"
+#include "invfem/core/ply_writer.hpp"
+#include "invfem/core/usd_writer.hpp"
+#include "invfem/core/vtu_writer.hpp"
 
 using namespace invfem;
 

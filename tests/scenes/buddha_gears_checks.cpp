@@ -15,10 +15,10 @@ const std::filesystem::path kOut = INVFEM_SCENE_DIR;
 constexpr int kLast = 60;
 constexpr double kGearCenterY = 1.1;
 
-ObjPositions frame(int f) { return read_obj_positions((kOut / "frames/buddha" / frame_file(f)).string()); }
+TriangleSurface frame(int f) { return read_obj_positions((kOut / "frames/buddha" / frame_file(f)).string()); }
 
 TEST(BuddhaGears, IsPulledThroughTheGears) {
-  const ObjPositions first = frame(0), last = frame(kLast);
+  const TriangleSurface first = frame(0), last = frame(kLast);
   EXPECT_GT(first.x.col(1).minCoeff(), kGearCenterY + 0.3);  // starts above the gear tips
   EXPECT_LT(last.x.col(1).colwise().mean()(0), kGearCenterY);  // most of it is through
   EXPECT_GT(last.x.col(1).minCoeff(), -1e-6);

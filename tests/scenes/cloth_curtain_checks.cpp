@@ -14,10 +14,10 @@ namespace {
 const std::filesystem::path kOut = INVFEM_SCENE_DIR;
 constexpr int kLastFrame = 45;  // the scene's quick "frames"
 
-ObjPositions frame(int f) { return read_obj_positions((kOut / "frames/curtain" / frame_file(f)).string()); }
+TriangleSurface frame(int f) { return read_obj_positions((kOut / "frames/curtain" / frame_file(f)).string()); }
 
 TEST(ClothCurtain, PinnedEdgeHoldsAndClothStaysAboveGround) {
-  const ObjPositions rest = frame(0), last = frame(kLastFrame);
+  const TriangleSurface rest = frame(0), last = frame(kLastFrame);
   ASSERT_EQ(rest.x.rows(), last.x.rows());
   int pinned = 0;
   for (Eigen::Index i = 0; i < rest.x.rows(); ++i) {
@@ -33,9 +33,9 @@ TEST(ClothCurtain, PinnedEdgeHoldsAndClothStaysAboveGround) {
 }
 
 TEST(ClothCurtain, MembraneDoesNotOverstretch) {
-  const ObjPositions rest = frame(0);
+  const TriangleSurface rest = frame(0);
   for (int f : {15, 30, kLastFrame}) {
-    const ObjPositions x = frame(f);
+    const TriangleSurface x = frame(f);
     double worst = 0;
     for (Eigen::Index t = 0; t < rest.tris.rows(); ++t)
       for (int k = 0; k < 3; ++k) {

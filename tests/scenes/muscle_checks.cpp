@@ -11,10 +11,10 @@ namespace {
 
 const std::filesystem::path kOut = INVFEM_SCENE_DIR;
 
-ObjPositions frame(int f) { return read_obj_positions((kOut / "frames/muscle" / frame_file(f)).string()); }
+TriangleSurface frame(int f) { return read_obj_positions((kOut / "frames/muscle" / frame_file(f)).string()); }
 
 // Lowest point of the mid-span (|x| < 2 cm) [m].
-double midspan_bottom(const ObjPositions& m) {
+double midspan_bottom(const TriangleSurface& m) {
   double y = 1e9;
   for (Eigen::Index i = 0; i < m.x.rows(); ++i)
     if (std::abs(m.x(i, 0)) < 0.02) y = std::min(y, m.x(i, 1));
@@ -32,7 +32,7 @@ TEST(Muscle, ContractsWhenActivatedAndRelaxesAfter) {
 }
 
 TEST(Muscle, EndsStayFixed) {
-  const ObjPositions a = frame(0), b = frame(75);
+  const TriangleSurface a = frame(0), b = frame(75);
   int pinned = 0;
   for (Eigen::Index i = 0; i < a.x.rows(); ++i)
     if (std::abs(std::abs(a.x(i, 0)) - 0.3) < 0.005) {

@@ -16,7 +16,7 @@ const std::filesystem::path kOut = INVFEM_SCENE_DIR;
 constexpr int kLast = 60;
 constexpr double kGearCenterY = 1.1;
 
-ObjPositions frame(int f) { return read_obj_positions((kOut / "frames/sphere" / frame_file(f)).string()); }
+TriangleSurface frame(int f) { return read_obj_positions((kOut / "frames/sphere" / frame_file(f)).string()); }
 
 // Extents of a point set along its principal axes, sorted ascending [m].
 Eigen::Vector3d principal_extents(const Points& x) {
@@ -30,7 +30,7 @@ Eigen::Vector3d principal_extents(const Points& x) {
 }
 
 TEST(PlasticSphereGears, PassesThroughTheGears) {
-  const ObjPositions first = frame(0), last = frame(kLast);
+  const TriangleSurface first = frame(0), last = frame(kLast);
   EXPECT_GT(first.x.col(1).minCoeff(), kGearCenterY);  // starts above the gears
   EXPECT_LT(last.x.col(1).maxCoeff(), kGearCenterY);   // ends below their axes
   EXPECT_GT(last.x.col(1).minCoeff(), -1e-6);          // on the ground, not in it

@@ -14,7 +14,8 @@
 
 #include "invfem/renders/image.hpp"
 #include "invfem/renders/image_compare.hpp"
-#include "invfem/solids/obj_writer.hpp"
+#include "invfem/core/obj_writer.hpp"
+#include "invfem/solids/obj_reader.hpp"
 
 namespace invfem::test {
 

@@ -10,10 +10,11 @@
 #include <random>
 #include <string>
 
-#include "invfem/shells/triangle_mesh.hpp"
+#include "invfem/core/surface_io.hpp"
 #include "invfem/solids/bcc_mesher.hpp"
 #include "invfem/solids/inside_test.hpp"
-#include "invfem/solids/obj_writer.hpp"
+#include "invfem/core/obj_writer.hpp"
+#include "invfem/solids/obj_reader.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
 
@@ -24,11 +25,11 @@ namespace {
 
 // Axis-aligned box [lo, hi], 12 triangles wound counter-clockwise seen from outside. With
 // drop_top the two +z triangles are left out (a surface with a square hole).
-TriangleMesh make_box(const Vec3& lo, const Vec3& hi, bool drop_top = false) {
-  TriangleMesh m;
-  m.X.resize(8, 3);
+TriangleSurface make_box(const Vec3& lo, const Vec3& hi, bool drop_top = false) {
+  TriangleSurface m;
+  m.x.resize(8, 3);
   for (int i = 0; i < 8; ++i)
-    m.X.row(i) << ((i & 1) ? hi.x() : lo.x()), ((i & 2) ? hi.y() : lo.y()),
+    m.x.row(i) << ((i & 1) ? hi.x() : lo.x()), ((i & 2) ? hi.y() : lo.y()),
         ((i & 4) ? hi.z() : lo.z());
   // Quads (a, b, c, d) counter-clockwise from outside, split along a-c.
   const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
@@ -45,7 +46,7 @@ TriangleMesh make_box(const Vec3& lo, const Vec3& hi, bool drop_top = false) {
 }
 
 // Icosahedron subdivided `levels` times and projected onto the sphere of radius r.
-TriangleMesh make_icosphere(double r, int levels) {
+TriangleSurface make_icosphere(double r, int levels) {
   const double p = (1 + std::sqrt(5.0)) / 2;
   std::vector<Vec3> v = {{-1, p, 0}, {1, p, 0}, {-1, -p, 0}, {1, -p, 0}, {0, -1, p}, {0, 1, p},
                          {0, -1, -p}, {0, 1, -p}, {p, 0, -1}, {p, 0, 1}, {-p, 0, -1}, {-p, 0, 1}};
@@ -72,10 +73,10 @@ TriangleMesh make_icosphere(double r, int levels) {
     }
     f = g;
   }
-  TriangleMesh m;
-  m.X.resize(static_cast<Eigen::Index>(v.size()), 3);
+  TriangleSurface m;
+  m.x.resize(static_cast<Eigen::Index>(v.size()), 3);
   for (std::size_t i = 0; i < v.size(); ++i)
-    m.X.row(static_cast<Eigen::Index>(i)) = r * v[i].normalized().transpose();
+    m.x.row(static_cast<Eigen::Index>(i)) = r * v[i].normalized().transpose();
   m.tris.resize(static_cast<Eigen::Index>(f.size()), 3);
   for (std::size_t t = 0; t < f.size(); ++t)
     m.tris.row(static_cast<Eigen::Index>(t)) = f[t].transpose();
@@ -110,7 +111,7 @@ std::string shared_surface(const std::string& name) {
 }  // namespace
 
 TEST(BccMesher, UnitCubeVolume) {
-  const TriangleMesh cube = make_box(Vec3::Zero(), Vec3::Ones());
+  const TriangleSurface cube = make_box(Vec3::Zero(), Vec3::Ones());
   BccMeshOptions opt;
   opt.resolution = 12;
   BccMeshResult r = bcc_mesh(cube, opt);
@@ -125,7 +126,7 @@ TEST(BccMesher, UnitCubeVolume) {
 }
 
 TEST(BccMesher, SphereVolumeConvergesWithResolution) {
-  const TriangleMesh s = make_icosphere(0.7, 4);
+  const TriangleSurface s = make_icosphere(0.7, 4);
   const double v_surface = InsideTest(s).signed_volume();
   EXPECT_NEAR(v_surface, 4.0 / 3 * M_PI * std::pow(0.7, 3), 0.01 * v_surface);
   double err_prev = 1;
@@ -141,7 +142,7 @@ TEST(BccMesher, SphereVolumeConvergesWithResolution) {
 }
 
 TEST(BccMesher, WithoutCompressionItIsThePureLattice) {
-  const TriangleMesh s = make_icosphere(1.0, 3);
+  const TriangleSurface s = make_icosphere(1.0, 3);
   BccMeshOptions opt;
   opt.resolution = 10;
   opt.compress_boundary = false;
@@ -158,7 +159,7 @@ TEST(BccMesher, WithoutCompressionItIsThePureLattice) {
 }
 
 TEST(BccMesher, OpenSurfaceWithRayParityIsAClearError) {
-  const TriangleMesh open = make_box(Vec3::Zero(), Vec3::Ones(), true);
+  const TriangleSurface open = make_box(Vec3::Zero(), Vec3::Ones(), true);
   BccMeshOptions opt;
   opt.resolution = 8;
   opt.method = InsideMethod::RayParity;
@@ -174,7 +175,7 @@ TEST(BccMesher, OpenSurfaceWithRayParityIsAClearError) {
 }
 
 TEST(BccMesher, OpenSurfaceAutoFallsBackToWindingNumber) {
-  const TriangleMesh open = make_box(Vec3::Zero(), Vec3::Ones(), true);
+  const TriangleSurface open = make_box(Vec3::Zero(), Vec3::Ones(), true);
   BccMeshOptions opt;
   opt.resolution = 10;
   BccMeshResult r = bcc_mesh(open, opt);
@@ -185,18 +186,18 @@ TEST(BccMesher, OpenSurfaceAutoFallsBackToWindingNumber) {
 }
 
 TEST(BccMesher, BadArgumentsAreRejected) {
-  const TriangleMesh cube = make_box(Vec3::Zero(), Vec3::Ones());
+  const TriangleSurface cube = make_box(Vec3::Zero(), Vec3::Ones());
   BccMeshOptions opt;
   opt.resolution = 0;
   EXPECT_THROW(bcc_mesh(cube, opt), std::invalid_argument);
   opt.resolution = 1001;
   EXPECT_THROW(bcc_mesh(cube, opt), std::invalid_argument);
-  TriangleMesh broken = cube;
+  TriangleSurface broken = cube;
   broken.tris(3, 1) = 99;
   opt.resolution = 8;
   EXPECT_THROW(bcc_mesh(broken, opt), std::invalid_argument);
   // A sheet thinner than the spacing of lattice nodes and tet centroids contains none of them.
-  const TriangleMesh sheet = make_box(Vec3::Zero(), Vec3(1, 1, 1e-4));
+  const TriangleSurface sheet = make_box(Vec3::Zero(), Vec3(1, 1, 1e-4));
   opt.resolution = 4;
   EXPECT_THROW(bcc_mesh(sheet, opt), MeshError);
 }
@@ -204,8 +205,8 @@ TEST(BccMesher, BadArgumentsAreRejected) {
 TEST(BccMesher, MeshSurfaceFileWritesAReadableMesh) {
   const fs::path d = fs::temp_directory_path() / ("invfem_bcc_" + std::to_string(::getpid()));
   fs::create_directories(d);
-  const TriangleMesh cube = make_box(Vec3(-1, -2, -3), Vec3(1, 0, 1));
-  write_obj((d / "box.obj").string(), cube.X, cube.tris);
+  const TriangleSurface cube = make_box(Vec3(-1, -2, -3), Vec3(1, 0, 1));
+  write_obj((d / "box.obj").string(), cube.x, cube.tris);
   BccMeshOptions opt;
   opt.resolution = 12;  // coarser, the guard leaves the box's edges rounded by more than 5%
   const BccMeshReport rep =
@@ -225,15 +226,15 @@ TEST(BccMesher, MeshSurfaceFileWritesAReadableMesh) {
 // Ray parity against the exact winding number on random points of the padded bounding box. The
 // two must agree except within 1e-6 of the surface, where float positions blur the answer.
 TEST(InsideTest, RayParityAgreesWithWindingNumber) {
-  std::vector<TriangleMesh> surfaces = {make_icosphere(1.0, 3),
+  std::vector<TriangleSurface> surfaces = {make_icosphere(1.0, 3),
                                         make_box(Vec3(0, 0, 0), Vec3(2, 1, 0.5))};
   if (fs::exists(shared_surface("bunny3K_cipc.obj")))
-    surfaces.push_back(load_triangle_mesh(shared_surface("bunny3K_cipc.obj")));
+    surfaces.push_back(load_triangle_surface(shared_surface("bunny3K_cipc.obj")));
   std::mt19937 rng(11);
-  for (const TriangleMesh& s : surfaces) {
+  for (const TriangleSurface& s : surfaces) {
     const InsideTest it(s);
     ASSERT_TRUE(it.is_closed()) << s.source;
-    const Vec3 lo = s.X.colwise().minCoeff().transpose(), hi = s.X.colwise().maxCoeff().transpose();
+    const Vec3 lo = s.x.colwise().minCoeff().transpose(), hi = s.x.colwise().maxCoeff().transpose();
     const Vec3 pad = 0.1 * (hi - lo);
     std::uniform_real_distribution<double> u(0, 1);
     int compared = 0, inside = 0, disagree = 0;
@@ -292,7 +293,7 @@ class BccSharedMesh : public ::testing::TestWithParam<const char*> {};
 TEST_P(BccSharedMesh, VolumeOrientationAndQuality) {
   const std::string path = shared_surface(GetParam());
   if (!fs::exists(path)) GTEST_SKIP() << "shared data not found: " << path;
-  const TriangleMesh s = load_triangle_mesh(path);
+  const TriangleSurface s = load_triangle_surface(path);
   BccMeshOptions opt;
   opt.resolution = 24;
   BccMeshResult r = bcc_mesh(s, opt);

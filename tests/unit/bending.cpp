@@ -12,7 +12,8 @@
 #include "force_checks.hpp"
 #include "invfem/shells/bending_force.hpp"
 #include "invfem/shells/hinge.hpp"
-#include "invfem/shells/triangle_mesh.hpp"
+#include "invfem/core/surface_io.hpp"
+#include "invfem/shells/shapes.hpp"
 
 using namespace invfem;
 using invfem::test::elastic_forces_at;
@@ -56,12 +57,12 @@ Tris hinge_tris() {
 }
 
 // A sheet rolled around the x axis: every interior hinge is bent by the same angle.
-TriangleMesh rolled_sheet(double radius) {
-  TriangleMesh m = make_grid(1.0, 1.5, 4, 5);
-  for (Eigen::Index i = 0; i < m.X.rows(); ++i) {
-    const double a = m.X(i, 1) / radius;
-    m.X(i, 1) = radius * std::sin(a);
-    m.X(i, 2) = radius * (1 - std::cos(a));
+TriangleSurface rolled_sheet(double radius) {
+  TriangleSurface m = make_grid(1.0, 1.5, 4, 5);
+  for (Eigen::Index i = 0; i < m.x.rows(); ++i) {
+    const double a = m.x(i, 1) / radius;
+    m.x(i, 1) = radius * std::sin(a);
+    m.x(i, 2) = radius * (1 - std::cos(a));
   }
   return m;
 }
@@ -70,22 +71,22 @@ TriangleMesh rolled_sheet(double radius) {
 
 TEST(Bending, HingesOfAGrid) {
   const int nx = 4, ny = 3;
-  const TriangleMesh m = make_grid(1.0, 1.0, nx, ny);
+  const TriangleSurface m = make_grid(1.0, 1.0, nx, ny);
   HingeStats stats;
-  const std::vector<Hinge> hinges = build_hinges(m.tris, m.X.rows(), &stats);
+  const std::vector<Hinge> hinges = build_hinges(m.tris, m.x.rows(), &stats);
   const int edges = nx * (ny + 1) + ny * (nx + 1) + nx * ny;
   EXPECT_EQ(stats.boundary_edges, 2 * (nx + ny));
   EXPECT_EQ(stats.nonmanifold_edges, 0);
   EXPECT_EQ(static_cast<int>(hinges.size()), edges - 2 * (nx + ny));
   // Flat and consistently oriented: n1 . n2 = +1, so every rest angle is 0.
   for (const Hinge& h : hinges) {
-    const HingeGeometry g = hinge_geometry(m.X, h);
+    const HingeGeometry g = hinge_geometry(m.x, h);
     ASSERT_TRUE(g.valid);
     EXPECT_EQ(g.sin_half, 0.0);
   }
   Tris bad = m.tris;
   bad(2, 1) = -1;
-  EXPECT_THROW(build_hinges(bad, m.X.rows()), std::invalid_argument);
+  EXPECT_THROW(build_hinges(bad, m.x.rows()), std::invalid_argument);
 }
 
 TEST(Bending, AngleOfAKnownFold) {
@@ -133,10 +134,10 @@ TEST(Bending, UVectorsAreMinusAngleGradient) {
 }
 
 TEST(Bending, ZeroForceAtRestAngle) {
-  const TriangleMesh m = rolled_sheet(0.8);
-  BendingForce f(m.X, m.tris, BendingParams{0.01, 0.0});
+  const TriangleSurface m = rolled_sheet(0.8);
+  BendingForce f(m.x, m.tris, BendingParams{0.01, 0.0});
   for (std::size_t h = 0; h < f.hinges().size(); ++h) EXPECT_NEAR(f.angle(h), f.rest_angles()[h], 0);
-  const Points g = elastic_forces_at(f, m.X);
+  const Points g = elastic_forces_at(f, m.x);
   EXPECT_EQ(g.cwiseAbs().maxCoeff(), 0.0);
   EXPECT_NEAR(f.elastic_energy(), 0.0, 1e-18);
   // Some hinges really are bent at rest.
@@ -144,13 +145,13 @@ TEST(Bending, ZeroForceAtRestAngle) {
   for (double a : f.rest_angles()) largest = std::max(largest, std::abs(a));
   EXPECT_GT(largest, 0.1);
   // The same mesh from a flat rest state feels a force here.
-  const TriangleMesh flat = make_grid(1.0, 1.5, 4, 5);
-  BendingForce flat_rest(flat.X, flat.tris, BendingParams{0.01, 0.0});
-  EXPECT_GT(elastic_forces_at(flat_rest, m.X).cwiseAbs().maxCoeff(), 1e-4);
+  const TriangleSurface flat = make_grid(1.0, 1.5, 4, 5);
+  BendingForce flat_rest(flat.x, flat.tris, BendingParams{0.01, 0.0});
+  EXPECT_GT(elastic_forces_at(flat_rest, m.x).cwiseAbs().maxCoeff(), 1e-4);
   // Plasticity moves the rest angles: setting them to the current angles removes the force.
   for (std::size_t h = 0; h < flat_rest.hinges().size(); ++h)
     flat_rest.rest_angles()[h] = flat_rest.angle(h);
-  Points again = Points::Zero(m.X.rows(), 3);
+  Points again = Points::Zero(m.x.rows(), 3);
   flat_rest.add_elastic_forces(again);
   EXPECT_LT(again.cwiseAbs().maxCoeff(), 1e-15);
 }
@@ -169,11 +170,11 @@ TEST(Bending, ForceRestoresAFlatHinge) {
 }
 
 TEST(Bending, ZeroNetForceAndTorque) {
-  const TriangleMesh m = rolled_sheet(1.0);
-  BendingForce f(m.X, m.tris, BendingParams{0.05, 0.0});
+  const TriangleSurface m = rolled_sheet(1.0);
+  BendingForce f(m.x, m.tris, BendingParams{0.05, 0.0});
   std::mt19937 rng(13);
   for (int trial = 0; trial < 10; ++trial) {
-    const Points x = m.X + random_points(m.X.rows(), 0.05, rng);
+    const Points x = m.x + random_points(m.x.rows(), 0.05, rng);
     test::expect_zero_net_force_and_torque(x, elastic_forces_at(f, x), 1e-6);
   }
 }
@@ -185,10 +186,10 @@ TEST(Bending, ForceMatchesEnergyGradientNearRest) {
   // The mismatch is not an FD error, so a pass/fail sweep would plateau at it by design. The
   // shared helper still takes the differences, with a single step h = 1e-7 and no rate check:
   // its error[0] is exactly the documented measurement |f + grad W|_2 / |f|_2.
-  const TriangleMesh m = rolled_sheet(0.9);
-  BendingForce f(m.X, m.tris, BendingParams{0.02, 0.0});
+  const TriangleSurface m = rolled_sheet(0.9);
+  BendingForce f(m.x, m.tris, BendingParams{0.02, 0.0});
   std::mt19937 rng(17);
-  const Points dir = random_points(m.X.rows(), 1.0, rng);
+  const Points dir = random_points(m.x.rows(), 1.0, rng);
   auto energy = [&](const Eigen::VectorXd& y) {
     f.update_positions(unflat(y), 0.0);
     return f.elastic_energy();
@@ -201,7 +202,7 @@ TEST(Bending, ForceMatchesEnergyGradientNearRest) {
   single_step.check_rate = false;
   double previous = 0;
   for (double eps : {1e-2, 1e-3}) {
-    const Points x = m.X + eps * dir;
+    const Points x = m.x + eps * dir;
     ASSERT_GT(elastic_forces_at(f, x).norm(), 1e-8);  // the helper's value_scale floor stays inactive
     const fd::Result r = fd::check_gradient(energy, minus_force, flat(x), single_step);
     ASSERT_EQ(r.error.size(), 1u) << r.report;
@@ -216,7 +217,7 @@ TEST(Bending, ForceMatchesEnergyGradientNearRest) {
   // And the exact relation u = -grad theta for one hinge of the force, with the full sweep.
   // tol = 1e-6 min_k |u_k| / |u| makes the 2-norm bound imply |u_k + dtheta/dx_k| < 1e-6 |u_k|
   // for every node (the common factor k_e c (sin(theta/2) - sin(theta0/2)) cancels).
-  const Points x = m.X + 0.05 * dir;
+  const Points x = m.x + 0.05 * dir;
   f.update_positions(x, 0.0);
   const std::size_t h = f.hinges().size() / 2;
   const Hinge hinge = f.hinges()[h];
@@ -253,10 +254,10 @@ TEST(Bending, EnergyIsNonNegativeAndGrowsWithTheFold) {
 }
 
 TEST(Bending, DampingIsSymmetricNegativeSemidefiniteAndRigidFree) {
-  const TriangleMesh m = rolled_sheet(0.7);
-  BendingForce f(m.X, m.tris, BendingParams{0.0, 0.3});
+  const TriangleSurface m = rolled_sheet(0.7);
+  BendingForce f(m.x, m.tris, BendingParams{0.0, 0.3});
   std::mt19937 rng(29);
-  const Points x = m.X + random_points(m.X.rows(), 0.03, rng);
+  const Points x = m.x + random_points(m.x.rows(), 0.03, rng);
   f.update_positions(x, 0.0);
   test::expect_symmetric_dissipative_damping(f, x.rows(), rng);
   auto D = [&](const Points& v) { return test::damping_of(f, v); };
@@ -294,18 +295,18 @@ TEST(Bending, DegenerateHingesGiveFiniteForces) {
 }
 
 TEST(Bending, StableTimeStepAndBadInput) {
-  const TriangleMesh m = rolled_sheet(1.0);
-  const Eigen::VectorXd mass = Eigen::VectorXd::Constant(m.X.rows(), 1e-3);
-  BendingForce soft(m.X, m.tris, BendingParams{1e-3, 0.0});
-  BendingForce stiff(m.X, m.tris, BendingParams{4e-3, 0.0});
+  const TriangleSurface m = rolled_sheet(1.0);
+  const Eigen::VectorXd mass = Eigen::VectorXd::Constant(m.x.rows(), 1e-3);
+  BendingForce soft(m.x, m.tris, BendingParams{1e-3, 0.0});
+  BendingForce stiff(m.x, m.tris, BendingParams{4e-3, 0.0});
   const double dt = soft.stable_time_step(mass);
   EXPECT_GT(dt, 0);
   EXPECT_TRUE(std::isfinite(dt));
   EXPECT_NEAR(stiff.stable_time_step(mass), 0.5 * dt, 1e-12 * dt);  // dt ~ 1/sqrt(k_e)
-  BendingForce none(m.X, m.tris, BendingParams{0.0, 1.0});
+  BendingForce none(m.x, m.tris, BendingParams{0.0, 1.0});
   EXPECT_TRUE(std::isinf(none.stable_time_step(mass)));
-  EXPECT_THROW(BendingForce(m.X, m.tris, BendingParams{-1.0, 0.0}), std::invalid_argument);
-  Points nan = m.X;
+  EXPECT_THROW(BendingForce(m.x, m.tris, BendingParams{-1.0, 0.0}), std::invalid_argument);
+  Points nan = m.x;
   nan(1, 2) = std::nan("");
   EXPECT_THROW(soft.update_positions(nan, 0.0), std::invalid_argument);
 }

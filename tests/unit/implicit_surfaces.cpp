@@ -14,7 +14,7 @@
 #include "invfem/collisions/analytic_surfaces.hpp"
 #include "invfem/collisions/gear.hpp"
 #include "invfem/collisions/moving_surface.hpp"
-#include "invfem/collisions/rigid_motion.hpp"
+#include "invfem/core/rigid_motion.hpp"
 
 using namespace invfem;
 

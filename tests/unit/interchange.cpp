@@ -15,11 +15,12 @@
 #include <string>
 #include <vector>
 
-#include "invfem/shells/triangle_mesh.hpp"
-#include "invfem/solids/ply_writer.hpp"
+#include "invfem/core/surface_io.hpp"
+#include "invfem/shells/shapes.hpp"
+#include "invfem/core/ply_writer.hpp"
 #include "invfem/solids/tet_mesh.hpp"
-#include "invfem/solids/usd_writer.hpp"
-#include "invfem/solids/vtu_writer.hpp"
+#include "invfem/core/usd_writer.hpp"
+#include "invfem/core/vtu_writer.hpp"
 #include "xml_check.hpp"
 
 namespace fs = std::filesystem;
@@ -53,9 +54,9 @@ std::string slurp(const std::string& path) {
 }
 
 // A curved sheet: a grid whose nodes are lifted by a smooth bump, so no coordinate is trivial.
-TriangleMesh curved_sheet(int nx, int ny) {
-  TriangleMesh m = make_grid(1.3, 0.7, nx, ny, Vec3(-0.4, 0.2, 0.1));
-  for (Eigen::Index i = 0; i < m.X.rows(); ++i) m.X(i, 2) += 0.1 * std::sin(3 * m.X(i, 0)) * std::cos(2 * m.X(i, 1));
+TriangleSurface curved_sheet(int nx, int ny) {
+  TriangleSurface m = make_grid(1.3, 0.7, nx, ny, Vec3(-0.4, 0.2, 0.1));
+  for (Eigen::Index i = 0; i < m.x.rows(); ++i) m.x(i, 2) += 0.1 * std::sin(3 * m.x(i, 0)) * std::cos(2 * m.x(i, 1));
   return m;
 }
 
@@ -109,22 +110,22 @@ const XmlNode& array_named(const XmlNode& parent, const std::string& name) {
 
 // Loads `path` through assimp and checks it holds exactly the sheet `m`, positions to float
 // precision. The loader reorders vertices (first use), so match them by position.
-void expect_same_surface(const std::string& path, const TriangleMesh& m) {
-  TriangleMeshReport report;
-  const TriangleMesh back = load_triangle_mesh(path, &report);
-  ASSERT_EQ(back.X.rows(), m.X.rows());
+void expect_same_surface(const std::string& path, const TriangleSurface& m) {
+  SurfaceLoadReport report;
+  const TriangleSurface back = load_triangle_surface(path, &report);
+  ASSERT_EQ(back.x.rows(), m.x.rows());
   ASSERT_EQ(back.tris.rows(), m.tris.rows());
   EXPECT_EQ(report.removed_triangles, 0);
-  std::vector<int> to_original(back.X.rows(), -1);
+  std::vector<int> to_original(back.x.rows(), -1);
   std::set<int> used;
-  for (Eigen::Index i = 0; i < back.X.rows(); ++i) {
+  for (Eigen::Index i = 0; i < back.x.rows(); ++i) {
     Eigen::Index best = 0;
-    const double d = (m.X.rowwise() - back.X.row(i)).rowwise().norm().minCoeff(&best);
+    const double d = (m.x.rowwise() - back.x.row(i)).rowwise().norm().minCoeff(&best);
     EXPECT_LT(d, 1e-6) << "vertex " << i;  // assimp keeps float positions
     to_original[i] = static_cast<int>(best);
     used.insert(static_cast<int>(best));
   }
-  EXPECT_EQ(used.size(), static_cast<std::size_t>(m.X.rows()));
+  EXPECT_EQ(used.size(), static_cast<std::size_t>(m.x.rows()));
   // Same triangles with the same winding: compare rotations to the smallest index first.
   auto canon = [](int a, int b, int c) {
     if (b < a && b < c) return std::array<int, 3>{b, c, a};
@@ -144,51 +145,51 @@ void expect_same_surface(const std::string& path, const TriangleMesh& m) {
 
 TEST(PlyWriter, BinaryRoundTripThroughAssimp) {
   TempDir dir;
-  const TriangleMesh m = curved_sheet(7, 5);
+  const TriangleSurface m = curved_sheet(7, 5);
   const std::string p = dir.path("sheet.ply");
-  write_ply(p, m.X, m.tris);
+  write_ply(p, m.x, m.tris);
   expect_same_surface(p, m);
 }
 
 TEST(PlyWriter, AsciiRoundTripThroughAssimp) {
   TempDir dir;
-  const TriangleMesh m = curved_sheet(4, 6);
+  const TriangleSurface m = curved_sheet(4, 6);
   const std::string p = dir.path("sheet.ply");
-  write_ply(p, m.X, m.tris, PlyEncoding::ascii);
+  write_ply(p, m.x, m.tris, PlyEncoding::ascii);
   expect_same_surface(p, m);
   // ASCII uses 17 digits: the doubles come back exactly when parsed directly.
   const std::string text = slurp(p);
   const std::size_t body = text.find("end_header\n") + 11;
   const std::vector<double> v = numbers(text.substr(body));
-  ASSERT_EQ(v.size(), static_cast<std::size_t>(3 * m.X.rows() + 4 * m.tris.rows()));
-  for (Eigen::Index i = 0; i < 3 * m.X.rows(); ++i) EXPECT_EQ(v[i], m.X.data()[i]);
+  ASSERT_EQ(v.size(), static_cast<std::size_t>(3 * m.x.rows() + 4 * m.tris.rows()));
+  for (Eigen::Index i = 0; i < 3 * m.x.rows(); ++i) EXPECT_EQ(v[i], m.x.data()[i]);
 }
 
 TEST(PlyWriter, BinaryLayoutIsExactLittleEndian) {
   TempDir dir;
-  const TriangleMesh m = curved_sheet(3, 2);
+  const TriangleSurface m = curved_sheet(3, 2);
   const std::string p = dir.path("sheet.ply");
-  write_ply(p, m.X, m.tris);
+  write_ply(p, m.x, m.tris);
   const std::string bytes = slurp(p);
   const std::string header =
       "ply\nformat binary_little_endian 1.0\ncomment written by invfem\nelement vertex " +
-      std::to_string(m.X.rows()) + "\nproperty double x\nproperty double y\nproperty double z\nelement face " +
+      std::to_string(m.x.rows()) + "\nproperty double x\nproperty double y\nproperty double z\nelement face " +
       std::to_string(m.tris.rows()) + "\nproperty list uchar int vertex_indices\nend_header\n";
   ASSERT_EQ(bytes.substr(0, header.size()), header);
-  ASSERT_EQ(bytes.size(), header.size() + 24 * m.X.rows() + 13 * m.tris.rows());
+  ASSERT_EQ(bytes.size(), header.size() + 24 * m.x.rows() + 13 * m.tris.rows());
   auto le = [&](std::size_t at, int size) {
     std::uint64_t u = 0;
     for (int b = size - 1; b >= 0; --b) u = (u << 8) | static_cast<unsigned char>(bytes[at + b]);
     return u;
   };
-  for (Eigen::Index i = 0; i < m.X.rows(); ++i)
+  for (Eigen::Index i = 0; i < m.x.rows(); ++i)
     for (int k = 0; k < 3; ++k) {
       const std::uint64_t u = le(header.size() + 24 * i + 8 * k, 8);
       double d;
       std::memcpy(&d, &u, 8);
-      EXPECT_EQ(d, m.X(i, k));
+      EXPECT_EQ(d, m.x(i, k));
     }
-  const std::size_t faces = header.size() + 24 * m.X.rows();
+  const std::size_t faces = header.size() + 24 * m.x.rows();
   for (Eigen::Index t = 0; t < m.tris.rows(); ++t) {
     EXPECT_EQ(le(faces + 13 * t, 1), 3u);
     for (int k = 0; k < 3; ++k)
@@ -198,11 +199,11 @@ TEST(PlyWriter, BinaryLayoutIsExactLittleEndian) {
 
 TEST(PlyWriter, RejectsBadInputWithoutTouchingTheFile) {
   TempDir dir;
-  TriangleMesh m = curved_sheet(2, 2);
+  TriangleSurface m = curved_sheet(2, 2);
   const std::string p = dir.path("sheet.ply");
-  write_ply(p, m.X, m.tris);
+  write_ply(p, m.x, m.tris);
   const std::string before = slurp(p);
-  Points bad = m.X;
+  Points bad = m.x;
   bad(3, 1) = std::nan("");
   try {
     write_ply(p, bad, m.tris);
@@ -212,10 +213,10 @@ TEST(PlyWriter, RejectsBadInputWithoutTouchingTheFile) {
     EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
   }
   Tris t = m.tris;
-  t(1, 2) = static_cast<int>(m.X.rows());
-  EXPECT_THROW(write_ply(p, m.X, t, PlyEncoding::ascii), std::invalid_argument);
+  t(1, 2) = static_cast<int>(m.x.rows());
+  EXPECT_THROW(write_ply(p, m.x, t, PlyEncoding::ascii), std::invalid_argument);
   EXPECT_EQ(slurp(p), before);
-  EXPECT_THROW(write_ply(dir.path("missing/dir/x.ply"), m.X, m.tris), std::runtime_error);
+  EXPECT_THROW(write_ply(dir.path("missing/dir/x.ply"), m.x, m.tris), std::runtime_error);
 }
 
 // ---------------------------------------------------------------------------------- VTU / PVD
@@ -431,14 +432,14 @@ Points wobble(const Points& X, int frame) {
 
 TEST(UsdaWriter, EveryIntermediateFileIsStructurallyValid) {
   TempDir dir;
-  const TriangleMesh m = curved_sheet(5, 4);
-  const Eigen::Index n = m.X.rows(), nt = m.tris.rows();
+  const TriangleSurface m = curved_sheet(5, 4);
+  const Eigen::Index n = m.x.rows(), nt = m.tris.rows();
   const std::string p = dir.path("cloth.usda");
   UsdaAnimationWriter usd(p, "9 cape-left", m.tris, 24);
   EXPECT_EQ(usd.prim_name(), "_9_cape_left");
   const int frames = 5;
   for (int f = 0; f < frames; ++f) {
-    usd.add_frame(f, wobble(m.X, f));
+    usd.add_frame(f, wobble(m.x, f));
     // What a killed run would leave behind: a complete file with frames 0..f.
     const UsdaSummary s = check_usda(slurp(p));
     EXPECT_EQ(s.layer.at("upAxis"), "Y");
@@ -456,7 +457,7 @@ TEST(UsdaWriter, EveryIntermediateFileIsStructurallyValid) {
     ASSERT_EQ(s.extent_samples.size(), static_cast<std::size_t>(f + 1));
     for (const auto& [k, v] : s.point_samples) {
       ASSERT_EQ(v.size(), static_cast<std::size_t>(3 * n)) << "frame " << k;
-      const Points want = wobble(m.X, k);
+      const Points want = wobble(m.x, k);
       for (Eigen::Index i = 0; i < 3 * n; ++i) EXPECT_NEAR(v[i], want.data()[i], 1e-8) << "frame " << k;
       const auto& e = s.extent_samples.at(k);
       ASSERT_EQ(e.size(), 6u);
@@ -477,10 +478,10 @@ TEST(UsdaWriter, EveryIntermediateFileIsStructurallyValid) {
 
 TEST(UsdaWriter, StructureCheckerRejectsBrokenFiles) {
   TempDir dir;
-  const TriangleMesh m = curved_sheet(2, 2);
+  const TriangleSurface m = curved_sheet(2, 2);
   const std::string p = dir.path("a.usda");
   UsdaAnimationWriter usd(p, "a", m.tris, 30);
-  usd.add_frame(0, m.X);
+  usd.add_frame(0, m.x);
   const std::string good = slurp(p);
   EXPECT_NO_THROW(check_usda(good));
   std::string missing_brace = good;
@@ -494,25 +495,25 @@ TEST(UsdaWriter, StructureCheckerRejectsBrokenFiles) {
 
 TEST(UsdaWriter, RejectsBadFramesAndKeepsTheFile) {
   TempDir dir;
-  const TriangleMesh m = curved_sheet(2, 3);
+  const TriangleSurface m = curved_sheet(2, 3);
   const std::string p = dir.path("a.usda");
   EXPECT_THROW(UsdaAnimationWriter(p, "a", m.tris, 0), std::invalid_argument);
   EXPECT_THROW(UsdaAnimationWriter(p, "a", Tris(0, 3), 30), std::invalid_argument);
   UsdaAnimationWriter usd(p, "a", m.tris, 30);
-  Points small = m.X.topRows(3);
+  Points small = m.x.topRows(3);
   EXPECT_THROW(usd.add_frame(0, small), std::invalid_argument);  // tris index past 3 points
   EXPECT_FALSE(fs::exists(p));
-  usd.add_frame(2, m.X);
+  usd.add_frame(2, m.x);
   const std::string before = slurp(p);
   EXPECT_THROW(usd.add_frame(3, small), std::invalid_argument);
-  EXPECT_THROW(usd.add_frame(-1, m.X), std::invalid_argument);
-  Points nan = m.X;
+  EXPECT_THROW(usd.add_frame(-1, m.x), std::invalid_argument);
+  Points nan = m.x;
   nan(1, 1) = NAN;
   EXPECT_THROW(usd.add_frame(4, nan), std::invalid_argument);
   EXPECT_EQ(slurp(p), before);
   EXPECT_EQ(usd.num_frames(), 1u);
   // Frames may arrive out of order (a resumed run); the file lists them sorted.
-  usd.add_frame(1, wobble(m.X, 1));
+  usd.add_frame(1, wobble(m.x, 1));
   const UsdaSummary s = check_usda(slurp(p));
   EXPECT_EQ(s.layer.at("startTimeCode"), "1");
   EXPECT_EQ(s.layer.at("endTimeCode"), "2");

@@ -11,7 +11,8 @@
 #include "invfem/core/triangle_kernel.hpp"
 #include "force_checks.hpp"
 #include "invfem/shells/membrane_force.hpp"
-#include "invfem/shells/triangle_mesh.hpp"
+#include "invfem/core/surface_io.hpp"
+#include "invfem/shells/shapes.hpp"
 
 using namespace invfem;
 using invfem::test::elastic_forces_at;
@@ -28,9 +29,9 @@ MembraneParams cloth_params(double rayleigh = 0.0) {
 }
 
 // A 3x2 grid whose rest state is already curved out of plane, so the material frames differ.
-TriangleMesh curved_sheet() {
-  TriangleMesh m = make_grid(1.0, 0.7, 3, 2);
-  for (Eigen::Index i = 0; i < m.X.rows(); ++i) m.X(i, 2) = 0.2 * std::sin(2.0 * m.X(i, 0));
+TriangleSurface curved_sheet() {
+  TriangleSurface m = make_grid(1.0, 0.7, 3, 2);
+  for (Eigen::Index i = 0; i < m.x.rows(); ++i) m.x(i, 2) = 0.2 * std::sin(2.0 * m.x(i, 0));
   return m;
 }
 
@@ -52,19 +53,19 @@ TEST(Membrane, PlaneStressLame) {
 }
 
 TEST(Membrane, ZeroForceAtRest) {
-  const TriangleMesh m = curved_sheet();
-  MembraneForce f(m.X, m.tris, cloth_params());
-  const Points g = elastic_forces_at(f, m.X);
+  const TriangleSurface m = curved_sheet();
+  MembraneForce f(m.x, m.tris, cloth_params());
+  const Points g = elastic_forces_at(f, m.x);
   EXPECT_LT(g.cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT(f.elastic_energy(), 1e-20);
 }
 
 TEST(Membrane, ForceIsMinusEnergyGradient) {
-  const TriangleMesh m = curved_sheet();
-  MembraneForce f(m.X, m.tris, cloth_params());
+  const TriangleSurface m = curved_sheet();
+  MembraneForce f(m.x, m.tris, cloth_params());
   std::mt19937 rng(7);
   for (int trial = 0; trial < 5; ++trial) {
-    const Points x = m.X + random_points(m.X.rows(), 0.15, rng);
+    const Points x = m.x + random_points(m.x.rows(), 0.15, rng);
     const Points g = elastic_forces_at(f, x);
     const double scale = g.cwiseAbs().maxCoeff();
     ASSERT_GT(scale, 1e-3);
@@ -85,11 +86,11 @@ TEST(Membrane, ForceIsMinusEnergyGradient) {
 TEST(Membrane, UniformStretchEnergyMatchesModel) {
   // x = (s1 X, s2 Y): every triangle has singular values (s1, s2), so the energy is
   // W H h Psi(s1, s2) with the plane-stress moduli.
-  const TriangleMesh m = make_grid(2.0, 1.0, 4, 3);
+  const TriangleSurface m = make_grid(2.0, 1.0, 4, 3);
   const MembraneParams p = cloth_params();
-  MembraneForce f(m.X, m.tris, p);
+  MembraneForce f(m.x, m.tris, p);
   const double s1 = 1.3, s2 = 0.8;
-  Points x = m.X;
+  Points x = m.x;
   x.col(0) *= s1;
   x.col(1) *= s2;
   f.update_positions(x, 0.0);
@@ -104,20 +105,20 @@ TEST(Membrane, UniformStretchEnergyMatchesModel) {
 }
 
 TEST(Membrane, ZeroNetForceAndTorque) {
-  const TriangleMesh m = curved_sheet();
-  MembraneForce f(m.X, m.tris, cloth_params());
+  const TriangleSurface m = curved_sheet();
+  MembraneForce f(m.x, m.tris, cloth_params());
   std::mt19937 rng(11);
   for (int trial = 0; trial < 10; ++trial) {
-    const Points x = m.X + random_points(m.X.rows(), 0.3, rng);
+    const Points x = m.x + random_points(m.x.rows(), 0.3, rng);
     test::expect_zero_net_force_and_torque(x, elastic_forces_at(f, x), 0);
   }
 }
 
 TEST(Membrane, RotationInvariance) {
-  const TriangleMesh m = curved_sheet();
-  MembraneForce f(m.X, m.tris, cloth_params());
+  const TriangleSurface m = curved_sheet();
+  MembraneForce f(m.x, m.tris, cloth_params());
   std::mt19937 rng(5);
-  const Points x = m.X + random_points(m.X.rows(), 0.2, rng);
+  const Points x = m.x + random_points(m.x.rows(), 0.2, rng);
   const Points g = elastic_forces_at(f, x);
   const double e = f.elastic_energy();
   const Mat3 R = random_rotation(rng);
@@ -132,10 +133,10 @@ TEST(Membrane, RotationInvariance) {
 }
 
 TEST(Membrane, DegenerateTrianglesGiveFiniteRestoringForces) {
-  const TriangleMesh m = make_grid(1.0, 1.0, 1, 1);  // 4 nodes, 2 triangles
-  MembraneForce f(m.X, m.tris, cloth_params());
+  const TriangleSurface m = make_grid(1.0, 1.0, 1, 1);  // 4 nodes, 2 triangles
+  MembraneForce f(m.x, m.tris, cloth_params());
   // Collapse to a segment: every node on the x axis.
-  Points seg = m.X;
+  Points seg = m.x;
   seg.col(1).setZero();
   Points g = elastic_forces_at(f, seg);
   EXPECT_TRUE(g.allFinite());
@@ -154,17 +155,17 @@ TEST(Membrane, DegenerateTrianglesGiveFiniteRestoringForces) {
   EXPECT_TRUE(std::isfinite(f.elastic_energy()));
   // Uninversion in the plane: mirroring the sheet is a rigid rotation out of plane for
   // triangles in 3D, so it costs nothing.
-  Points mirrored = m.X;
+  Points mirrored = m.x;
   mirrored.col(0) *= -1;
   g = elastic_forces_at(f, mirrored);
   EXPECT_LT(g.cwiseAbs().maxCoeff(), 1e-12);
 }
 
 TEST(Membrane, DampingIsSymmetricNegativeSemidefiniteAndRigidFree) {
-  const TriangleMesh m = curved_sheet();
-  MembraneForce f(m.X, m.tris, cloth_params(0.05));
+  const TriangleSurface m = curved_sheet();
+  MembraneForce f(m.x, m.tris, cloth_params(0.05));
   std::mt19937 rng(3);
-  const Points x = m.X + random_points(m.X.rows(), 0.2, rng);
+  const Points x = m.x + random_points(m.x.rows(), 0.2, rng);
   f.update_positions(x, 0.0);
   test::expect_symmetric_dissipative_damping(f, x.rows(), rng);
   auto D = [&](const Points& v) { return test::damping_of(f, v); };
@@ -173,22 +174,22 @@ TEST(Membrane, DampingIsSymmetricNegativeSemidefiniteAndRigidFree) {
   vt.rowwise() = Eigen::RowVector3d(1.0, -2.0, 0.5);
   EXPECT_LT(D(vt).cwiseAbs().maxCoeff(), 1e-10);
   // At rest, a rigid angular velocity is not damped either.
-  f.update_positions(m.X, 0.0);
+  f.update_positions(m.x, 0.0);
   const Vec3 omega(0.4, -0.7, 1.1);
   Points vr(x.rows(), 3);
-  for (Eigen::Index i = 0; i < x.rows(); ++i) vr.row(i) = omega.cross(Vec3(m.X.row(i))).transpose();
+  for (Eigen::Index i = 0; i < x.rows(); ++i) vr.row(i) = omega.cross(Vec3(m.x.row(i))).transpose();
   EXPECT_LT(D(vr).cwiseAbs().maxCoeff(), 1e-10);
   // And a stretching velocity is.
   Points vs = Points::Zero(x.rows(), 3);
-  vs.col(0) = m.X.col(0);
+  vs.col(0) = m.x.col(0);
   EXPECT_GT(D(vs).cwiseAbs().maxCoeff(), 1e-6);
 }
 
 TEST(Membrane, StableTimeStepFromPlaneStressWaveSpeed) {
   const double E = 1e4, nu = 0.3, rho = 200.0, h = 1e-3;
-  const TriangleMesh m = make_grid(1.0, 1.0, 8, 8);  // square cells of side a = 1/8
+  const TriangleSurface m = make_grid(1.0, 1.0, 8, 8);  // square cells of side a = 1/8
   const Lame l = lame_from_young_poisson(E, nu);
-  MembraneForce f(m.X, m.tris, MembraneParams{RotatedLinear{l.mu, l.lambda}, h, 0.0});
+  MembraneForce f(m.x, m.tris, MembraneParams{RotatedLinear{l.mu, l.lambda}, h, 0.0});
   const Eigen::VectorXd mass = lumped_triangle_masses(f.rest(), rho * h);
   EXPECT_NEAR(mass.sum(), rho * h * 1.0, 1e-12);
   // Right isosceles triangles: the smallest altitude is a / sqrt(2).
@@ -200,34 +201,34 @@ TEST(Membrane, StableTimeStepFromPlaneStressWaveSpeed) {
 }
 
 TEST(Membrane, DeterministicAcrossCalls) {
-  const TriangleMesh m = make_grid(1.0, 1.0, 40, 40);  // enough elements for several tasks
-  MembraneForce f(m.X, m.tris, cloth_params());
+  const TriangleSurface m = make_grid(1.0, 1.0, 40, 40);  // enough elements for several tasks
+  MembraneForce f(m.x, m.tris, cloth_params());
   std::mt19937 rng(1);
-  const Points x = m.X + random_points(m.X.rows(), 0.01, rng);
+  const Points x = m.x + random_points(m.x.rows(), 0.01, rng);
   const Points a = elastic_forces_at(f, x), b = elastic_forces_at(f, x);
   EXPECT_EQ((a - b).cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(Membrane, BadInputThrowsWithMessage) {
-  TriangleMesh m = make_grid(1.0, 1.0, 2, 1);
+  TriangleSurface m = make_grid(1.0, 1.0, 2, 1);
   MembraneParams p = cloth_params();
   p.thickness = 0;
-  EXPECT_THROW(MembraneForce(m.X, m.tris, p, "sheet"), std::invalid_argument);
+  EXPECT_THROW(MembraneForce(m.x, m.tris, p, "sheet"), std::invalid_argument);
   // Triangle 1 collapsed at rest.
-  TriangleMesh bad = m;
-  bad.X.row(bad.tris(1, 2)) = bad.X.row(bad.tris(1, 0));
+  TriangleSurface bad = m;
+  bad.x.row(bad.tris(1, 2)) = bad.x.row(bad.tris(1, 0));
   try {
-    MembraneForce f(bad.X, bad.tris, cloth_params(), "sheet");
+    MembraneForce f(bad.x, bad.tris, cloth_params(), "sheet");
     FAIL() << "a zero-area rest triangle was accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("sheet: triangle"), std::string::npos) << e.what();
   }
-  TriangleMesh out_of_range = m;
+  TriangleSurface out_of_range = m;
   out_of_range.tris(0, 1) = 99;
-  EXPECT_THROW(MembraneForce(out_of_range.X, out_of_range.tris, cloth_params()),
+  EXPECT_THROW(MembraneForce(out_of_range.x, out_of_range.tris, cloth_params()),
                std::invalid_argument);
-  MembraneForce f(m.X, m.tris, cloth_params());
-  Points nan = m.X;
+  MembraneForce f(m.x, m.tris, cloth_params());
+  Points nan = m.x;
   nan(0, 0) = std::nan("");
   EXPECT_THROW(f.update_positions(nan, 0.0), std::invalid_argument);
 }

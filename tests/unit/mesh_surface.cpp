@@ -12,7 +12,8 @@
 #include <string>
 
 #include "invfem/collisions/mesh_surface.hpp"
-#include "invfem/solids/obj_writer.hpp"
+#include "invfem/core/obj_writer.hpp"
+#include "invfem/solids/obj_reader.hpp"
 
 using namespace invfem;
 
@@ -138,20 +139,20 @@ TEST(MeshSurface, TorusMatchesBruteForce) {
   Tris tris;
   make_torus(1.0, 0.35, 48, 24, x, tris);
   ASSERT_GT(signed_volume(x, tris), 0);
-  const MeshSurface s(x, tris);
+  const MeshSurface s(TriangleSurface{x, tris, "test"});
   check_against_brute_force(s, x, tris, 1500, 0.3, 11);
 }
 
 TEST(MeshSurface, BunnyMatchesBruteForce) {
   const std::string path = std::string(INVFEM_SHARED_DATA) + "/surface/bunny3K_cipc.obj";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not present";
-  const ObjPositions mesh = read_obj_positions(path);
+  const TriangleSurface mesh = read_obj_positions(path);
   ASSERT_GT(mesh.tris.rows(), 1000);
   const double vol = signed_volume(mesh.x, mesh.tris);
   ASSERT_NE(vol, 0);
   Tris tris = mesh.tris;
   if (vol < 0) tris.col(1).swap(tris.col(2));  // orient outward
-  const MeshSurface s(mesh.x, tris);
+  const MeshSurface s(TriangleSurface{mesh.x, tris, "test"});
   check_against_brute_force(s, mesh.x, tris, 600, 0.2, 12);
 }
 
@@ -159,7 +160,7 @@ TEST(MeshSurface, SurfacePointsHaveZeroPhiAndFacingNormals) {
   Points x;
   Tris tris;
   make_torus(1.0, 0.35, 32, 16, x, tris);
-  const MeshSurface s(x, tris);
+  const MeshSurface s(TriangleSurface{x, tris, "test"});
   std::mt19937 rng(13);
   std::uniform_real_distribution<double> U(0, 1);
   for (int i = 0; i < 300; ++i) {
@@ -182,8 +183,8 @@ TEST(MeshSurface, QueryRadiusCutsOffFarPoints) {
   Tris tris;
   make_torus(1.0, 0.35, 40, 20, x, tris);
   const double R = 0.05;
-  const MeshSurface bounded(x, tris, MeshSurfaceOptions{R});
-  const MeshSurface unbounded(x, tris);
+  const MeshSurface bounded(TriangleSurface{x, tris, "test"}, MeshSurfaceOptions{R});
+  const MeshSurface unbounded(TriangleSurface{x, tris, "test"});
   std::mt19937 rng(14);
   std::uniform_real_distribution<double> U(-1.6, 1.6);
   int near = 0, far = 0;
@@ -210,7 +211,7 @@ TEST(MeshSurface, RefitEqualsFreshBuildAndGivesVelocity) {
   Points x0;
   Tris tris;
   make_torus(1.0, 0.35, 40, 20, x0, tris);
-  MeshSurface moving(x0, tris);
+  MeshSurface moving(TriangleSurface{x0, tris, "test"});
   std::mt19937 rng(15);
   std::uniform_real_distribution<double> U(-1.5, 1.5);
   std::vector<Vec3> probes;
@@ -226,7 +227,7 @@ TEST(MeshSurface, RefitEqualsFreshBuildAndGivesVelocity) {
   }
   const double dt = 0.01;
   moving.update(x1, dt);
-  const MeshSurface fresh(x1, tris);
+  const MeshSurface fresh(TriangleSurface{x1, tris, "test"});
   int changed = 0;
   for (std::size_t i = 0; i < probes.size(); ++i) {
     const Vec3& p = probes[i];
@@ -271,13 +272,13 @@ TEST(MeshSurface, BadInputThrowsNamingTheProblem) {
   };
   Tris bad = tris;
   bad(5, 2) = int(x.rows());
-  EXPECT_NE(message_of([&] { MeshSurface(x, bad); }).find("triangle 5"), std::string::npos);
+  EXPECT_NE(message_of([&] { MeshSurface(TriangleSurface{x, bad, "test"}); }).find("triangle 5"), std::string::npos);
   Points nan_x = x;
   nan_x(3, 1) = std::nan("");
-  EXPECT_NE(message_of([&] { MeshSurface(nan_x, tris); }).find("vertex 3"), std::string::npos);
-  EXPECT_NE(message_of([&] { MeshSurface(x, Tris(0, 3)); }).find("no triangles"), std::string::npos);
-  EXPECT_NE(message_of([&] { MeshSurface(x, tris, MeshSurfaceOptions{-1}); }).find("query_radius"), std::string::npos);
-  MeshSurface s(x, tris);
+  EXPECT_NE(message_of([&] { MeshSurface(TriangleSurface{nan_x, tris, "test"}); }).find("vertex 3"), std::string::npos);
+  EXPECT_NE(message_of([&] { MeshSurface(TriangleSurface{x, Tris(0, 3), "test"}); }).find("empty"), std::string::npos);
+  EXPECT_NE(message_of([&] { MeshSurface(TriangleSurface{x, tris, "test"}, MeshSurfaceOptions{-1}); }).find("query_radius"), std::string::npos);
+  MeshSurface s(TriangleSurface{x, tris, "test"});
   EXPECT_NE(message_of([&] { s.update(x.topRows(5), 0.1); }).find("vertices"), std::string::npos);
   EXPECT_NE(message_of([&] { s.update(x, 0); }).find("dt"), std::string::npos);
   EXPECT_NE(message_of([&] { s.update(nan_x, 0.1); }).find("vertex 3"), std::string::npos);

@@ -19,7 +19,7 @@ namespace {
 
 // Unit icosphere by subdividing an icosahedron and pushing vertices to the sphere;
 // triangles counter-clockwise seen from outside.
-RenderMesh make_icosphere(int subdivisions, double radius = 1.0, const Vec3& center = Vec3::Zero()) {
+Drawable make_icosphere(int subdivisions, double radius = 1.0, const Vec3& center = Vec3::Zero()) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   std::vector<Vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
                          {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
@@ -47,11 +47,11 @@ RenderMesh make_icosphere(int subdivisions, double radius = 1.0, const Vec3& cen
     }
     f = std::move(next);
   }
-  RenderMesh mesh;
-  mesh.positions.resize(static_cast<Eigen::Index>(v.size()), 3);
-  for (std::size_t i = 0; i < v.size(); ++i) mesh.positions.row(i) = (center + radius * v[i]).transpose();
-  mesh.triangles.resize(static_cast<Eigen::Index>(f.size()), 3);
-  for (std::size_t i = 0; i < f.size(); ++i) mesh.triangles.row(i) << f[i][0], f[i][1], f[i][2];
+  Drawable mesh;
+  mesh.surface.x.resize(static_cast<Eigen::Index>(v.size()), 3);
+  for (std::size_t i = 0; i < v.size(); ++i) mesh.surface.x.row(i) = (center + radius * v[i]).transpose();
+  mesh.surface.tris.resize(static_cast<Eigen::Index>(f.size()), 3);
+  for (std::size_t i = 0; i < f.size(); ++i) mesh.surface.tris.row(i) << f[i][0], f[i][1], f[i][2];
   return mesh;
 }
 
@@ -166,11 +166,11 @@ TEST(Render, SphereIsVisibleAndCentredOnItsProjection) {
 }
 
 TEST(Render, TopStaysTopAndRightStaysRight) {
-  RenderMesh sphere = make_icosphere(3);
-  sphere.face_colors.resize(sphere.triangles.rows(), 3);
-  for (Eigen::Index f = 0; f < sphere.triangles.rows(); ++f) {
+  Drawable sphere = make_icosphere(3);
+  sphere.face_colors.resize(sphere.surface.tris.rows(), 3);
+  for (Eigen::Index f = 0; f < sphere.surface.tris.rows(); ++f) {
     Vec3 c = Vec3::Zero();
-    for (int k = 0; k < 3; ++k) c += sphere.positions.row(sphere.triangles(f, k)).transpose() / 3.0;
+    for (int k = 0; k < 3; ++k) c += sphere.surface.x.row(sphere.surface.tris(f, k)).transpose() / 3.0;
     if (c.y() > 0.35) sphere.face_colors.row(f) << 0.95, 0.1, 0.1;       // top: red
     else if (c.x() > 0.35) sphere.face_colors.row(f) << 0.1, 0.9, 0.1;   // +x side: green
     else sphere.face_colors.row(f) << 0.3, 0.3, 0.35;
@@ -194,11 +194,11 @@ TEST(Render, TopStaysTopAndRightStaysRight) {
 }
 
 TEST(Render, TwoSidedQuadShowsBackTintFromBehind) {
-  RenderMesh quad;
-  quad.positions.resize(4, 3);
-  quad.positions << -1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0;
-  quad.triangles.resize(2, 3);
-  quad.triangles << 0, 1, 2, 0, 2, 3;  // front faces +z
+  Drawable quad;
+  quad.surface.x.resize(4, 3);
+  quad.surface.x << -1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0;
+  quad.surface.tris.resize(2, 3);
+  quad.surface.tris << 0, 1, 2, 0, 2, 3;  // front faces +z
   quad.color = Vec3(0.9, 0.25, 0.2);
   quad.back_color = Vec3(0.2, 0.3, 0.9);
   quad.two_sided = true;
@@ -216,33 +216,33 @@ TEST(Render, TwoSidedQuadShowsBackTintFromBehind) {
 
 TEST(Render, DegenerateMeshesRenderWithoutNaN) {
   // All vertices equal.
-  RenderMesh point;
-  point.positions = Points::Constant(6, 3, 0.3);
-  point.triangles.resize(3, 3);
-  point.triangles << 0, 1, 2, 3, 4, 5, 0, 2, 4;
-  const Points normals = face_normals(point.positions, point.triangles);
+  Drawable point;
+  point.surface.x = Points::Constant(6, 3, 0.3);
+  point.surface.tris.resize(3, 3);
+  point.surface.tris << 0, 1, 2, 3, 4, 5, 0, 2, 4;
+  const Points normals = face_normals(point.surface.x, point.surface.tris);
   EXPECT_TRUE(normals.allFinite());
   EXPECT_TRUE(normals.isZero());
-  const Camera cam = frame_camera(std::vector<RenderMesh>{point}, 1.0);
+  const Camera cam = frame_camera(std::vector<Drawable>{point}, 1.0);
   EXPECT_TRUE(cam.position.allFinite());
   const Image background = renderer().render({}, cam, small_settings());
   const Image image = renderer().render({point}, cam, small_settings());
   EXPECT_LT(compare_images(image, background, 12).pixels_over, 4u);
 
   // A sphere with zero-area slivers and collinear faces mixed in looks like the sphere alone.
-  const RenderMesh sphere = make_icosphere(3);
-  RenderMesh broken = sphere;
-  const Eigen::Index n = broken.triangles.rows();
-  broken.triangles.conservativeResize(n + 3, 3);
-  broken.triangles.row(n) << 0, 0, 1;
-  broken.triangles.row(n + 1) << 5, 5, 5;
-  broken.positions.conservativeResize(broken.positions.rows() + 1, 3);
-  const Eigen::Index mid = broken.positions.rows() - 1;
-  broken.positions.row(mid) = 0.5 * (broken.positions.row(2) + broken.positions.row(7));
-  broken.triangles.row(n + 2) << 2, 7, static_cast<int>(mid);
-  EXPECT_TRUE(face_normals(broken.positions, broken.triangles).allFinite());
+  const Drawable sphere = make_icosphere(3);
+  Drawable broken = sphere;
+  const Eigen::Index n = broken.surface.tris.rows();
+  broken.surface.tris.conservativeResize(n + 3, 3);
+  broken.surface.tris.row(n) << 0, 0, 1;
+  broken.surface.tris.row(n + 1) << 5, 5, 5;
+  broken.surface.x.conservativeResize(broken.surface.x.rows() + 1, 3);
+  const Eigen::Index mid = broken.surface.x.rows() - 1;
+  broken.surface.x.row(mid) = 0.5 * (broken.surface.x.row(2) + broken.surface.x.row(7));
+  broken.surface.tris.row(n + 2) << 2, 7, static_cast<int>(mid);
+  EXPECT_TRUE(face_normals(broken.surface.x, broken.surface.tris).allFinite());
   for (bool smooth : {false, true}) {
-    RenderMesh a = sphere, b = broken;
+    Drawable a = sphere, b = broken;
     a.smooth = b.smooth = smooth;
     const ImageDiff d = compare_images(renderer().render({a}, front_camera(), small_settings()),
                                        renderer().render({b}, front_camera(), small_settings()), 12);
@@ -251,12 +251,12 @@ TEST(Render, DegenerateMeshesRenderWithoutNaN) {
 }
 
 TEST(Render, FrameCameraFitsObjectsInWideImage) {
-  RenderMesh blob = make_icosphere(3);
-  blob.positions.col(0) *= 3.0;  // wide
-  blob.positions.col(1) += Eigen::VectorXd::Constant(blob.positions.rows(), 5.0);
+  Drawable blob = make_icosphere(3);
+  blob.surface.x.col(0) *= 3.0;  // wide
+  blob.surface.x.col(1) += Eigen::VectorXd::Constant(blob.surface.x.rows(), 5.0);
   const RenderSettings s = small_settings(320, 180);
   for (const Vec3& dir : {kDefaultViewDirection, Vec3(0, -1, 0), Vec3(1, 0, 0)}) {
-    const Camera cam = frame_camera(std::vector<RenderMesh>{blob}, 320.0 / 180.0, dir);
+    const Camera cam = frame_camera(std::vector<Drawable>{blob}, 320.0 / 180.0, dir);
     const Image image = renderer().render({blob}, cam, s);
     maybe_save("framed_" + std::to_string(int(dir.x() * 10)) + std::to_string(int(dir.y() * 10)), image);
     const Mask m = foreground(image, renderer().render({}, cam, s));
@@ -277,8 +277,8 @@ TEST(Render, FrameCameraFitsObjectsInWideImage) {
 }
 
 TEST(Render, ScalarFieldMapsThroughColormap) {
-  RenderMesh sphere = make_icosphere(3);
-  sphere.vertex_scalar = sphere.positions.col(1);  // y: -1 bottom (blue) .. +1 top (red)
+  Drawable sphere = make_icosphere(3);
+  sphere.vertex_scalar = sphere.surface.x.col(1);  // y: -1 bottom (blue) .. +1 top (red)
   sphere.scalar_min = -1.0;
   sphere.scalar_max = 1.0;
   sphere.colormap = Colormap::CoolWarm;
@@ -297,7 +297,7 @@ TEST(Render, ScalarFieldMapsThroughColormap) {
 }
 
 TEST(Render, ReusesContextAcrossSizesDeterministically) {
-  const std::vector<RenderMesh> scene{make_icosphere(2)};
+  const std::vector<Drawable> scene{make_icosphere(2)};
   RenderSettings s = small_settings(200, 150);
   const Camera cam = frame_camera(scene, 200.0 / 150.0);
   const Image first = renderer().render(scene, cam, s);
@@ -314,15 +314,15 @@ TEST(Render, ReusesContextAcrossSizesDeterministically) {
 }
 
 TEST(Render, MsaaSmoothsEdges) {
-  RenderMesh quad;
-  quad.positions.resize(4, 3);
+  Drawable quad;
+  quad.surface.x.resize(4, 3);
   const double a = 0.35;  // tilted in the image plane so its edges are not pixel-aligned
   for (int k = 0; k < 4; ++k) {
     const double t = a + k * std::numbers::pi / 2;
-    quad.positions.row(k) << std::cos(t), std::sin(t), 0.0;
+    quad.surface.x.row(k) << std::cos(t), std::sin(t), 0.0;
   }
-  quad.triangles.resize(2, 3);
-  quad.triangles << 0, 1, 2, 0, 2, 3;
+  quad.surface.tris.resize(2, 3);
+  quad.surface.tris << 0, 1, 2, 0, 2, 3;
   quad.color = Vec3(0.1, 0.1, 0.1);
   auto mixed_pixels = [&](int samples) {
     RenderSettings s = small_settings();
@@ -349,7 +349,7 @@ TEST(Render, MsaaSmoothsEdges) {
 }
 
 TEST(Render, GroundAndCaptionAppear) {
-  const std::vector<RenderMesh> scene{make_icosphere(2, 0.5, Vec3(0, 1.0, 0))};
+  const std::vector<Drawable> scene{make_icosphere(2, 0.5, Vec3(0, 1.0, 0))};
   RenderSettings s = small_settings(256, 192);
   const Camera cam = frame_camera(scene, 256.0 / 192.0, Vec3(0, -0.6, -1));
   const Image without = renderer().render(scene, cam, s);
@@ -386,17 +386,17 @@ TEST(Render, GroundAndCaptionAppear) {
 }
 
 TEST(Render, BadInputGivesClearErrors) {
-  RenderMesh mesh = make_icosphere(1);
-  mesh.triangles(3, 1) = 1000;
+  Drawable mesh = make_icosphere(1);
+  mesh.surface.tris(3, 1) = 1000;
   try {
     renderer().render({mesh}, front_camera(), small_settings());
     FAIL() << "out-of-range vertex index accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("RenderMesh 0"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("Drawable 0"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("triangles row 3"), std::string::npos) << e.what();
   }
   mesh = make_icosphere(1);
-  mesh.positions(2, 1) = std::nan("");
+  mesh.surface.x(2, 1) = std::nan("");
   EXPECT_THROW(renderer().render({mesh}, front_camera(), small_settings()), std::invalid_argument);
   mesh = make_icosphere(1);
   mesh.vertex_scalar = Eigen::VectorXd::Zero(3);

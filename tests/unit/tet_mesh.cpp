@@ -11,6 +11,7 @@
 #include <set>
 #include <string>
 
+#include "invfem/core/surface.hpp"
 #include "invfem/solids/boundary.hpp"
 #include "invfem/solids/mass.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
@@ -228,31 +229,34 @@ TEST(Boundary, SharedMeshesAreClosedOutwardWithDocumentedCounts) {
   }
 }
 
-TEST(Boundary, CompactSurfaceKeepsOnlySurfaceNodesInOrder) {
+TEST(Boundary, ExtractedSurfaceKeepsOnlySurfaceNodesInOrder) {
   TetMesh m = cube_mesh(2.0);
   // An unused node appended to the mesh must not appear on the surface.
   m.X.conservativeResize(9, 3);
   m.X.row(8) << 1, 1, 1;
   const Tris b = boundary_triangles(m.tets);
-  const SurfaceMesh s = compact_surface(b, static_cast<int>(m.X.rows()));
-  EXPECT_EQ(s.nodes, (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7}));
+  std::vector<int> nodes;
+  const TriangleSurface s = extract_surface(m.X, b, nodes);
+  EXPECT_EQ(nodes, (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_EQ(boundary_nodes(m.tets, static_cast<int>(m.X.rows())), nodes);
   ASSERT_EQ(s.tris.rows(), b.rows());
-  const Points sx = s.gather(m.X);
   for (Eigen::Index t = 0; t < b.rows(); ++t)
-    for (int k = 0; k < 3; ++k) EXPECT_EQ(sx.row(s.tris(t, k)), m.X.row(b(t, k)));
-  EXPECT_THROW(compact_surface(b, 5), std::invalid_argument);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(s.x.row(s.tris(t, k)), m.X.row(b(t, k)));
+  EXPECT_THROW(extract_surface(m.X.topRows(5), b, nodes), std::invalid_argument);
+  EXPECT_THROW(boundary_nodes(m.tets, 5), std::invalid_argument);
 }
 
-TEST(Boundary, CompactSurfaceOfSharedTorusDropsInteriorNodes) {
+TEST(Boundary, ExtractedSurfaceOfSharedTorusDropsInteriorNodes) {
   if (!std::filesystem::exists(kShared + "/tet")) GTEST_SKIP() << "shared data not present";
   TetMesh m = read_tet_mesh(kShared + "/tet/torus4K_cipc.vtk");
   validate_and_orient(m);
   const Tris b = boundary_triangles(m.tets);
-  const SurfaceMesh s = compact_surface(b, static_cast<int>(m.X.rows()));
+  std::vector<int> nodes;
+  const TriangleSurface s = extract_surface(m.X, b, nodes);
   // Closed triangulated torus: V - E + F = 0 with E = 3F/2, so V = F/2.
-  EXPECT_EQ(s.nodes.size(), 6730u / 2);
-  EXPECT_TRUE(std::is_sorted(s.nodes.begin(), s.nodes.end()));
-  EXPECT_NEAR(boundary_signed_volume(s.gather(m.X), s.tris), 0.608231, 1e-4);
+  EXPECT_EQ(nodes.size(), 6730u / 2);
+  EXPECT_TRUE(std::is_sorted(nodes.begin(), nodes.end()));
+  EXPECT_NEAR(boundary_signed_volume(s.x, s.tris), 0.608231, 1e-4);
 }
 
 TEST(LumpedMasses, SplitsEachTetEquallyAndChecksDensity) {

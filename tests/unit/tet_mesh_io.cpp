@@ -12,7 +12,8 @@
 
 #include "invfem/core/atomic_file.hpp"
 #include "invfem/solids/boundary.hpp"
-#include "invfem/solids/obj_writer.hpp"
+#include "invfem/core/obj_writer.hpp"
+#include "invfem/solids/obj_reader.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
 
@@ -255,7 +256,7 @@ TEST(ObjWriter, RoundTripKeepsPositionsAndFaces) {
   const std::string path = tmp.path("out.obj").string();
   write_obj(path, x, f);
   EXPECT_FALSE(fs::exists(path + ".tmp"));
-  const ObjPositions back = read_obj_positions(path);
+  const TriangleSurface back = read_obj_positions(path);
   ASSERT_EQ(back.x.rows(), 4);
   ASSERT_EQ(back.tris.rows(), 2);
   EXPECT_EQ(back.tris, f);
@@ -282,7 +283,7 @@ TEST(ObjWriter, RejectsNonFiniteAndBadIndicesWithoutTouchingTheFile) {
 
 TEST(ObjReader, FaceFormatsAndErrors) {
   TempDir tmp;
-  const ObjPositions q = read_obj_positions(
+  const TriangleSurface q = read_obj_positions(
       tmp.file("q.obj", "# c\nv 0 0 0\nv 1 0 0\nvt 0 0\nv 1 1 0\nv 0 1 0\nf 1/1 2//3 3/1/1 -1\n"));
   ASSERT_EQ(q.x.rows(), 4);
   ASSERT_EQ(q.tris.rows(), 2);  // the quad is fanned

@@ -20,6 +20,7 @@
 
 #include "invfem/collisions/implicit_surface.hpp"
 #include "invfem/collisions/moving_surface.hpp"
+#include "invfem/core/surface.hpp"
 
 namespace invfem {
 
@@ -72,6 +73,10 @@ struct GearPair {
   std::shared_ptr<MovingSurface> first;
   std::shared_ptr<MovingSurface> second;
 };
+
+// The gear's closed triangle surface in its body frame: a prism over its profile r(theta)
+// sampled 16 times per tooth, from -thickness/2 to +thickness/2 along z.
+TriangleSurface gear_triangles(const GearSurface& gear);
 
 // Throws std::invalid_argument for bad gear parameters, a negative or non-finite clearance, a
 // non-finite rate/center, or an orientation that is not a rotation.

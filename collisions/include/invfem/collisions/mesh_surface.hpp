@@ -1,7 +1,7 @@
 #pragma once
 // A closed triangle mesh as an implicit surface (ITF04 section 10: the Buddha as a collider for
 // its cape). For a point x the closest point p on the mesh (vertex, edge or face) is found with
-// an Embree 3 BVH point query and exact double point-triangle distances; |phi| = |x - p| and the
+// the core's SurfaceBvh (an Embree point query with exact double point-triangle distances); |phi| = |x - p| and the
 // sign comes from the angle-weighted pseudo-normal of p's feature (face normal inside a face,
 // sum of the adjacent face normals on an edge, angle-weighted vertex normal at a vertex),
 // which decides exactly on which side of a closed, consistently oriented mesh x lies. The normal
@@ -17,6 +17,7 @@
 #include <memory>
 
 #include "invfem/collisions/implicit_surface.hpp"
+#include "invfem/core/surface.hpp"
 
 namespace invfem {
 
@@ -40,10 +41,10 @@ struct MeshClosestPoint {
 
 class MeshSurface final : public ImplicitSurface {
  public:
-  // x: n x 3 vertex positions; tris: m x 3, counter-clockwise seen from outside. Throws
+  // The surface's triangles are counter-clockwise seen from outside. Throws
   // std::invalid_argument (empty mesh, non-finite or out-of-float-range position, index out of
   // range, naming the vertex/triangle) or std::runtime_error (Embree failure).
-  MeshSurface(const Points& x, const Tris& tris, MeshSurfaceOptions options = {});
+  explicit MeshSurface(const TriangleSurface& surface, MeshSurfaceOptions options = {});
   ~MeshSurface() override;
   MeshSurface(const MeshSurface&) = delete;
   MeshSurface& operator=(const MeshSurface&) = delete;
@@ -58,8 +59,7 @@ class MeshSurface final : public ImplicitSurface {
   Vec3 normal(const Vec3& x, double t) const override;
   Vec3 velocity(const Vec3& x, double t) const override;
 
-  const Points& positions() const;
-  const Tris& triangles() const;
+  const TriangleSurface& surface() const;
   double query_radius() const;
 
  private:

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "invfem/collisions/implicit_surface.hpp"
-#include "invfem/collisions/rigid_motion.hpp"
+#include "invfem/core/rigid_motion.hpp"
 
 namespace invfem {
 

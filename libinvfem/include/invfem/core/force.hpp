@@ -1,12 +1,27 @@
 #pragma once
 // The interface between the time stepper and a force model (a tet solid's elasticity and
-// damping, a cloth's membrane, its bending). The call is virtual per force object, never per
-// element: each implementation runs its own flat element loop.
+// damping, a cloth's membrane, its bending, its stitches). The call is virtual per force object,
+// never per element: each implementation runs its own flat element loop (parallel.hpp).
 #include <limits>
+#include <map>
+#include <string>
 
+#include "invfem/core/state_stream.hpp"
 #include "invfem/core/types.hpp"
 
 namespace invfem {
+
+// Element figures summed over every force that has volumetric elements (tets): written per frame.
+struct ElementStats {
+  int inverted = 0;       // elements with det F < 0
+  int elements = 0;
+  double min_det_F = 1;
+  double volume = 0;      // [m^3], sum of V0 det F (signed)
+  double rest_volume = 0; // [m^3]
+};
+
+// Per-element output fields (VTU cell data): name -> one value per element.
+using CellFields = std::map<std::string, Eigen::VectorXd>;
 
 class Force {
  public:
@@ -34,6 +49,19 @@ class Force {
   virtual double stable_time_step(const Eigen::VectorXd& mass) const {
     return std::numeric_limits<double>::infinity();
   }
+
+  // State that is not a function of the positions (plastic Fp, plastic rest angles), for
+  // checkpoints. save_state is called right after an update_positions(x); restore_state reads
+  // exactly what save_state wrote (throwing StateError, with the force unchanged, when it does
+  // not fit) and leaves the force so that the next update_positions at that same x reproduces the
+  // run that never stopped (no second plastic flow). A force without such state writes nothing.
+  virtual void save_state(StateWriter& out) const {}
+  virtual void restore_state(StateReader& in) {}
+
+  // Element diagnostics at the last update_positions, added into `stats` element by element.
+  virtual void add_element_stats(ElementStats& stats) const {}
+  // Per-element fields for volumetric output (e.g. det_F), at the last update_positions.
+  virtual void add_cell_fields(CellFields& fields) const {}
 };
 
 }  // namespace invfem

@@ -1,6 +1,6 @@
 #pragma once
-// Offscreen preview renderer: triangle meshes -> RGB image through OSMesa (GL 4.5 core on
-// llvmpipe), with MSAA, key + fill + ambient light, two-sided cloth, per-vertex scalar fields
+// Offscreen preview renderer: triangle surfaces (the core's one surface type) -> RGB image through
+// OSMesa (GL 4.5 core on llvmpipe), with MSAA, key + fill + ambient light, two-sided cloth, per-vertex scalar fields
 // or per-face colours, an optional y = 0 ground grid and a caption in a built-in bitmap font.
 // Knows nothing of the simulator. Cost is about 0.4 us a triangle on llvmpipe.
 #include <memory>
@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "invfem/core/types.hpp"
+#include "invfem/core/surface.hpp"
 #include "invfem/renders/camera.hpp"
 #include "invfem/renders/colormap.hpp"
 #include "invfem/renders/image.hpp"
@@ -20,9 +20,9 @@ namespace invfem::renders {
 
 using FaceColors = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
-struct RenderMesh {
-  Points positions;  // n x 3, world space (Y-up)
-  Tris triangles;    // m x 3, counter-clockwise seen from the front
+// A triangle surface and how to draw it.
+struct Drawable {
+  TriangleSurface surface;  // world space (Y-up), counter-clockwise seen from the front
   Vec3 color{0.72, 0.74, 0.78};  // RGB in [0, 1], used when no scalar or face colours are set
   // Two-sided (cloth): the back side is drawn in back_color (or, with scalar / face colours,
   // those colours mixed half-way towards back_color). One-sided meshes show their back side
@@ -52,16 +52,16 @@ struct RenderSettings {
 };
 
 // Bounding box of all meshes' vertices (empty box if there are none).
-Eigen::AlignedBox3d mesh_bounds(const std::vector<RenderMesh>& meshes);
+Eigen::AlignedBox3d mesh_bounds(const std::vector<Drawable>& meshes);
 
 // frame_camera (camera.hpp) on the meshes' bounding box.
-Camera frame_camera(const std::vector<RenderMesh>& meshes, double aspect,
+Camera frame_camera(const std::vector<Drawable>& meshes, double aspect,
                     const Vec3& view_direction = kDefaultViewDirection, double fov_y_degrees = 35.0);
 
 // Throws std::invalid_argument naming the mesh (by index) and the field: bad shapes, vertex
 // indices out of range, non-finite positions, colours or scalars, a scalar or face-colour
 // array of the wrong length.
-void validate_render_mesh(const RenderMesh& mesh, std::size_t index);
+void validate_drawable(const Drawable& mesh, std::size_t index);
 
 class MeshRenderer {
  public:
@@ -73,7 +73,7 @@ class MeshRenderer {
 
   // Renders one frame. Reuses the context and its framebuffers while the size and sample
   // count stay the same. Throws std::invalid_argument on bad meshes, camera or settings.
-  Image render(const std::vector<RenderMesh>& meshes, const Camera& camera,
+  Image render(const std::vector<Drawable>& meshes, const Camera& camera,
                const RenderSettings& settings = {});
 
   const OSMesaContext& context() const { return *context_; }

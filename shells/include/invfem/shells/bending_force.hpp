@@ -36,6 +36,9 @@ class BendingForce : public Force {
   // Estimate from the Gauss-Newton stiffness k_e c cos(theta/2)/2 u u^T of each hinge:
   // dt = 1 / sqrt(max_h k_e c_h / 2 sum_i |u_i|^2 / m_i). +inf without stiffness.
   double stable_time_step(const Eigen::VectorXd& mass) const override;
+  // The rest angles (plain data that plasticity moves).
+  void save_state(StateWriter& out) const override;
+  void restore_state(StateReader& in) override;
 
   const std::vector<Hinge>& hinges() const { return hinges_; }
   const HingeStats& hinge_stats() const { return stats_; }

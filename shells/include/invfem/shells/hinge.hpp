@@ -7,7 +7,7 @@
 #include <array>
 #include <vector>
 
-#include "invfem/core/types.hpp"
+#include "invfem/core/surface.hpp"
 
 namespace invfem {
 

@@ -12,7 +12,7 @@
 //     kBccMinQuality).
 #include <string>
 
-#include "invfem/shells/triangle_mesh.hpp"
+#include "invfem/core/surface_io.hpp"
 #include "invfem/solids/inside_test.hpp"
 #include "invfem/solids/tet_mesh.hpp"
 
@@ -56,9 +56,9 @@ inline constexpr double kBccMinQuality = 0.1;
 
 // Throws std::invalid_argument for a resolution outside [1, 1000] or a bad surface, MeshError
 // naming surface.source when RayParity is forced on an open surface or no tet is inside.
-BccMeshResult bcc_mesh(const TriangleMesh& surface, const BccMeshOptions& options = {});
+BccMeshResult bcc_mesh(const TriangleSurface& surface, const BccMeshOptions& options = {});
 
-// `invfem mesh`: load_triangle_mesh(surface_path), bcc_mesh, write_tet_mesh(out_path) (.vtk or
+// `invfem mesh`: load_triangle_surface(surface_path), bcc_mesh, write_tet_mesh(out_path) (.vtk or
 // .mesh, atomic). Returns the report; errors name the file.
 BccMeshReport mesh_surface_file(const std::string& surface_path, const std::string& out_path,
                                 const BccMeshOptions& options = {});

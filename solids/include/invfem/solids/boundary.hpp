@@ -1,5 +1,5 @@
 #pragma once
-// Boundary surface of a tet mesh (the surface written per frame and used as a collider).
+// Boundary surface of a tet mesh (a solid's surface: written per frame, drawn, collided).
 #include <vector>
 
 #include "invfem/core/types.hpp"
@@ -20,16 +20,9 @@ struct FaceSharing {
 };
 FaceSharing face_sharing(const Tets& tets);
 
-// A surface with only the nodes it uses: surface vertex s is volume node nodes[s]; nodes is
-// ascending; tris index into nodes.
-struct SurfaceMesh {
-  std::vector<int> nodes;
-  Tris tris;
-  // Rows `nodes` of x (n x 3): the surface vertex positions for this state.
-  Points gather(const Points& x) const;
-};
-
-// Throws std::invalid_argument if an index is outside [0, num_nodes).
-SurfaceMesh compact_surface(const Tris& tris, int num_nodes);
+// The nodes on the boundary faces, ascending (a solid's surface vertices; extract_surface in
+// core/surface.hpp builds the surface itself). Throws std::invalid_argument if an index is outside
+// [0, num_nodes).
+std::vector<int> boundary_nodes(const Tets& tets, int num_nodes);
 
 }  // namespace invfem

@@ -1,15 +1,14 @@
 #pragma once
 // Inside/outside and closest-point queries against a triangle surface, for the BCC mesher.
-// Embree 3 does the ray casting (parity) and the closest-point search; the generalized winding
-// number (sum of signed solid angles / 4 pi) is the fallback for surfaces that are not closed.
-// Embree stays private to this file's .cpp (collisions/ has its own Embree scene).
-#include <memory>
+// The core's SurfaceBvh (Embree) does the ray casting (parity) and the closest-point search; the
+// generalized winding number (sum of signed solid angles / 4 pi) is the fallback for surfaces
+// that are not closed.
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "invfem/core/types.hpp"
-#include "invfem/shells/triangle_mesh.hpp"
+#include "invfem/core/surface_bvh.hpp"
+
 
 namespace invfem {
 
@@ -22,12 +21,9 @@ const char* to_string(InsideMethod m);
 
 class InsideTest {
  public:
-  // Validates the surface (validate_triangle_mesh) and builds the Embree scene. Throws
-  // std::invalid_argument naming surface.source for bad input, std::runtime_error if Embree fails.
-  explicit InsideTest(const TriangleMesh& surface);
-  ~InsideTest();
-  InsideTest(const InsideTest&) = delete;
-  InsideTest& operator=(const InsideTest&) = delete;
+  // Validates the surface (validate_surface) and builds its BVH. Throws std::invalid_argument
+  // naming surface.source for bad input, std::runtime_error if Embree fails.
+  explicit InsideTest(const TriangleSurface& surface);
 
   // Undirected edges used by an odd number of triangles: the mod-2 boundary of the surface.
   // Zero means every ray from a point off the surface crosses it an even number of times on its
@@ -38,8 +34,8 @@ class InsideTest {
 
   // Parity of unique crossings along three fixed, generic ray directions; the majority answer
   // is returned (a ray that grazes an edge or vertex can miscount, two rays rarely both do).
-  // Positions are converted to float (centred and scaled) for Embree, so points within about
-  // 1e-6 x (bounding-box size) of the surface may be classified either way.
+  // The BVH works in float (surface_bvh.hpp), so points within about 1e-6 x (bounding-box size)
+  // of the surface may be classified either way.
   bool inside_ray_parity(const Vec3& p) const;
 
   // Generalized winding number of p (1 inside a closed outward-oriented surface, -1 inside an
@@ -47,7 +43,7 @@ class InsideTest {
   // double. `inside` with WindingNumber uses |w| > 1/2, so orientation does not matter.
   double winding_number(const Vec3& p) const;
 
-  // Point on the surface closest to p (Embree point query, distances in double).
+  // Point on the surface closest to p (BVH point query, distances in double).
   // `distance` (optional) receives |p - result|.
   Vec3 closest_point(const Vec3& p, double* distance = nullptr) const;
 
@@ -65,13 +61,13 @@ class InsideTest {
   // Only meaningful for a closed surface; for an open one it depends on the origin.
   double signed_volume() const;
 
-  const TriangleMesh& surface() const { return surface_; }
+  const TriangleSurface& surface() const { return bvh_.surface(); }
 
  private:
-  struct Embree;
-  TriangleMesh surface_;
+  SurfaceBvh bvh_;
+  Vec3 centre_ = Vec3::Zero();  // bounding-box centre (origin of signed_volume)
+  Points normals_;              // #F x 3 unnormalized face normals (b-a)x(c-a)
   int open_edges_ = 0;
-  std::unique_ptr<Embree> embree_;
 };
 
 }  // namespace invfem

@@ -56,6 +56,12 @@ class TetSolidForce final : public Force {
   double elastic_energy() const override;
   // Gershgorin bound on the current plastic rest shape (see the .cpp), fiber stiffness included.
   double stable_time_step(const Eigen::VectorXd& mass) const override;
+  // The plastic state Fp^-1 (restore_plastic_state semantics: no second flow at the saved x).
+  void save_state(StateWriter& out) const override;
+  void restore_state(StateReader& in) override;
+  // Inverted count, min det F, volume and rest volume; cell fields det_F and inverted (0/1).
+  void add_element_stats(ElementStats& stats) const override;
+  void add_cell_fields(CellFields& fields) const override;
 
   // Diagnostics at the state of the last update_positions.
   int inverted_count() const;           // elements with det F < 0

@@ -1,4 +1,4 @@
-#include "invfem/collisions/rigid_motion.hpp"
+#include "invfem/core/rigid_motion.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "invfem/shells/triangle_mesh.hpp"
+#include "invfem/core/surface_io.hpp"
 
 #include <Eigen/Geometry>
 #include <assimp/Importer.hpp>
@@ -18,60 +18,6 @@
 #include "ply_check.hpp"
 
 namespace invfem {
-
-TriangleMesh make_grid(double width, double height, int nx, int ny, const Vec3& origin,
-                       const Vec3& u_axis, const Vec3& v_axis) {
-  if (nx < 1 || ny < 1)
-    throw std::invalid_argument("make_grid: need nx, ny >= 1, got " + std::to_string(nx) + ", " +
-                                std::to_string(ny));
-  if (!(width > 0) || !(height > 0) || !std::isfinite(width) || !std::isfinite(height))
-    throw std::invalid_argument("make_grid: width and height must be finite and > 0");
-  if (!origin.allFinite() || !(u_axis.cross(v_axis).norm() > 1e-12 * u_axis.norm() * v_axis.norm()))
-    throw std::invalid_argument("make_grid: axes must be finite, non-zero and not parallel");
-  const Vec3 u = u_axis.normalized(), v = v_axis.normalized();
-  TriangleMesh mesh;
-  mesh.source = "grid " + std::to_string(nx) + "x" + std::to_string(ny);
-  mesh.X.resize((nx + 1) * (ny + 1), 3);
-  for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i)
-      mesh.X.row(j * (nx + 1) + i) =
-          (origin + (width * i / nx) * u + (height * j / ny) * v).transpose();
-  mesh.tris.resize(2 * nx * ny, 3);
-  int t = 0;
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const int a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1, d = c + 1;  // a b / c d
-      if ((i + j) % 2 == 0) {  // diagonal a-d
-        mesh.tris.row(t++) << a, b, d;
-        mesh.tris.row(t++) << a, d, c;
-      } else {  // diagonal b-c
-        mesh.tris.row(t++) << a, b, c;
-        mesh.tris.row(t++) << b, d, c;
-      }
-    }
-  return mesh;
-}
-
-void validate_triangle_mesh(const TriangleMesh& mesh, const std::string& what) {
-  const Eigen::Index n = mesh.X.rows();
-  if (n == 0 || mesh.tris.rows() == 0)
-    throw std::invalid_argument(what + ": mesh is empty (" + std::to_string(n) + " vertices, " +
-                                std::to_string(mesh.tris.rows()) + " triangles)");
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (!mesh.X.row(i).allFinite())
-      throw std::invalid_argument(what + ": vertex " + std::to_string(i) + " is not finite");
-  for (Eigen::Index t = 0; t < mesh.tris.rows(); ++t) {
-    for (int k = 0; k < 3; ++k)
-      if (mesh.tris(t, k) < 0 || mesh.tris(t, k) >= n)
-        throw std::invalid_argument(what + ": triangle " + std::to_string(t) + " has index " +
-                                    std::to_string(mesh.tris(t, k)) + " outside [0, " +
-                                    std::to_string(n) + ")");
-    if (mesh.tris(t, 0) == mesh.tris(t, 1) || mesh.tris(t, 1) == mesh.tris(t, 2) ||
-        mesh.tris(t, 2) == mesh.tris(t, 0))
-      throw std::invalid_argument(what + ": triangle " + std::to_string(t) +
-                                  " repeats a vertex index");
-  }
-}
 
 namespace {
 
@@ -130,7 +76,7 @@ void gather(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent,
 
 }  // namespace
 
-TriangleMesh load_triangle_mesh(const std::string& path, TriangleMeshReport* report) {
+TriangleSurface load_triangle_surface(const std::string& path, SurfaceLoadReport* report) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw std::runtime_error(path + ": no such file");
@@ -193,11 +139,11 @@ TriangleMesh load_triangle_mesh(const std::string& path, TriangleMeshReport* rep
   for (std::size_t i = 0; i < unique.size(); ++i)
     if (remap[i] >= 0) remap[i] = n++;
 
-  TriangleMesh mesh;
+  TriangleSurface mesh;
   mesh.source = path;
-  mesh.X.resize(n, 3);
+  mesh.x.resize(n, 3);
   for (std::size_t i = 0; i < unique.size(); ++i)
-    if (remap[i] >= 0) mesh.X.row(remap[i]) << unique[i][0], unique[i][1], unique[i][2];
+    if (remap[i] >= 0) mesh.x.row(remap[i]) << unique[i][0], unique[i][1], unique[i][2];
   mesh.tris.resize(static_cast<Eigen::Index>(kept.size()), 3);
   for (std::size_t t = 0; t < kept.size(); ++t)
     mesh.tris.row(static_cast<Eigen::Index>(t)) << remap[kept[t][0]], remap[kept[t][1]],

@@ -1,4 +1,4 @@
-#include "invfem/solids/vtu_writer.hpp"
+#include "invfem/core/vtu_writer.hpp"
 
 #include <cmath>
 #include <cstdio>

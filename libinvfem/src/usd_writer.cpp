@@ -1,4 +1,4 @@
-#include "invfem/solids/usd_writer.hpp"
+#include "invfem/core/usd_writer.hpp"
 
 #include <cmath>
 #include <cstdio>

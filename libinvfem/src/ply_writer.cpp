@@ -1,4 +1,4 @@
-#include "invfem/solids/ply_writer.hpp"
+#include "invfem/core/ply_writer.hpp"
 
 #include <bit>
 #include <cstdint>

@@ -1,0 +1,25 @@
+#include "world_builder.hpp"
+
+#include "collider_builders.hpp"
+#include "json_fields.hpp"
+#include "object_builders.hpp"
+
+namespace invfem::app {
+
+World build_world(const Scene& scene) {
+  std::vector<SimObject> objects;
+  for (const auto& spec : scene.solids) objects.push_back(build_solid(spec, scene));
+  for (const auto& spec : scene.cloths) objects.push_back(build_cloth(spec, scene));
+  const std::vector<std::shared_ptr<RigidBody>> bodies = build_colliders(scene);
+  std::vector<std::shared_ptr<KinematicBody>> kinematic(bodies.begin(), bodies.end());
+  WorldSettings settings;
+  settings.max_dt = scene.solver.max_dt;
+  settings.cg = CGSettings{scene.solver.cg_tolerance, scene.solver.cg_max_iterations};
+  try {
+    return World(settings, std::move(objects), std::move(kinematic), make_rigid_collisions(bodies));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(scene.file.string() + ": " + e.what());
+  }
+}
+
+}  // namespace invfem::app

@@ -1,0 +1,130 @@
+#pragma once
+// The simulated world and its multi-object step: the one place where the substep loop, the
+// order in which kinds of object advance, and the energies live (DESIGN.md "Data flow").
+//
+// Each step t -> t + dt runs these stages, in this order:
+//   1. kinematic bodies move to t + dt (rigid colliders now; bodies from mesh sequences later);
+//   2. solids step (ITF04 section 9, newmark_step), in the order they were added;
+//   3. cloths and shells step, likewise, so that they see the solids at t + dt (one-way coupling);
+//   4. after-step passes: every object's surface is refreshed from its nodes, then each StepPass
+//      runs in the order added (the BFA02 self-collision pass goes here).
+// dt is the smallest stable step of every object (and solver.max_dt), shortened so the steps of
+// a frame are equal and land exactly on the frame time.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "invfem/core/collision_processor.hpp"
+#include "invfem/core/force.hpp"
+#include "invfem/core/newmark_step.hpp"
+#include "invfem/core/rigid_motion.hpp"
+#include "invfem/core/state_stream.hpp"
+#include "invfem/core/surface.hpp"
+
+namespace invfem {
+
+// Kinematic nodes of an object (pinned or scripted). Node nodes[k] is held at anchors.row(k)
+// carried by `motion` (a rigid motion whose pose at rest is the identity), or at its anchor when
+// there is no motion. Each step prescribes the velocity (target(t + dt) - x(t)) / dt, so the
+// node lands on its target exactly and a held node keeps velocity 0 exactly.
+struct PinGroup {
+  std::vector<int> nodes;
+  Points anchors;                // #nodes x 3 [m]
+  std::optional<Motion> motion;  // empty: held still
+};
+
+enum class ObjectKind { Solid, Cloth };
+
+// One simulated object: its nodes (Body), the forces acting on them, its pins, and its surface.
+struct SimObject {
+  std::string name;
+  ObjectKind kind = ObjectKind::Solid;
+  Body body;
+  std::vector<std::unique_ptr<Force>> forces;
+  std::vector<PinGroup> pins;
+  // What is written, rendered and collided: a solid's boundary, a cloth itself. Surface vertex s
+  // is body node surface_nodes[s]; positions are refreshed after every step (refresh_surface).
+  TriangleSurface surface;
+  std::vector<int> surface_nodes;
+  Tets tets;  // solids: the tet mesh, for volumetric output; empty otherwise
+
+  std::vector<Force*> force_pointers() const;
+  // Kind::Full constraints of every pinned node for a step of length dt from the current x.
+  NodeConstraints pin_constraints(double t, double dt) const;
+  void refresh_surface();
+};
+
+// A scripted body that moves but is not simulated (a rigid collider, an animated body).
+class KinematicBody {
+ public:
+  virtual ~KinematicBody() = default;
+  virtual const std::string& name() const = 0;
+  // Puts the body at time t.
+  virtual void move_to(double t) = 0;
+  // Its triangle surface at the last move_to, in world coordinates; nullptr if it has none (an
+  // infinite plane).
+  virtual const TriangleSurface* surface() const = 0;
+};
+
+// A pass run after every step (stage 4). x_start[k] holds object k's positions at the start of
+// the step; the objects hold the end-of-step state, which the pass may change.
+class StepPass {
+ public:
+  virtual ~StepPass() = default;
+  virtual void after_step(std::vector<SimObject>& objects, const std::vector<Points>& x_start, double t,
+                          double dt) = 0;
+};
+
+struct WorldSettings {
+  double max_dt = 0.005;  // [s]
+  CGSettings cg;
+};
+
+// Per-frame figures, summed over objects.
+struct FrameReport {
+  double kinetic = 0, elastic = 0, gravity = 0;  // [J]; gravity potential is -m g.x
+  ElementStats elements;                         // tets only
+  int substeps = 0, cg_iterations = 0, colliding_nodes = 0;
+  bool cg_all_converged = true;
+};
+
+class World {
+ public:
+  // Objects are stepped by kind (stage order above), in the given order within a kind. Throws
+  // std::invalid_argument for two objects or bodies with one name, or an object whose surface map
+  // or pins name a node it does not have.
+  World(WorldSettings settings, std::vector<SimObject> objects,
+        std::vector<std::shared_ptr<KinematicBody>> kinematic, std::unique_ptr<CollisionProcessor> collisions);
+
+  double time() const { return time_; }
+  const std::vector<SimObject>& objects() const { return objects_; }
+  const std::vector<std::shared_ptr<KinematicBody>>& kinematic_bodies() const { return kinematic_; }
+  void add_pass(std::unique_ptr<StepPass> pass) { passes_.push_back(std::move(pass)); }
+
+  // Substeps from time() to t_end; fills the step counts of `report`.
+  void advance_to(double t_end, FrameReport& report);
+  // Energies and element figures at the current state.
+  void measure(FrameReport& report) const;
+  // Every position, velocity and energy finite.
+  bool state_is_finite() const;
+
+  // The whole state for checkpoints: positions, velocities and every force's own state.
+  void save_state(StateWriter& out) const;
+  // Reads what save_state wrote and puts the world at `time`. Throws StateError naming the object
+  // or force when the stream does not fit this world; the world is then left as it was.
+  void restore_state(StateReader& in, double time);
+
+ private:
+  void resynchronize(double time);
+  void apply_state(StateReader& in);
+
+  WorldSettings settings_;
+  double time_ = 0;
+  std::vector<SimObject> objects_;
+  std::vector<std::shared_ptr<KinematicBody>> kinematic_;
+  std::unique_ptr<CollisionProcessor> collisions_;
+  std::vector<std::unique_ptr<StepPass>> passes_;
+};
+
+}  // namespace invfem

@@ -1,0 +1,194 @@
+#include "invfem/core/world.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+namespace invfem {
+
+std::vector<Force*> SimObject::force_pointers() const {
+  std::vector<Force*> out;
+  out.reserve(forces.size());
+  for (const auto& f : forces) out.push_back(f.get());
+  return out;
+}
+
+NodeConstraints SimObject::pin_constraints(double t, double dt) const {
+  NodeConstraints out;
+  for (const PinGroup& g : pins) {
+    std::optional<RigidTransform> pose;
+    if (g.motion) pose = g.motion->body_to_world(t + dt);
+    for (std::size_t k = 0; k < g.nodes.size(); ++k) {
+      NodeConstraint c;
+      c.node = g.nodes[k];
+      c.kind = NodeConstraint::Kind::Full;
+      if (pose) {
+        const Vec3 target = pose->apply(g.anchors.row(static_cast<Eigen::Index>(k)).transpose());
+        c.velocity = (target - body.x.row(c.node).transpose()) / dt;
+      }
+      out.push_back(c);
+    }
+  }
+  return out;
+}
+
+void SimObject::refresh_surface() {
+  for (std::size_t s = 0; s < surface_nodes.size(); ++s)
+    surface.x.row(static_cast<Eigen::Index>(s)) = body.x.row(surface_nodes[s]);
+}
+
+World::World(WorldSettings settings, std::vector<SimObject> objects,
+              std::vector<std::shared_ptr<KinematicBody>> kinematic, std::unique_ptr<CollisionProcessor> collisions)
+    : settings_(settings),
+      objects_(std::move(objects)),
+      kinematic_(std::move(kinematic)),
+      collisions_(std::move(collisions)) {
+  std::set<std::string> names;
+  for (const SimObject& o : objects_) {
+    if (!names.insert(o.name).second) throw std::invalid_argument("world: two objects are named \"" + o.name + "\"");
+    const Eigen::Index n = o.body.x.rows();
+    if (static_cast<Eigen::Index>(o.surface_nodes.size()) != o.surface.x.rows())
+      throw std::invalid_argument("world: object \"" + o.name + "\" maps " + std::to_string(o.surface_nodes.size()) +
+                                  " surface vertices, its surface has " + std::to_string(o.surface.x.rows()));
+    for (int s : o.surface_nodes)
+      if (s < 0 || s >= n)
+        throw std::invalid_argument("world: object \"" + o.name + "\": surface vertex on node " + std::to_string(s) +
+                                    " outside [0, " + std::to_string(n) + ")");
+    for (const PinGroup& g : o.pins) {
+      if (g.anchors.rows() != static_cast<Eigen::Index>(g.nodes.size()))
+        throw std::invalid_argument("world: object \"" + o.name + "\": a pin group has " +
+                                    std::to_string(g.nodes.size()) + " nodes and " +
+                                    std::to_string(g.anchors.rows()) + " anchors");
+      for (int i : g.nodes)
+        if (i < 0 || i >= n)
+          throw std::invalid_argument("world: object \"" + o.name + "\": pinned node " + std::to_string(i) +
+                                      " outside [0, " + std::to_string(n) + ")");
+    }
+  }
+  for (const auto& k : kinematic_)
+    if (!names.insert(k->name()).second)
+      throw std::invalid_argument("world: two objects or bodies are named \"" + k->name() + "\"");
+  for (const auto& k : kinematic_) k->move_to(time_);
+  for (SimObject& o : objects_) o.refresh_surface();
+}
+
+void World::advance_to(double t_end, FrameReport& report) {
+  const std::vector<ObjectKind> stage_order = {ObjectKind::Solid, ObjectKind::Cloth};
+  std::vector<Points> x_start;
+  // Land exactly on t_end: the steps of a frame are equal, each within every object's stable
+  // step (ITF04's scheme takes a variable dt).
+  while (time_ < t_end - 1e-12 * std::max(1.0, t_end)) {
+    double dt = std::min(settings_.max_dt, t_end - time_);
+    for (const auto& o : objects_) dt = std::min(dt, stable_time_step(o.body, o.force_pointers()));
+    const double left = t_end - time_;
+    dt = left / std::ceil(left / dt - 1e-9);
+    report.colliding_nodes = 0;
+    // 1. Kinematic bodies.
+    for (const auto& k : kinematic_) k->move_to(time_ + dt);
+    if (!passes_.empty()) {
+      x_start.clear();
+      for (const auto& o : objects_) x_start.push_back(o.body.x);
+    }
+    // 2, 3. Solids, then cloths.
+    for (ObjectKind kind : stage_order)
+      for (auto& o : objects_) {
+        if (o.kind != kind) continue;
+        const StepStats s = newmark_step(o.body, o.force_pointers(), collisions_.get(), o.pin_constraints(time_, dt),
+                                         time_, dt, settings_.cg);
+        report.cg_iterations += s.half_step.iterations + s.trapezoid.iterations;
+        report.cg_all_converged = report.cg_all_converged && s.half_step.converged && s.trapezoid.converged;
+        report.colliding_nodes += s.colliding_nodes;
+      }
+    // 4. After-step passes.
+    for (auto& o : objects_) o.refresh_surface();
+    for (const auto& p : passes_) p->after_step(objects_, x_start, time_, dt);
+    time_ += dt;
+    ++report.substeps;
+  }
+  time_ = t_end;
+  for (const auto& k : kinematic_) k->move_to(time_);
+}
+
+void World::measure(FrameReport& r) const {
+  for (const auto& o : objects_) {
+    const Body& b = o.body;
+    r.kinetic += 0.5 * (b.mass.asDiagonal() * b.v).cwiseProduct(b.v).sum();
+    r.gravity -= ((b.mass.transpose() * b.x) * b.gravity).value();
+    for (const auto& f : o.forces) r.elastic += f->elastic_energy();
+    for (const auto& f : o.forces) f->add_element_stats(r.elements);
+  }
+}
+
+bool World::state_is_finite() const {
+  for (const auto& o : objects_) {
+    if (!o.body.x.allFinite() || !o.body.v.allFinite()) return false;
+    for (const auto& f : o.forces)
+      if (!std::isfinite(f->elastic_energy())) return false;
+  }
+  return true;
+}
+
+void World::resynchronize(double time) {
+  time_ = time;
+  for (auto& o : objects_) {
+    for (auto& f : o.forces) f->update_positions(o.body.x, time);
+    o.refresh_surface();
+  }
+  for (const auto& k : kinematic_) k->move_to(time_);
+}
+
+void World::save_state(StateWriter& out) const {
+  out.count(objects_.size());
+  for (const auto& o : objects_) {
+    out.string(o.name);
+    out.doubles(o.body.x.data(), static_cast<std::size_t>(o.body.x.size()));
+    out.doubles(o.body.v.data(), static_cast<std::size_t>(o.body.v.size()));
+    out.count(o.forces.size());
+    for (const auto& f : o.forces) {
+      StateWriter w;  // each force's state is one length-prefixed blob: a misfit is caught at its end
+      f->save_state(w);
+      out.string(w.bytes());
+    }
+  }
+}
+
+void World::apply_state(StateReader& in) {
+  if (in.count("the object count") != objects_.size()) throw StateError("the state holds another number of objects");
+  // Positions and velocities are read into copies first; forces restore themselves one by one.
+  for (auto& o : objects_) {
+    const std::string name = in.string("an object name");
+    if (name != o.name) throw StateError("the state has object \"" + name + "\" where \"" + o.name + "\" is");
+    Points x(o.body.x.rows(), 3), v(o.body.v.rows(), 3);
+    in.doubles(x.data(), static_cast<std::size_t>(x.size()), "the positions of \"" + o.name + "\"");
+    in.doubles(v.data(), static_cast<std::size_t>(v.size()), "the velocities of \"" + o.name + "\"");
+    if (in.count("the force count of \"" + o.name + "\"") != o.forces.size())
+      throw StateError("the state holds another number of forces for \"" + o.name + "\"");
+    for (std::size_t k = 0; k < o.forces.size(); ++k) {
+      const std::string what = "the state of force " + std::to_string(k) + " of \"" + o.name + "\"";
+      StateReader blob(in.string(what));
+      o.forces[k]->restore_state(blob);
+      blob.expect_end(what);
+    }
+    o.body.x = std::move(x);
+    o.body.v = std::move(v);
+  }
+  in.expect_end("the world state");
+}
+
+void World::restore_state(StateReader& in, double time) {
+  StateWriter snapshot;
+  save_state(snapshot);
+  const double old_time = time_;
+  try {
+    apply_state(in);
+  } catch (...) {
+    StateReader back(snapshot.bytes());
+    apply_state(back);  // the world's own state always fits
+    resynchronize(old_time);
+    throw;
+  }
+  resynchronize(time);
+}
+
+}  // namespace invfem

@@ -1,0 +1,15 @@
+#pragma once
+// Generated shell and cloth surfaces (their rest shape is the generated geometry).
+#include "invfem/core/surface.hpp"
+
+namespace invfem {
+
+// A width x height sheet in the plane origin + a u_axis + b v_axis (a in [0, width], b in
+// [0, height]) with nx x ny cells, (nx+1)(ny+1) vertices (vertex (i, j) = j (nx+1) + i) and
+// 2 nx ny triangles wound counter-clockwise around u_axis x v_axis. The cell diagonal alternates
+// in a checkerboard so neither direction is favoured. Throws std::invalid_argument for nx, ny < 1,
+// non-positive sizes or parallel/zero axes.
+TriangleSurface make_grid(double width, double height, int nx, int ny, const Vec3& origin = Vec3::Zero(),
+                          const Vec3& u_axis = Vec3::UnitX(), const Vec3& v_axis = Vec3::UnitY());
+
+}  // namespace invfem

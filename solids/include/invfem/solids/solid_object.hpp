@@ -1,0 +1,25 @@
+#pragma once
+// A tetrahedral solid as a simulated object of the World (core/world.hpp): its nodes with lumped
+// masses, the ITF04 volumetric force, its boundary surface (with the map to its nodes) and pins.
+#include <string>
+#include <vector>
+
+#include "invfem/core/world.hpp"
+#include "invfem/solids/tet_mesh.hpp"
+#include "invfem/solids/tet_solid_force.hpp"
+
+namespace invfem {
+
+struct SolidObjectParams {
+  TetMaterial material;
+  Vec3 velocity = Vec3::Zero();          // initial velocity of every free node [m/s]
+  Vec3 gravity = Vec3(0, -9.81, 0);      // [m/s^2]
+  std::vector<PinGroup> pins;            // over the mesh's nodes
+};
+
+// `mesh` must be validated and positively oriented (validate_and_orient). The object is at rest
+// shape, its force updated at t = 0, pinned nodes moving with their pins. Throws
+// std::invalid_argument (material, masses) naming the problem.
+SimObject make_solid_object(const std::string& name, const TetMesh& mesh, SolidObjectParams params);
+
+}  // namespace invfem

@@ -1,0 +1,29 @@
+#include "invfem/solids/solid_object.hpp"
+
+#include "invfem/core/pins.hpp"
+#include "invfem/solids/boundary.hpp"
+#include "invfem/solids/mass.hpp"
+
+namespace invfem {
+
+SimObject make_solid_object(const std::string& name, const TetMesh& mesh, SolidObjectParams params) {
+  SimObject o;
+  o.name = name;
+  o.kind = ObjectKind::Solid;
+  o.surface = extract_surface(mesh.X, boundary_triangles(mesh.tets), o.surface_nodes);
+  o.surface.source = "boundary of " + mesh.source;
+  o.tets = mesh.tets;
+  o.body.x = mesh.X;
+  o.body.v = Points(mesh.X.rows(), 3);
+  o.body.v.rowwise() = params.velocity.transpose();
+  o.body.mass = lumped_masses(mesh.X, mesh.tets, params.material.density);
+  o.body.gravity = params.gravity;
+  auto force = std::make_unique<TetSolidForce>(make_tet_rest(mesh.X, mesh.tets), std::move(params.material));
+  force->update_positions(o.body.x, 0.0);
+  o.forces.push_back(std::move(force));
+  o.pins = std::move(params.pins);
+  set_pinned_velocities(o, 0.0);
+  return o;
+}
+
+}  // namespace invfem

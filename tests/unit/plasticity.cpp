@@ -6,6 +6,8 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -310,6 +312,134 @@ TEST(PlasticFlow, BadInputIsRejected) {
   ASSERT_EQ(st.Fp_inv.size(), 3u);
   for (const Mat3& m : st.Fp_inv) EXPECT_EQ(m, Mat3::Identity());
   EXPECT_THROW(sym_log(Mat3(Vec3(1, 1, -1).asDiagonal())), std::invalid_argument);
+}
+
+// ---- the 3D path is bit-identical to the algorithm before the 2D/3D template refactor ----
+
+// A verbatim copy of the 3D return mapping as it was before plastic_trial, plastic_flow and
+// limit_plastic_log_stretch were shared with the triangle (2D) path. Scene regression tests compare
+// energies bit for bit, so the refactor must not change a single floating-point operation.
+namespace reference_3d {
+constexpr double kFloor = 1e-4;
+PlasticTrial trial(const Mat3& F, const Mat3& Fp_inv, const PlasticParams& p) {
+  PlasticTrial t;
+  t.elastic = diagonalize(Mat3(F * Fp_inv));
+  Vec3 L;
+  for (int i = 0; i < 3; ++i) L(i) = std::log(std::max(t.elastic.sigma(i), kFloor));
+  const double mean = L.mean();
+  const Vec3 dev = (L.array() - mean).matrix();
+  const double norm = p.deviatoric_only ? dev.norm() : L.norm();
+  if (norm <= p.yield) return t;
+  t.yielded = true;
+  const double k = p.yield / norm;
+  const Vec3 L_proj = p.deviatoric_only ? (mean + k * dev.array()).matrix() : Vec3(k * L);
+  const Vec3 inv_proj = (-L_proj).array().exp();
+  const Mat3 Fp_trial = inv_proj.asDiagonal() * (t.elastic.U.transpose() * F);
+  const Diagonalization3 dp = diagonalize(Fp_trial);
+  t.Vp = dp.V;
+  for (int i = 0; i < 3; ++i) t.log_sp(i) = std::log(std::max(std::abs(dp.sigma(i)), kFloor));
+  return t;
+}
+Vec3 limit(const Vec3& l, const PlasticParams& p) {
+  const double c = std::log(p.max_stretch);
+  auto clamp = [c](double v) { return std::clamp(v, -c, c); };
+  if (!p.preserve_volume) return l.unaryExpr(clamp);
+  if (!std::isfinite(c)) return (l.array() - l.mean()).matrix();
+  auto f = [&](double t) { return clamp(l(0) - t) + clamp(l(1) - t) + clamp(l(2) - t); };
+  std::array<double, 6> b = {l(0) - c, l(1) - c, l(2) - c, l(0) + c, l(1) + c, l(2) + c};
+  std::sort(b.begin(), b.end());
+  double t = b[5];
+  for (int k = 0; k + 1 < 6; ++k) {
+    const double f0 = f(b[k]), f1 = f(b[k + 1]);
+    if (f0 >= 0 && f1 <= 0) {
+      t = f0 == f1 ? b[k] : b[k] + (b[k + 1] - b[k]) * f0 / (f0 - f1);
+      break;
+    }
+  }
+  return (l.array() - t).matrix().unaryExpr(clamp);
+}
+PlasticUpdate flow(const Mat3& F, Mat3& Fp_inv, const PlasticParams& p) {
+  const PlasticTrial t = trial(F, Fp_inv, p);
+  PlasticUpdate u;
+  u.elastic = t.elastic;
+  if (!t.yielded) return u;
+  const Vec3 l = limit(t.log_sp, p);
+  const Mat3 inv = t.Vp * Vec3((-l).array().exp()).asDiagonal() * t.Vp.transpose();
+  Fp_inv = 0.5 * (inv + inv.transpose());
+  u.yielded = u.Fp_changed = true;
+  u.elastic = diagonalize(Mat3(F * Fp_inv));
+  return u;
+}
+}  // namespace reference_3d
+
+// Exact equality of every entry (EXPECT_EQ on doubles, not EXPECT_DOUBLE_EQ): random large,
+// inverted, flat (rank 2, 1, 0) and huge F, every parameter combination, chained flows so that Fp
+// drifts far from identity.
+TEST(PlasticFlow, ThreeDimensionalPathIsBitIdenticalToReference) {
+  std::mt19937 rng(41);
+  std::uniform_int_distribution<int> kind(0, 7);
+  std::normal_distribution<double> n;
+  int compared = 0, yielded = 0;
+  for (bool deviatoric : {false, true})
+    for (bool preserve : {false, true})
+      for (double max_stretch : {std::numeric_limits<double>::infinity(), 10.0, 1.5}) {
+        PlasticParams p;
+        p.yield = 0.08;
+        p.deviatoric_only = deviatoric;
+        p.preserve_volume = preserve;
+        p.max_stretch = max_stretch;
+        Mat3 Fp_lib = Mat3::Identity(), Fp_ref = Mat3::Identity();
+        for (int k = 0; k < 400; ++k) {
+          Mat3 F;
+          switch (kind(rng)) {
+            case 0: F = random_F(rng, 0.05, 4.0, true); break;
+            case 1: F = random_F(rng, 1e-6, 1e6, false); break;  // huge stretch and compression
+            case 2: {  // rank 2 (flat tet)
+              F = random_rotation(rng) * Vec3(n(rng), n(rng), 0).asDiagonal() * random_rotation(rng);
+              break;
+            }
+            case 3: {  // rank 1 (collapsed to a segment)
+              const Vec3 a(n(rng), n(rng), n(rng)), b(n(rng), n(rng), n(rng));
+              F = a * b.transpose();
+              break;
+            }
+            case 4: F = Mat3::Zero(); break;  // collapsed to a point
+            case 5: F = Fp_lib.inverse(); break;  // at the current rest shape (no yield)
+            default: F = random_F(rng, 0.3, 3.0, false); break;
+          }
+          // The trial and the limit alone (plasticity control builds on them).
+          const PlasticTrial t_lib = plastic_trial(F, Fp_lib, p);
+          const PlasticTrial t_ref = reference_3d::trial(F, Fp_ref, p);
+          ASSERT_EQ(t_lib.yielded, t_ref.yielded);
+          for (int i = 0; i < 3; ++i) {
+            EXPECT_EQ(t_lib.log_sp(i), t_ref.log_sp(i));
+            EXPECT_EQ(t_lib.elastic.sigma(i), t_ref.elastic.sigma(i));
+          }
+          for (int i = 0; i < 9; ++i) {
+            EXPECT_EQ(t_lib.Vp(i), t_ref.Vp(i));
+            EXPECT_EQ(t_lib.elastic.U(i), t_ref.elastic.U(i));
+            EXPECT_EQ(t_lib.elastic.V(i), t_ref.elastic.V(i));
+          }
+          const Vec3 l(3 * n(rng), 3 * n(rng), 3 * n(rng));
+          const Vec3 lim_lib = limit_plastic_log_stretch(l, p), lim_ref = reference_3d::limit(l, p);
+          for (int i = 0; i < 3; ++i) EXPECT_EQ(lim_lib(i), lim_ref(i));
+          // The flow, chained.
+          const PlasticUpdate u_lib = plastic_flow(F, Fp_lib, p);
+          const PlasticUpdate u_ref = reference_3d::flow(F, Fp_ref, p);
+          ASSERT_EQ(u_lib.yielded, u_ref.yielded);
+          ASSERT_EQ(u_lib.Fp_changed, u_ref.Fp_changed);
+          yielded += u_lib.yielded;
+          for (int i = 0; i < 9; ++i) {
+            ASSERT_EQ(Fp_lib(i), Fp_ref(i)) << "flow " << k;
+            EXPECT_EQ(u_lib.elastic.U(i), u_ref.elastic.U(i));
+            EXPECT_EQ(u_lib.elastic.V(i), u_ref.elastic.V(i));
+          }
+          for (int i = 0; i < 3; ++i) EXPECT_EQ(u_lib.elastic.sigma(i), u_ref.elastic.sigma(i));
+          ++compared;
+        }
+      }
+  EXPECT_EQ(compared, 4800);
+  EXPECT_GT(yielded, 3000);
 }
 
 // ---- control ----

@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "invfem/renders/mesh_renderer.hpp"
-#include "invfem/solids/obj_reader.hpp"
+#include "invfem/core/obj_file.hpp"
 #include "collider_builders.hpp"
 #include "run_output.hpp"
 
@@ -50,7 +50,7 @@ struct PreviewRenderer::Impl {
     std::vector<renders::Drawable> meshes;
     for (const auto& o : objects) {
       renders::Drawable m;
-      m.surface = read_obj_positions(obj_path(dir, o.name, frame).string());
+      m.surface = read_obj_surface(obj_path(dir, o.name, frame).string());
       const bool cloth = o.kind == ObjectView::Kind::Cloth;
       m.two_sided = cloth;
       m.color = cloth ? kClothFront : o.kind == ObjectView::Kind::Collider ? kColliderColor : kSolidColor;

@@ -9,7 +9,7 @@
 #include "invfem/core/ply_writer.hpp"
 #include "invfem/core/usd_writer.hpp"
 #include "invfem/core/vtu_writer.hpp"
-#include "invfem/solids/obj_reader.hpp"
+#include "invfem/core/obj_file.hpp"
 #include "json_fields.hpp"
 
 namespace invfem::app {
@@ -86,7 +86,7 @@ RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World&
       // A resumed run rebuilds the animation's earlier samples from the OBJ frames.
       for (int f = 0; f < first_frame; ++f) {
         const auto obj = dir_ / "frames" / o.name / (frame_name(f) + ".obj");
-        if (std::filesystem::exists(obj)) usd_[o.name]->add_frame(f, read_obj_positions(obj.string()).x);
+        if (std::filesystem::exists(obj)) usd_[o.name]->add_frame(f, read_obj_surface(obj.string()).x);
       }
     }
   }

@@ -451,4 +451,9 @@ ObjFile read_obj_file(const std::string& path) {
   return parse_obj_text(text, path);
 }
 
+TriangleSurface read_obj_surface(const std::string& path) {
+  ObjFile f = read_obj_file(path);
+  return TriangleSurface{std::move(f.v), std::move(f.faces), path};
+}
+
 }  // namespace invfem

@@ -1,5 +1,5 @@
 #pragma once
-// Private: expands RenderMeshes into the renderer's interleaved vertex stream.
+// Private: expands Drawables into the renderer's interleaved vertex stream.
 #include <vector>
 
 #include "invfem/renders/mesh_renderer.hpp"

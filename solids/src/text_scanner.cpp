@@ -5,6 +5,7 @@
 #include <climits>
 #include <cstdint>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <system_error>
@@ -136,9 +137,13 @@ double TextScanner::real(std::string_view what, long long index) {
   if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
   double v = 0;
   const auto [p, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
-  // from_chars reports out-of-range for overflow (and for subnormal underflow, which is fine).
-  if (ec == std::errc::result_out_of_range && std::abs(v) > 1.0)
-    fail(item_name(what, index) + ": number '" + std::string(t) + "' overflows a double");
+  // from_chars reports out-of-range for overflow and for underflow alike, and then leaves v
+  // untouched; strtod on the same (already matched) text tells them apart: +-HUGE_VAL for an
+  // overflow, a tiny or zero value for an underflow (which is fine).
+  if (ec == std::errc::result_out_of_range && p == digits.data() + digits.size()) {
+    v = std::strtod(std::string(digits).c_str(), nullptr);
+    if (!std::isfinite(v)) fail(item_name(what, index) + ": number '" + std::string(t) + "' overflows a double");
+  }
   if ((ec != std::errc() && ec != std::errc::result_out_of_range) ||
       p != digits.data() + digits.size() || digits.empty())
     fail(item_name(what, index) + ": expected a number, got '" + std::string(t.substr(0, 40)) +

@@ -1,7 +1,7 @@
 // Fuzz runner: feeds every file of a corpus directory to the reader its extension names, each in
 // its own forked process with a time bound, and classifies the outcome. Readers:
 //   .vtk .mesh .msh  read_tet_mesh, then validate_and_orient
-//   .obj             read_obj_positions; separately load_triangle_surface, then validate_surface
+//   .obj             read_obj_surface; separately load_triangle_surface, then validate_surface
 //   .ply             load_triangle_surface, then validate_surface
 //   .json            invfem::app::load_scene
 // Allowed: success, or an exception derived from std::runtime_error (MeshError, InputError, the
@@ -35,7 +35,7 @@
 #include "invfem/core/surface_io.hpp"
 #include "invfem/core/mesh_error.hpp"
 #include "invfem/core/obj_writer.hpp"
-#include "invfem/solids/obj_reader.hpp"
+#include "invfem/core/obj_file.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
 #include "json_fields.hpp"
@@ -119,12 +119,12 @@ int probe_obj_positions(const std::string& path) {
   invfem::TriangleSurface o;
   bool contract = true;
   const int r = run_caught(
-      path, [&] { o = invfem::read_obj_positions(path); },
+      path, [&] { o = invfem::read_obj_surface(path); },
       [&] {
         contract = o.x.allFinite() && (o.tris.rows() == 0 || (o.tris.minCoeff() >= 0 && o.tris.maxCoeff() < o.x.rows()));
       });
   if (r == kAccepted && !contract) {
-    std::fprintf(stderr, "read_obj_positions RETURNED NON-FINITE POSITIONS OR BAD INDICES\n");
+    std::fprintf(stderr, "read_obj_surface RETURNED NON-FINITE POSITIONS OR BAD INDICES\n");
     return kAcceptedInvalid;
   }
   return r;
@@ -144,7 +144,7 @@ std::vector<std::pair<std::string, Probe>> probes_for(const fs::path& p) {
   std::string ext = p.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   if (ext == ".vtk" || ext == ".mesh" || ext == ".msh") return {{"read_tet_mesh", probe_tet}};
-  if (ext == ".obj") return {{"read_obj_positions", probe_obj_positions}, {"load_triangle_surface", probe_triangle_mesh}};
+  if (ext == ".obj") return {{"read_obj_surface", probe_obj_positions}, {"load_triangle_surface", probe_triangle_mesh}};
   if (ext == ".ply") return {{"load_triangle_surface", probe_triangle_mesh}};
   if (ext == ".json") return {{"load_scene", probe_scene}};
   return {};

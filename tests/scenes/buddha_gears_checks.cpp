@@ -15,7 +15,7 @@ const std::filesystem::path kOut = INVFEM_SCENE_DIR;
 constexpr int kLast = 60;
 constexpr double kGearCenterY = 1.1;
 
-TriangleSurface frame(int f) { return read_obj_positions((kOut / "frames/buddha" / frame_file(f)).string()); }
+TriangleSurface frame(int f) { return read_obj_surface((kOut / "frames/buddha" / frame_file(f)).string()); }
 
 TEST(BuddhaGears, IsPulledThroughTheGears) {
   const TriangleSurface first = frame(0), last = frame(kLast);

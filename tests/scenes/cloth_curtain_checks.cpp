@@ -14,7 +14,7 @@ namespace {
 const std::filesystem::path kOut = INVFEM_SCENE_DIR;
 constexpr int kLastFrame = 45;  // the scene's quick "frames"
 
-TriangleSurface frame(int f) { return read_obj_positions((kOut / "frames/curtain" / frame_file(f)).string()); }
+TriangleSurface frame(int f) { return read_obj_surface((kOut / "frames/curtain" / frame_file(f)).string()); }
 
 TEST(ClothCurtain, PinnedEdgeHoldsAndClothStaysAboveGround) {
   const TriangleSurface rest = frame(0), last = frame(kLastFrame);

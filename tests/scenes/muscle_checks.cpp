@@ -11,7 +11,7 @@ namespace {
 
 const std::filesystem::path kOut = INVFEM_SCENE_DIR;
 
-TriangleSurface frame(int f) { return read_obj_positions((kOut / "frames/muscle" / frame_file(f)).string()); }
+TriangleSurface frame(int f) { return read_obj_surface((kOut / "frames/muscle" / frame_file(f)).string()); }
 
 // Lowest point of the mid-span (|x| < 2 cm) [m].
 double midspan_bottom(const TriangleSurface& m) {

@@ -16,7 +16,7 @@ const std::filesystem::path kOut = INVFEM_SCENE_DIR;
 constexpr int kLast = 60;
 constexpr double kGearCenterY = 1.1;
 
-TriangleSurface frame(int f) { return read_obj_positions((kOut / "frames/sphere" / frame_file(f)).string()); }
+TriangleSurface frame(int f) { return read_obj_surface((kOut / "frames/sphere" / frame_file(f)).string()); }
 
 // Extents of a point set along its principal axes, sorted ascending [m].
 Eigen::Vector3d principal_extents(const Points& x) {

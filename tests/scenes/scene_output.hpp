@@ -15,7 +15,7 @@
 #include "invfem/renders/image.hpp"
 #include "invfem/renders/image_compare.hpp"
 #include "invfem/core/obj_writer.hpp"
-#include "invfem/solids/obj_reader.hpp"
+#include "invfem/core/obj_file.hpp"
 
 namespace invfem::test {
 

@@ -39,8 +39,8 @@ TEST(TorusPuddle, RecoversWithNoInvertedTets) {
 }
 
 TEST(TorusPuddle, RecoversItsRestShape) {
-  const TriangleSurface rest = read_obj_positions((kOut / "frames/torus" / frame_file(0)).string());
-  const TriangleSurface last = read_obj_positions((kOut / "frames/torus" / frame_file(90)).string());
+  const TriangleSurface rest = read_obj_surface((kOut / "frames/torus" / frame_file(0)).string());
+  const TriangleSurface last = read_obj_surface((kOut / "frames/torus" / frame_file(90)).string());
   ASSERT_EQ(rest.x.rows(), last.x.rows());
   EXPECT_LT(aligned_shape_error(rest.x, last.x), 0.02);
   // It rests on the ground, not in it.

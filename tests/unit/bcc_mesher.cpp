@@ -14,7 +14,7 @@
 #include "invfem/solids/bcc_mesher.hpp"
 #include "invfem/solids/inside_test.hpp"
 #include "invfem/core/obj_writer.hpp"
-#include "invfem/solids/obj_reader.hpp"
+#include "invfem/core/obj_file.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
 

@@ -13,7 +13,7 @@
 
 #include "invfem/collisions/mesh_surface.hpp"
 #include "invfem/core/obj_writer.hpp"
-#include "invfem/solids/obj_reader.hpp"
+#include "invfem/core/obj_file.hpp"
 
 using namespace invfem;
 
@@ -146,7 +146,7 @@ TEST(MeshSurface, TorusMatchesBruteForce) {
 TEST(MeshSurface, BunnyMatchesBruteForce) {
   const std::string path = std::string(INVFEM_SHARED_DATA) + "/surface/bunny3K_cipc.obj";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not present";
-  const TriangleSurface mesh = read_obj_positions(path);
+  const TriangleSurface mesh = read_obj_surface(path);
   ASSERT_GT(mesh.tris.rows(), 1000);
   const double vol = signed_volume(mesh.x, mesh.tris);
   ASSERT_NE(vol, 0);

@@ -13,7 +13,7 @@
 #include "invfem/core/atomic_file.hpp"
 #include "invfem/solids/boundary.hpp"
 #include "invfem/core/obj_writer.hpp"
-#include "invfem/solids/obj_reader.hpp"
+#include "invfem/core/obj_file.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
 
@@ -171,6 +171,7 @@ TEST(TetMeshIO, MalformedFilesGiveSpecificErrors) {
   const Case cases[] = {
       {"truncated.vtk", ":9: unexpected end of file while reading node 3", false},
       {"nan_coord.vtk", ":8: node 2: coordinate is not finite", false},
+      {"overflow_coord.vtk", ":8: node 2: number '1e400' overflows a double", false},
       {"index_out_of_range.vtk", ":11: cell 0: node index 7 out of range [0, 4)", false},
       {"zero_volume.vtk", "tet 0 has zero rest volume", true},
       {"negative_count.vtk", "POINTS count: negative count -4", false},
@@ -256,7 +257,7 @@ TEST(ObjWriter, RoundTripKeepsPositionsAndFaces) {
   const std::string path = tmp.path("out.obj").string();
   write_obj(path, x, f);
   EXPECT_FALSE(fs::exists(path + ".tmp"));
-  const TriangleSurface back = read_obj_positions(path);
+  const TriangleSurface back = read_obj_surface(path);
   ASSERT_EQ(back.x.rows(), 4);
   ASSERT_EQ(back.tris.rows(), 2);
   EXPECT_EQ(back.tris, f);
@@ -283,14 +284,15 @@ TEST(ObjWriter, RejectsNonFiniteAndBadIndicesWithoutTouchingTheFile) {
 
 TEST(ObjReader, FaceFormatsAndErrors) {
   TempDir tmp;
-  const TriangleSurface q = read_obj_positions(
-      tmp.file("q.obj", "# c\nv 0 0 0\nv 1 0 0\nvt 0 0\nv 1 1 0\nv 0 1 0\nf 1/1 2//3 3/1/1 -1\n"));
+  const TriangleSurface q = read_obj_surface(
+      tmp.file("q.obj", "# c\nv 0 0 0\nv 1 0 0\nvt 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nf 1/1 2/1 3/1 -1/1\n"));
   ASSERT_EQ(q.x.rows(), 4);
   ASSERT_EQ(q.tris.rows(), 2);  // the quad is fanned
   EXPECT_EQ(q.tris.row(1), (Eigen::RowVector3i(0, 2, 3)));
   const std::string msg =
-      mesh_error_of([&] { read_obj_positions(tmp.file("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 5\n")); });
-  EXPECT_NE(msg.find("bad.obj:3: face vertex index 5 out of range"), std::string::npos) << msg;
+      mesh_error_of([&] { read_obj_surface(tmp.file("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 5\n")); });
+  EXPECT_NE(msg.find("bad.obj:3:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("vertex 5"), std::string::npos) << msg;
 }
 
 TEST(AtomicWrite, ReplacesWholeFileAndCleansUpOnFailure) {

@@ -28,15 +28,15 @@
 #include <string_view>
 #include <vector>
 
-#include "invfem/core/types.hpp"
+#include "invfem/core/mesh_error.hpp"
+#include "invfem/core/surface.hpp"
 
 namespace invfem {
 
-// Thrown for any bad OBJ input. Deliberately its own type, not invfem::MeshError (which still
-// lives in solids/): when MeshError moves into the core, ObjError is meant to derive from it.
-class ObjError : public std::runtime_error {
+// Thrown for any bad OBJ input; a MeshError, like every bad-mesh error.
+class ObjError : public MeshError {
  public:
-  using std::runtime_error::runtime_error;
+  using MeshError::MeshError;
 };
 
 struct ObjFile {
@@ -62,5 +62,9 @@ ObjFile read_obj_file(const std::string& path);
 
 // The same parser on text already in memory; `path` is used in ObjFile::path and in messages.
 ObjFile parse_obj_text(std::string_view text, const std::string& path);
+
+// The file's positions and faces as a surface in file vertex order (source = path): how frames
+// written by write_obj are read back (previews, tests). Throws ObjError.
+TriangleSurface read_obj_surface(const std::string& path);
 
 }  // namespace invfem

@@ -1,0 +1,203 @@
+// The core World: the stage order of a step (kinematic bodies, solids, cloths, after-step passes),
+// pins that follow a motion, surfaces that follow their nodes, and the whole-state save/restore
+// with its rollback on a stream that does not fit.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "invfem/core/pins.hpp"
+#include "invfem/core/world.hpp"
+
+namespace invfem {
+namespace {
+
+std::vector<std::string> g_log;  // the order of calls made by the world during a step
+
+// A linear spring pulling every node to its rest position; logs its position updates and carries
+// a piece of state (a counter of updates) to save and restore.
+class LoggingSpring final : public Force {
+ public:
+  LoggingSpring(std::string name, Points rest) : name_(std::move(name)), rest_(std::move(rest)) {}
+  void update_positions(const Points& x, double time) override {
+    g_log.push_back(name_ + " update");
+    x_ = x;
+    ++updates_;
+  }
+  void add_elastic_forces(Points& f) const override { f -= 10.0 * (x_ - rest_); }
+  void add_damping_forces(const Points&, Points&) const override {}
+  double elastic_energy() const override { return 5.0 * (x_ - rest_).squaredNorm(); }
+  void save_state(StateWriter& out) const override { out.pod(updates_); }
+  void restore_state(StateReader& in) override {
+    const int u = in.pod<int>(name_ + " updates");
+    if (u < 0) throw StateError(name_ + ": negative update count");
+    updates_ = u;
+  }
+  int updates() const { return updates_; }
+
+ private:
+  std::string name_;
+  Points rest_, x_;
+  int updates_ = 0;
+};
+
+class LoggingBody final : public KinematicBody {
+ public:
+  const std::string& name() const override { return name_; }
+  void move_to(double t) override {
+    g_log.push_back("body move");
+    last_t = t;
+  }
+  const TriangleSurface* surface() const override { return nullptr; }
+  double last_t = -1;
+
+ private:
+  std::string name_ = "body";
+};
+
+class LoggingPass final : public StepPass {
+ public:
+  void after_step(std::vector<SimObject>& objects, const std::vector<Points>& x_start, double, double) override {
+    g_log.push_back("pass");
+    ASSERT_EQ(x_start.size(), objects.size());
+    // Surfaces are refreshed before the passes run.
+    for (const auto& o : objects) EXPECT_EQ(o.surface.x.row(0), o.body.x.row(o.surface_nodes[0]));
+  }
+};
+
+// A three-node object (one triangle) with a LoggingSpring.
+SimObject make_object(const std::string& name, ObjectKind kind, double y) {
+  SimObject o;
+  o.name = name;
+  o.kind = kind;
+  o.body.x.resize(3, 3);
+  o.body.x << 0, y, 0, 1, y, 0, 0, y, 1;
+  o.body.v = Points::Zero(3, 3);
+  o.body.mass = Eigen::VectorXd::Ones(3);
+  o.forces.push_back(std::make_unique<LoggingSpring>(name, o.body.x));
+  o.forces.back()->update_positions(o.body.x, 0);
+  o.surface.x = o.body.x;
+  o.surface.tris.resize(1, 3);
+  o.surface.tris << 0, 1, 2;
+  o.surface_nodes = {0, 1, 2};
+  return o;
+}
+
+World make_world(std::shared_ptr<LoggingBody> body = std::make_shared<LoggingBody>()) {
+  std::vector<SimObject> objects;
+  // Added cloth first: the world must still step the solid before it.
+  objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+  objects.push_back(make_object("solid", ObjectKind::Solid, 1.0));
+  WorldSettings settings;
+  settings.max_dt = 0.01;
+  return World(settings, std::move(objects), {body}, nullptr);
+}
+
+TEST(World, EachStepMovesKinematicBodiesThenSolidsThenClothsThenPasses) {
+  auto body = std::make_shared<LoggingBody>();
+  World world = make_world(body);
+  world.add_pass(std::make_unique<LoggingPass>());
+  g_log.clear();
+  FrameReport r;
+  world.advance_to(0.02, r);
+  EXPECT_EQ(r.substeps, 2);
+  const std::vector<std::string> step = {"body move", "solid update", "cloth update", "pass"};
+  std::vector<std::string> expected;
+  for (int s = 0; s < 2; ++s) expected.insert(expected.end(), step.begin(), step.end());
+  expected.push_back("body move");  // placed at the frame time for output
+  EXPECT_EQ(g_log, expected);
+  EXPECT_DOUBLE_EQ(body->last_t, 0.02);
+  EXPECT_DOUBLE_EQ(world.time(), 0.02);
+}
+
+TEST(World, SurfacesFollowTheirNodes) {
+  World world = make_world();
+  FrameReport r;
+  world.advance_to(0.05, r);  // gravity pulls, the springs hold
+  for (const auto& o : world.objects()) {
+    EXPECT_LT(o.body.x(1, 1), o.name == "cloth" ? 2.0 : 1.0);  // gravity moved it
+    for (std::size_t s = 0; s < o.surface_nodes.size(); ++s)
+      EXPECT_EQ(o.surface.x.row(static_cast<Eigen::Index>(s)), o.body.x.row(o.surface_nodes[s]));
+  }
+}
+
+TEST(World, PinsLandExactlyOnTheirMovingTargetsAndHeldPinsStayBitExact) {
+  std::vector<SimObject> objects;
+  objects.push_back(make_object("cloth", ObjectKind::Cloth, 1.0));
+  SimObject& o = objects.back();
+  const Vec3 velocity(0.3, -0.2, 0.1);
+  o.pins.push_back(make_pin_group(o.body.x, {0}, Motion::constant_velocity({}, Vec3::Zero(), velocity, Vec3::UnitZ(), 0),
+                                  "pin"));
+  o.pins.push_back(make_pin_group(o.body.x, {2}, std::nullopt, "hold"));
+  set_pinned_velocities(o, 0.0);
+  EXPECT_EQ(o.body.v.row(0), velocity.transpose());
+  const Points x0 = o.body.x;
+  World world(WorldSettings{}, std::move(objects), {}, nullptr);
+  FrameReport r;
+  world.advance_to(0.1, r);
+  const SimObject& w = world.objects()[0];
+  EXPECT_LT((w.body.x.row(0) - (x0.row(0) + 0.1 * velocity.transpose())).norm(), 1e-14);
+  EXPECT_EQ(w.body.x.row(2), x0.row(2));  // bit-exact: velocity 0 exactly every step
+  EXPECT_GT((w.body.x.row(1) - x0.row(1)).norm(), 1e-4);  // the free node fell
+}
+
+TEST(World, MeasureSumsEnergiesOfEveryObject) {
+  World world = make_world();
+  FrameReport r;
+  world.measure(r);
+  EXPECT_DOUBLE_EQ(r.kinetic, 0);
+  EXPECT_DOUBLE_EQ(r.elastic, 0);
+  // -m g.x: three unit masses at y = 1 and three at y = 2 under g = -9.81 y.
+  EXPECT_NEAR(r.gravity, 9.81 * (3 * 1.0 + 3 * 2.0), 1e-12);
+  EXPECT_TRUE(world.state_is_finite());
+}
+
+TEST(World, SaveRestoreRoundTripsAndABadStreamLeavesTheWorldUnchanged) {
+  World world = make_world();
+  FrameReport r;
+  world.advance_to(0.03, r);
+  StateWriter saved;
+  world.save_state(saved);
+  const Points x_saved = world.objects()[1].body.x;
+  world.advance_to(0.06, r);
+
+  // A truncated stream: rejected, nothing changes.
+  const Points x_now = world.objects()[1].body.x;
+  const double t_now = world.time();
+  StateReader cut(saved.bytes().substr(0, saved.bytes().size() - 3));
+  EXPECT_THROW(world.restore_state(cut, 0.03), StateError);
+  EXPECT_EQ(world.objects()[1].body.x, x_now);
+  EXPECT_DOUBLE_EQ(world.time(), t_now);
+
+  // A stream whose force state is invalid (the second object's counter made negative): the
+  // first object's force was already restored, and must be rolled back too.
+  std::string bad = saved.bytes();
+  const int negative = -5;
+  std::memcpy(bad.data() + bad.size() - sizeof(int), &negative, sizeof(int));
+  const int updates_before = static_cast<const LoggingSpring&>(*world.objects()[0].forces[0]).updates();
+  StateReader bad_reader(bad);
+  EXPECT_THROW(world.restore_state(bad_reader, 0.03), StateError);
+  EXPECT_EQ(world.objects()[1].body.x, x_now);
+  // Rolled back to its count before the failed restore, plus the resynchronizing update.
+  EXPECT_EQ(static_cast<const LoggingSpring&>(*world.objects()[0].forces[0]).updates(), updates_before + 1);
+
+  StateReader good(saved.bytes());
+  world.restore_state(good, 0.03);
+  EXPECT_EQ(world.objects()[1].body.x, x_saved);
+  EXPECT_DOUBLE_EQ(world.time(), 0.03);
+}
+
+TEST(World, RejectsDuplicateNamesAndBadMaps) {
+  std::vector<SimObject> objects;
+  objects.push_back(make_object("a", ObjectKind::Solid, 0));
+  objects.push_back(make_object("a", ObjectKind::Cloth, 1));
+  EXPECT_THROW(World(WorldSettings{}, std::move(objects), {}, nullptr), std::invalid_argument);
+  std::vector<SimObject> bad;
+  bad.push_back(make_object("a", ObjectKind::Solid, 0));
+  bad.back().surface_nodes[1] = 7;
+  EXPECT_THROW(World(WorldSettings{}, std::move(bad), {}, nullptr), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace invfem

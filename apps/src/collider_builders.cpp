@@ -17,16 +17,22 @@ namespace {
 
 Vec3 to_vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
-Motion make_motion(const ColliderSpec& c) {
+// The collider's pose at rest; its spin turns about its translate point.
+Motion collider_motion(const ColliderSpec& c) {
   RigidTransform pose;
   pose.rotation = rotation_of(c.transform);
   pose.translation = to_vec(c.transform.translate);
-  const MotionSpec& m = c.motion;
+  return make_motion(c.motion, pose, pose.translation);
+}
+
+}  // namespace
+
+Motion make_motion(const MotionSpec& m, const RigidTransform& pose, const Vec3& center) {
   switch (m.kind) {
     case MotionSpec::Kind::Fixed:
       return Motion::fixed(pose);
     case MotionSpec::Kind::ConstantVelocity:
-      return Motion::constant_velocity(pose, pose.translation, to_vec(m.velocity), to_vec(m.spin_axis).normalized(),
+      return Motion::constant_velocity(pose, center, to_vec(m.velocity), to_vec(m.spin_axis).normalized(),
                                        m.spin_rate);
     case MotionSpec::Kind::Keyframed: {
       std::vector<TranslationKey> tk;
@@ -38,8 +44,6 @@ Motion make_motion(const ColliderSpec& c) {
   }
   return Motion::fixed(pose);
 }
-
-}  // namespace
 
 std::vector<std::string> collider_body_names(const ColliderSpec& c) {
   if (c.type == "plane") return {};
@@ -96,7 +100,7 @@ std::vector<std::shared_ptr<RigidBody>> build_colliders(const Scene& scene) {
           shape = std::make_shared<CappedCylinderSurface>(c.radius, c.half_height);
           mesh = cylinder_triangles(c.radius, c.half_height);
         }
-        Motion motion = make_motion(c);
+        Motion motion = collider_motion(c);
         out.push_back(std::make_shared<RigidBody>(c.name, std::make_shared<MovingSurface>(shape, motion), c.friction,
                                                   std::move(mesh), motion));
       }

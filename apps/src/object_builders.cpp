@@ -10,11 +10,13 @@
 #include "invfem/core/plasticity_control.hpp"
 #include "invfem/core/surface_io.hpp"
 #include "invfem/shells/cloth_object.hpp"
+#include "invfem/shells/garment.hpp"
 #include "invfem/shells/shapes.hpp"
 #include "invfem/solids/bcc_mesher.hpp"
 #include "invfem/solids/solid_object.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
+#include "collider_builders.hpp"
 #include "json_fields.hpp"
 #include "material_factory.hpp"
 
@@ -118,40 +120,119 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
   }
 }
 
+namespace {
+
+// Pinned vertices of one PinSpec over the garment's vertices (boxes select by position at the
+// start of the run).
+std::vector<int> pinned_vertices(const PinSpec& p, const Garment& g, const Points& x0, const std::string& what) {
+  if (p.box) return nodes_in_box(x0, to_vec(p.box->min), to_vec(p.box->max));
+  if (!p.group.empty()) {
+    try {
+      return group_vertices(g, p.group);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(what + ": " + e.what());
+    }
+  }
+  for (int i : p.vertices)
+    if (i >= x0.rows())
+      throw InputError(what + ": vertex " + std::to_string(i) + " but the mesh has " + std::to_string(x0.rows()) +
+                       " vertices");
+  return p.vertices;
+}
+
+Garment load_cloth_geometry(const ClothSpec& spec) {
+  if (!spec.mesh.empty()) {
+    Garment g = load_garment(spec.mesh.string(), GarmentLoadOptions{spec.rest_shape == "pattern"});
+    if (!spec.initial_shape.empty()) load_initial_shape(g, spec.initial_shape.string());
+    return g;
+  }
+  if (spec.half_torus)
+    return garment_from_surface(make_half_torus(spec.half_torus->major_radius, spec.half_torus->minor_radius,
+                                                spec.half_torus->around, spec.half_torus->across));
+  // A grid lies in the x-z plane (y up), centred on the origin, before the transform.
+  return garment_from_surface(make_grid(spec.grid.width, spec.grid.height, spec.grid.nx, spec.grid.ny,
+                                        Vec3(-spec.grid.width / 2, 0, -spec.grid.height / 2), Vec3::UnitX(),
+                                        Vec3::UnitZ()));
+}
+
+}  // namespace
+
 SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
   const std::string what = "cloth \"" + spec.name + "\"";
-  TriangleSurface mesh;
+  const std::string where = scene.file.string() + ": " + what;
+  Garment g;
   try {
-    // A grid lies in the x-z plane (y up), centred on the origin, before the transform.
-    mesh = spec.mesh.empty()
-               ? make_grid(spec.grid.width, spec.grid.height, spec.grid.nx, spec.grid.ny,
-                           Vec3(-spec.grid.width / 2, 0, -spec.grid.height / 2), Vec3::UnitX(), Vec3::UnitZ())
-               : load_triangle_surface(spec.mesh.string());
+    g = load_cloth_geometry(spec);
   } catch (const std::exception& e) {
     throw InputError(what + ": " + e.what());
   }
-  apply_transform(spec.transform, mesh.x);
-  const int n = static_cast<int>(mesh.x.rows());
+  for (const auto& [keyword, count] : g.ignored)
+    std::cerr << "note: " << spec.mesh.string() << ": " << count << " '" << keyword << "' line" << (count > 1 ? "s" : "")
+              << " not used\n";
+  apply_transform(spec.transform, g.surface.x);
+  if (g.initial) apply_transform(spec.initial_transform.value_or(spec.transform), *g.initial);
+  const Points& x0 = g.initial ? *g.initial : g.surface.x;
+  const int n = static_cast<int>(x0.rows());
   const auto& m = spec.material;
   ClothObjectParams params;
   params.thickness = m.thickness;
   params.density = m.density;
   params.damping = m.damping;
   params.bending = BendingParams{m.bending_stiffness, m.bending_damping};
+  if (spec.bending_plasticity) {
+    constexpr double kDeg = 3.14159265358979323846 / 180;
+    params.bending.plasticity =
+        BendingPlasticity{spec.bending_plasticity->yield_degrees * kDeg, spec.bending_plasticity->max_change_degrees * kDeg};
+  }
+  if (spec.plasticity) {
+    PlasticParams p;
+    p.yield = spec.plasticity->yield;
+    p.deviatoric_only = spec.plasticity->deviatoric_only;
+    p.preserve_volume = spec.plasticity->preserve_volume;
+    p.max_stretch = spec.plasticity->max_stretch;
+    params.plasticity = p;
+  }
+  if (spec.inversion_test == "rest") params.inversion = InversionReference::Rest;
+  if (spec.inversion_test == "direction") {
+    params.inversion = InversionReference::Direction;
+    params.inversion_direction = to_vec(spec.inversion_direction).normalized();
+  }
+  if (!spec.stitches.from_mesh) g.stitches.clear();
+  params.stitch = StitchParams{spec.stitches.stiffness, spec.stitches.damping};
+  for (const auto& s : spec.stitches.list)
+    params.extra_stitches.push_back(Stitch{int(s[0]), int(s[1]), int(s[2]), s[3]});
   params.velocity = to_vec(spec.velocity);
   params.gravity = to_vec(scene.gravity);
   for (int i : spec.pin_vertices)
     if (i >= n)
-      throw InputError(scene.file.string() + ": " + what + ": pin_vertices has vertex " + std::to_string(i) +
-                       " but the mesh has " + std::to_string(n) + " vertices");
+      throw InputError(where + ": pin_vertices has vertex " + std::to_string(i) + " but the mesh has " +
+                       std::to_string(n) + " vertices");
   try {
-    const Lame lame = lame_from_young_poisson(m.young, m.poisson, what);
-    params.model = RotatedLinear{lame.mu, lame.lambda};
+    MaterialSpec model_spec;
+    model_spec.model = m.model;
+    model_spec.young = m.young;
+    model_spec.poisson = m.poisson;
+    model_spec.compression_limit = m.compression_limit;
+    model_spec.hardening_deformation = m.hardening_deformation;
+    model_spec.hardening_strength = m.hardening_strength;
+    params.model = make_model(model_spec);
     if (!spec.pin_vertices.empty())
-      params.pins.push_back(make_pin_group(mesh.x, spec.pin_vertices, std::nullopt, what + ": pin_vertices"));
-    for (auto& g : pins_in_boxes(mesh.x, spec.pin_boxes, scene.file.string() + ": " + what))
-      params.pins.push_back(std::move(g));
-    return make_cloth_object(spec.name, mesh, std::move(params));
+      params.pins.push_back(make_pin_group(x0, spec.pin_vertices, std::nullopt, what + ": pin_vertices"));
+    for (auto& pin : pins_in_boxes(x0, spec.pin_boxes, where)) params.pins.push_back(std::move(pin));
+    for (std::size_t k = 0; k < spec.pins.size(); ++k) {
+      const PinSpec& p = spec.pins[k];
+      const std::string pin_what = where + ": pins[" + std::to_string(k) + "]";
+      std::vector<int> nodes = pinned_vertices(p, g, x0, pin_what);
+      if (nodes.empty()) throw InputError(pin_what + " selects no vertex");
+      std::optional<Motion> motion;
+      if (p.motion.kind != MotionSpec::Kind::Fixed) {
+        Vec3 centre = Vec3::Zero();
+        for (int i : nodes) centre += x0.row(i).transpose();
+        motion = make_motion(p.motion, RigidTransform{}, centre / double(nodes.size()));
+      }
+      params.pins.push_back(make_pin_group(x0, std::move(nodes), std::move(motion), pin_what));
+    }
+    return make_cloth_object(spec.name, g, std::move(params));
   } catch (const std::invalid_argument& e) {
     throw InputError(scene.file.string() + ": " + e.what());
   }

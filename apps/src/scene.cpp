@@ -5,10 +5,11 @@
 #include <set>
 
 #include "json_fields.hpp"
+#include "scene_parts.hpp"
 
 namespace invfem::app {
 
-namespace {
+namespace scene_detail {
 
 ScalarTrack parse_track(const Fields& f, const std::string& key, double fallback) {
   if (!f.has(key)) return ScalarTrack::constant(fallback);
@@ -71,17 +72,27 @@ std::vector<PinBox> parse_pin_boxes(const Fields& f) {
   if (!f.has("pin_boxes")) return boxes;
   const auto& v = f.raw("pin_boxes");
   if (!v.is_array()) f.fail("pin_boxes", "an array of {\"min\": [x, y, z], \"max\": [x, y, z]} boxes");
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    const Fields b(v[i], f.file(), f.path_of("pin_boxes") + "[" + std::to_string(i) + "]");
-    b.reject_unknown({"min", "max"});
-    PinBox box;
-    box.min = b.vec3("min", box.min);
-    box.max = b.vec3("max", box.max);
-    for (int k = 0; k < 3; ++k)
-      if (box.min[k] > box.max[k]) b.fail("max", "a box with min <= max in every coordinate");
-    boxes.push_back(box);
-  }
+  for (std::size_t i = 0; i < v.size(); ++i)
+    boxes.push_back(parse_pin_box(Fields(v[i], f.file(), f.path_of("pin_boxes") + "[" + std::to_string(i) + "]")));
   return boxes;
+}
+
+PinBox parse_pin_box(const Fields& b) {
+  b.reject_unknown({"min", "max"});
+  PinBox box;
+  box.min = b.vec3("min", box.min);
+  box.max = b.vec3("max", box.max);
+  for (int k = 0; k < 3; ++k)
+    if (box.min[k] > box.max[k]) b.fail("max", "a box with min <= max in every coordinate");
+  return box;
+}
+
+std::filesystem::path parse_mesh_path(const Fields& f, const std::string& key, const std::filesystem::path& dir,
+                                      bool check_files) {
+  const std::filesystem::path p = std::filesystem::absolute(dir / f.string(key)).lexically_normal();
+  if (check_files && !std::filesystem::exists(p))
+    f.fail(key, "an existing mesh file", "\"" + p.string() + "\", which does not exist");
+  return p;
 }
 
 PlasticitySpec parse_plasticity(const Fields& f) {
@@ -211,9 +222,7 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
   c.thickness = f.number_in("thickness", c.thickness, 1e-6, 1e4);
   c.clearance = f.number_in("clearance", c.clearance, 0, 1e4);
   if (c.type == "mesh") {
-    c.mesh = std::filesystem::absolute(dir / f.string("mesh")).lexically_normal();
-    if (check_files && !std::filesystem::exists(c.mesh))
-      f.fail("mesh", "an existing mesh file", "\"" + c.mesh.string() + "\", which does not exist");
+    c.mesh = parse_mesh_path(f, "mesh", dir, check_files);
   }
   c.query_radius = f.number_in("query_radius", c.query_radius, 1e-9, 1e4);
   c.transform = parse_transform(f.object_or_empty("transform"));
@@ -222,55 +231,6 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
     f.fail("transform", "no transform with keyframed motion (the keys are absolute poses)");
   if (c.type != "mesh" && f.object_or_empty("transform").has("scale"))
     f.fail("transform", "no scale on an analytic collider (set its radius or extents)");
-  return c;
-}
-
-ClothMaterialSpec parse_cloth_material(const Fields& f) {
-  f.reject_unknown({"young", "poisson", "density", "thickness", "damping", "bending_stiffness", "bending_damping"});
-  ClothMaterialSpec m;
-  m.young = f.number_in("young", m.young, 0, 1e13);
-  m.poisson = f.number("poisson", m.poisson);
-  if (!(m.poisson > -1 && m.poisson < 0.5)) f.fail("poisson", "a Poisson's ratio in (-1, 0.5)");
-  m.density = f.number("density", m.density);
-  if (!(m.density > 0)) f.fail("density", "a density > 0 [kg/m^3]");
-  m.thickness = f.number("thickness", m.thickness);
-  if (!(m.thickness > 0 && m.thickness < 1)) f.fail("thickness", "a thickness in (0, 1) [m]");
-  m.damping = f.number_in("damping", m.damping, 0, 10);
-  m.bending_stiffness = f.number_in("bending_stiffness", m.bending_stiffness, 0, 1e6);
-  m.bending_damping = f.number_in("bending_damping", m.bending_damping, 0, 1e6);
-  return m;
-}
-
-ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool check_files) {
-  f.reject_unknown({"name", "mesh", "grid", "transform", "velocity", "material", "pin_vertices", "pin_boxes"});
-  ClothSpec c;
-  c.name = f.string("name");
-  if (f.has("mesh") && f.has("grid")) f.fail("grid", "either \"mesh\" or \"grid\", not both");
-  if (f.has("mesh")) {
-    c.mesh = std::filesystem::absolute(dir / f.string("mesh")).lexically_normal();
-    if (check_files && !std::filesystem::exists(c.mesh))
-      f.fail("mesh", "an existing mesh file", "\"" + c.mesh.string() + "\", which does not exist");
-  } else {
-    const Fields g = f.object_or_empty("grid");
-    g.reject_unknown({"width", "height", "nx", "ny"});
-    c.grid.width = g.number_in("width", c.grid.width, 1e-4, 1e4);
-    c.grid.height = g.number_in("height", c.grid.height, 1e-4, 1e4);
-    c.grid.nx = g.integer("nx", c.grid.nx, 1, 2000);
-    c.grid.ny = g.integer("ny", c.grid.ny, 1, 2000);
-  }
-  c.transform = parse_transform(f.object_or_empty("transform"));
-  c.velocity = f.vec3("velocity", c.velocity);
-  c.material = parse_cloth_material(f.object_or_empty("material"));
-  if (f.has("pin_vertices")) {
-    const auto& v = f.raw("pin_vertices");
-    if (!v.is_array()) f.fail("pin_vertices", "an array of vertex indices");
-    for (const auto& i : v) {
-      if (!i.is_number_integer() || i.get<long long>() < 0)
-        f.fail("pin_vertices", "vertex indices >= 0", describe(i));
-      c.pin_vertices.push_back(i.get<int>());
-    }
-  }
-  c.pin_boxes = parse_pin_boxes(f);
   return c;
 }
 
@@ -342,7 +302,9 @@ void apply_override(nlohmann::json& j, const std::string& assignment, const std:
   *node = parse_override_value(assignment.substr(eq + 1));
 }
 
-}  // namespace
+}  // namespace scene_detail
+
+using namespace scene_detail;
 
 Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bool check_files) {
   const std::string fname = file.string();
@@ -379,9 +341,7 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
       SolidSpec solid;
       solid.name = f.string("name");
       unique_name(f, solid.name);
-      solid.mesh = std::filesystem::absolute(dir / f.string("mesh")).lexically_normal();
-      if (check_files && !std::filesystem::exists(solid.mesh))
-        f.fail("mesh", "an existing mesh file", "\"" + solid.mesh.string() + "\", which does not exist");
+      solid.mesh = parse_mesh_path(f, "mesh", dir, check_files);
       solid.transform = parse_transform(f.object_or_empty("transform"));
       solid.velocity = f.vec3("velocity", solid.velocity);
       solid.mesh_resolution = f.integer("mesh_resolution", solid.mesh_resolution, 2, 1000);
@@ -443,7 +403,7 @@ Scene load_scene(const std::filesystem::path& file, const std::vector<std::strin
   return parse_scene(j, file);
 }
 
-namespace {
+namespace scene_detail {
 nlohmann::json track_json(const ScalarTrack& t) {
   nlohmann::json a = nlohmann::json::array();
   for (const auto& [time, v] : t.keys) a.push_back({time, v});
@@ -477,6 +437,11 @@ nlohmann::json motion_json(const MotionSpec& m) {
   return j;
 }
 
+nlohmann::json plasticity_json(const PlasticitySpec& p) {
+  return {{"yield", p.yield}, {"deviatoric_only", p.deviatoric_only}, {"preserve_volume", p.preserve_volume},
+          {"max_stretch", p.max_stretch}};
+}
+
 nlohmann::json solid_json(const SolidSpec& o) {
   const auto& m = o.material;
   nlohmann::json j{
@@ -490,31 +455,12 @@ nlohmann::json solid_json(const SolidSpec& o) {
                     {"hardening_deformation", m.hardening_deformation},
                     {"hardening_strength", m.hardening_strength}, {"strength", track_json(m.strength)}}},
       {"pin_boxes", pin_boxes_json(o.pin_boxes)}};
-  if (o.plasticity)
-    j["plasticity"] = {{"yield", o.plasticity->yield}, {"deviatoric_only", o.plasticity->deviatoric_only},
-                       {"preserve_volume", o.plasticity->preserve_volume}, {"max_stretch", o.plasticity->max_stretch}};
+  if (o.plasticity) j["plasticity"] = plasticity_json(*o.plasticity);
   if (o.plastic_goal) j["plastic_goal"] = {{"scale", o.plastic_goal->scale}, {"center", o.plastic_goal->center}};
   if (o.fiber)
     j["fiber"] = {{"direction", o.fiber->direction}, {"k_passive", o.fiber->k_passive},
                   {"k_active", o.fiber->k_active}, {"max_contraction", o.fiber->max_contraction},
                   {"activation", track_json(o.fiber->activation)}};
-  return j;
-}
-
-nlohmann::json cloth_json(const ClothSpec& c) {
-  const auto& m = c.material;
-  nlohmann::json j{{"name", c.name},
-                   {"transform", transform_json(c.transform)},
-                   {"velocity", c.velocity},
-                   {"material", {{"young", m.young}, {"poisson", m.poisson}, {"density", m.density},
-                                 {"thickness", m.thickness}, {"damping", m.damping},
-                                 {"bending_stiffness", m.bending_stiffness}, {"bending_damping", m.bending_damping}}},
-                   {"pin_vertices", c.pin_vertices},
-                   {"pin_boxes", pin_boxes_json(c.pin_boxes)}};
-  if (c.mesh.empty())
-    j["grid"] = {{"width", c.grid.width}, {"height", c.grid.height}, {"nx", c.grid.nx}, {"ny", c.grid.ny}};
-  else
-    j["mesh"] = c.mesh.string();
   return j;
 }
 
@@ -549,7 +495,7 @@ nlohmann::json collider_json(const ColliderSpec& c) {
   j["motion"] = motion_json(c.motion);
   return j;
 }
-}  // namespace
+}  // namespace scene_detail
 
 nlohmann::json to_json(const Scene& s) {
   nlohmann::json j;

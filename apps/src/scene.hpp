@@ -69,46 +69,9 @@ struct SolidSpec {
   std::optional<FiberSpec> fiber;
 };
 
-struct ClothMaterialSpec {
-  double young = 1e6;             // [Pa], in-plane
-  double poisson = 0.3;
-  double density = 300;           // [kg/m^3]; areal density = density * thickness
-  double thickness = 0.001;       // [m]
-  double damping = 0.01;          // k [s] for the in-plane rotated damping
-  double bending_stiffness = 1e-4;  // BMF03 k_e [N m]
-  double bending_damping = 1e-5;    // BMF03 k_d [N m s]
-};
-
-struct GridSpec {
-  double width = 1, height = 1;   // [m], in the x-z plane before the transform
-  int nx = 20, ny = 20;
-};
-
-struct ClothSpec {
-  std::string name;
-  std::filesystem::path mesh;     // empty: a grid
-  GridSpec grid;
-  Transform transform;
-  std::array<double, 3> velocity{0, 0, 0};
-  ClothMaterialSpec material;
-  std::vector<int> pin_vertices;  // vertex indices of the (welded) mesh, held in place
-  std::vector<PinBox> pin_boxes;  // every vertex whose world rest position lies in a box
-};
-
-struct CameraSpec {
-  bool automatic = true;          // framed around the objects' first frame
-  std::array<double, 3> position{0, 1, 4}, target{0, 0.5, 0};
-  double fov_degrees = 35;
-};
-
-struct RenderSpec {
-  int width = 640, height = 480;
-  bool ground = true;
-  CameraSpec camera;
-};
-
 // How a rigid collider moves: fixed at its transform, at constant linear and angular
-// velocity from it, or by absolute keyframes.
+// velocity from it, or by absolute keyframes. Pinned vertices use it too, about their rest
+// positions (the keys then move the pinned set as a rigid body from where it rests).
 struct MotionSpec {
   enum class Kind { Fixed, ConstantVelocity, Keyframed } kind = Kind::Fixed;
   std::array<double, 3> velocity{0, 0, 0};    // [m/s]
@@ -121,6 +84,87 @@ struct MotionSpec {
     double degrees;
   };
   std::vector<RotateKey> rotate_keys;
+};
+
+struct ClothMaterialSpec {
+  std::string model = "rotated_linear";  // rotated_linear | neo_hookean | stvk | spline (in-plane, plane stress)
+  double young = 1e6;             // [Pa], in-plane
+  double poisson = 0.3;
+  double compression_limit = 0.3;      // neo_hookean, stvk
+  double hardening_deformation = 0.5;  // spline: t
+  double hardening_strength = 7;       // spline: r
+  double density = 300;           // [kg/m^3]; areal density = density * thickness
+  double thickness = 0.001;       // [m]
+  double damping = 0.01;          // k [s] for the in-plane rotated damping
+  double bending_stiffness = 1e-4;  // BMF03 k_e [N m]
+  double bending_damping = 1e-5;    // BMF03 k_d [N m s]
+};
+
+struct GridSpec {
+  double width = 1, height = 1;   // [m], in the x-z plane before the transform
+  int nx = 20, ny = 20;
+};
+
+// A generated shell: the upper half of a torus about the y axis (its tube angle in [0, pi]),
+// standing on its two rims in the plane y = 0 before the transform.
+struct HalfTorusSpec {
+  double major_radius = 0.5;  // R [m], axis to tube centre
+  double minor_radius = 0.2;  // r [m], tube
+  int around = 70;            // cells around the axis
+  int across = 25;            // cells across the tube
+};
+
+struct BendingPlasticitySpec {     // ITF04 8: plastic rest angles
+  double yield_degrees = 5;        // gamma_b
+  double max_change_degrees = 90;  // limit on |theta_p - theta_0|
+};
+
+struct StitchSpec {
+  bool from_mesh = true;                    // use the mesh file's `stitch` lines
+  std::vector<std::array<double, 4>> list;  // more stitches [i, j, k, r], 0-based vertices
+  double stiffness = 1e3;                   // [N/m]
+  double damping = 0;                       // [N s/m]
+};
+
+// Pinned vertices, chosen by index list, box (rest positions) or group, held still or moved.
+struct PinSpec {
+  std::vector<int> vertices;
+  std::optional<PinBox> box;
+  std::string group;
+  MotionSpec motion;  // Fixed: held still; else carried by the motion about their rest positions
+};
+
+struct ClothSpec {
+  std::string name;
+  std::filesystem::path mesh;     // empty: a grid or a shape
+  GridSpec grid;
+  std::optional<HalfTorusSpec> half_torus;
+  std::string rest_shape = "mesh";     // mesh | pattern (the OBJ's vt)
+  std::filesystem::path initial_shape; // optional: the same vertices, another shape (a drape)
+  std::optional<Transform> initial_transform;  // for initial_shape; default: `transform`
+  Transform transform;
+  std::array<double, 3> velocity{0, 0, 0};
+  ClothMaterialSpec material;
+  std::optional<PlasticitySpec> plasticity;                 // in-plane
+  std::optional<BendingPlasticitySpec> bending_plasticity;
+  std::string inversion_test = "none";                     // none | rest | direction
+  std::array<double, 3> inversion_direction{0, 1, 0};
+  StitchSpec stitches;
+  std::vector<int> pin_vertices;  // vertex indices of the mesh, held in place
+  std::vector<PinBox> pin_boxes;  // every vertex whose world rest position lies in a box
+  std::vector<PinSpec> pins;      // general pins (with groups and motions)
+};
+
+struct CameraSpec {
+  bool automatic = true;          // framed around the objects' first frame
+  std::array<double, 3> position{0, 1, 4}, target{0, 0.5, 0};
+  double fov_degrees = 35;
+};
+
+struct RenderSpec {
+  int width = 640, height = 480;
+  bool ground = true;
+  CameraSpec camera;
 };
 
 struct ColliderSpec {

@@ -14,11 +14,33 @@ Points elastic_and_gravity(const Body& body, const std::vector<Force*>& forces) 
   return f;
 }
 
-// A p = (M - tau D) p, with D at the forces' current state.
-void apply_system(const Body& body, const std::vector<Force*>& forces, double tau, const Points& p, Points& Ap) {
+bool any_implicit(const std::vector<Force*>& forces) {
+  for (const Force* f : forces)
+    if (f->implicit_stiffness()) return true;
+  return false;
+}
+
+// A p = (M - tau D + kappa K) p, with D at the forces' current state and K the implicit forces'
+// constant stiffness (kappa = 0: none).
+void apply_system(const Body& body, const std::vector<Force*>& forces, double tau, double kappa, const Points& p,
+                  Points& Ap) {
   Points Dp = Points::Zero(p.rows(), 3);
   for (const Force* force : forces) force->add_damping_forces(p, Dp);
   Ap = body.mass.asDiagonal() * p - tau * Dp;
+  if (kappa == 0) return;
+  Points Kp = Points::Zero(p.rows(), 3);
+  for (const Force* force : forces)
+    if (force->implicit_stiffness()) force->add_stiffness_product(p, Kp);
+  Ap += kappa * Kp;
+}
+
+// The Jacobi preconditioner of that system: 1 / (m + kappa diag K) per node (damping left out).
+Eigen::VectorXd inverse_diagonal(const Body& body, const std::vector<Force*>& forces, double kappa) {
+  if (kappa == 0) return body.mass.cwiseInverse();
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(body.mass.size());
+  for (const Force* force : forces)
+    if (force->implicit_stiffness()) force->add_stiffness_diagonal(d);
+  return (body.mass + kappa * d).cwiseInverse();
 }
 
 // The right-hand side M v_in + tau f of the implicit solves.
@@ -26,13 +48,14 @@ Points solve_rhs(const Body& body, double tau, const Points& v_in, const Points&
   return body.mass.asDiagonal() * v_in + tau * force;
 }
 
-// Solve (M - tau D) v_out = b, warm-started from v_in.
-CGResult damping_solve(const Body& body, const std::vector<Force*>& forces, double tau, const Points& v_in,
-                       const Points& b, const NodeConstraints& constraints, const CGSettings& cg, Points& v_out) {
-  const Eigen::VectorXd inv_mass = body.mass.cwiseInverse();
-  auto apply_A = [&](const Points& p, Points& Ap) { apply_system(body, forces, tau, p, Ap); };
+// Solve (M - tau D + kappa K) v_out = b, warm-started from v_in.
+CGResult damping_solve(const Body& body, const std::vector<Force*>& forces, double tau, double kappa,
+                       const Points& v_in, const Points& b, const NodeConstraints& constraints, const CGSettings& cg,
+                       Points& v_out) {
+  const Eigen::VectorXd inv_diag = inverse_diagonal(body, forces, kappa);
+  auto apply_A = [&](const Points& p, Points& Ap) { apply_system(body, forces, tau, kappa, p, Ap); };
   v_out = v_in;
-  return projected_cg(apply_A, b, inv_mass, constraints, v_out, cg);
+  return projected_cg(apply_A, b, inv_diag, constraints, v_out, cg);
 }
 
 // Coulomb friction for the impulse the normal constraints absorbed in the solve A v = b:
@@ -42,13 +65,13 @@ CGResult damping_solve(const Body& body, const std::vector<Force*>& forces, doub
 // dt a_N / 2 of the step's dt a_N). The rest buys a tangential velocity change of mu times it,
 // toward the body's tangential velocity (time-integration.md step 8). Without it a block on a
 // slope would feel about half its friction.
-void constraint_friction(const Body& body, const std::vector<Force*>& forces, double tau, const Points& b,
-                         const NodeConstraints& constraints, Points& v) {
+void constraint_friction(const Body& body, const std::vector<Force*>& forces, double tau, double kappa,
+                         const Points& b, const NodeConstraints& constraints, Points& v) {
   bool any = false;
   for (const auto& c : constraints) any = any || (c.kind == NodeConstraint::Kind::Normal && c.friction > 0);
   if (!any) return;
   Points Av;
-  apply_system(body, forces, tau, v, Av);
+  apply_system(body, forces, tau, kappa, v, Av);
   for (const auto& c : constraints) {
     if (c.kind != NodeConstraint::Kind::Normal || c.friction <= 0) continue;
     const double dv_N = (Av.row(c.node) - b.row(c.node)).dot(c.normal.transpose()) / body.mass(c.node) -
@@ -69,11 +92,15 @@ StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionP
                        const NodeConstraints& pinned, double t, double dt, const CGSettings& cg) {
   StepStats stats;
   const double tau = dt / 2;
+  // Implicit stiffness (see the header): dt/2 dt K in line 1, (dt/2)^2 K in line 5.
+  const bool implicit = any_implicit(forces);
+  const double kappa_half = implicit ? tau * dt : 0.0, kappa_trapezoid = implicit ? tau * tau : 0.0;
 
   // 1. Half step: elastic force explicit at x(n), damping implicit.
   const Points fe_n = elastic_and_gravity(body, forces);
   Points v_half;
-  stats.half_step = damping_solve(body, forces, tau, body.v, solve_rhs(body, tau, body.v, fe_n), pinned, cg, v_half);
+  stats.half_step =
+      damping_solve(body, forces, tau, kappa_half, body.v, solve_rhs(body, tau, body.v, fe_n), pinned, cg, v_half);
 
   // 2. Predicted positions.
   Points x_new = body.x + dt * v_half;
@@ -95,8 +122,8 @@ StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionP
   const Points fe_new = elastic_and_gravity(body, forces);
   const Points b = solve_rhs(body, tau, v_n, f_old + fe_new);
   Points v_new;
-  stats.trapezoid = damping_solve(body, forces, tau, v_n, b, constraints, cg, v_new);
-  constraint_friction(body, forces, tau, b, constraints, v_new);
+  stats.trapezoid = damping_solve(body, forces, tau, kappa_trapezoid, v_n, b, constraints, cg, v_new);
+  constraint_friction(body, forces, tau, kappa_trapezoid, b, constraints, v_new);
 
   body.x = std::move(x_new);
   body.v = std::move(v_new);
@@ -105,7 +132,8 @@ StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionP
 
 double stable_time_step(const Body& body, const std::vector<Force*>& forces) {
   double dt = std::numeric_limits<double>::infinity();
-  for (const Force* force : forces) dt = std::min(dt, force->stable_time_step(body.mass));
+  for (const Force* force : forces)
+    if (!force->implicit_stiffness()) dt = std::min(dt, force->stable_time_step(body.mass));
   return dt;
 }
 

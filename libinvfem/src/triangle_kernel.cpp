@@ -58,6 +58,45 @@ TriangleRest make_triangle_rest(const Points& X, const Tris& tris, const std::st
   return r;
 }
 
+TriangleRest make_triangle_rest(const std::vector<PatternTriangle>& pattern, const Tris& tris, Eigen::Index n,
+                                const std::string& what) {
+  const Eigen::Index m = tris.rows();
+  if (static_cast<Eigen::Index>(pattern.size()) != m)
+    throw std::invalid_argument(what + ": " + std::to_string(pattern.size()) + " pattern triangles for " +
+                                std::to_string(m) + " triangles");
+  TriangleRest r;
+  r.tris = tris;
+  r.Dm_inv.resize(m);
+  r.area.resize(m);
+  r.min_altitude.resize(m);
+  r.node_area = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index e = 0; e < m; ++e) {
+    for (int k = 0; k < 3; ++k)
+      if (tris(e, k) < 0 || tris(e, k) >= n)
+        throw std::invalid_argument(element_name(what, e) + " has node index " + std::to_string(tris(e, k)) +
+                                    " outside [0, " + std::to_string(n) + ")");
+    const PatternTriangle& p = pattern[static_cast<std::size_t>(e)];
+    if (!p[0].allFinite() || !p[1].allFinite() || !p[2].allFinite())
+      throw std::invalid_argument(element_name(what, e) + " has a non-finite pattern coordinate");
+    const Vec2 d1 = p[1] - p[0], d2 = p[2] - p[0], d3 = d2 - d1;
+    const double twice_area = std::abs(d1.x() * d2.y() - d1.y() * d2.x());
+    const double longest = std::max({d1.norm(), d2.norm(), d3.norm()});
+    if (!(twice_area > 1e-14 * longest * longest))
+      throw std::invalid_argument(element_name(what, e) + " has zero area in the pattern (nodes " +
+                                  std::to_string(tris(e, 0)) + ", " + std::to_string(tris(e, 1)) + ", " +
+                                  std::to_string(tris(e, 2)) + ")");
+    // The frame of the 3D version: e1 along d1, the second axis towards d2 (d2.e2 = 2A/|d1| > 0).
+    const double l1 = d1.norm();
+    Mat2 Dm;
+    Dm << l1, d2.dot(d1) / l1, 0.0, twice_area / l1;
+    r.Dm_inv[e] = Dm.inverse();
+    r.area[e] = 0.5 * twice_area;
+    r.min_altitude[e] = twice_area / longest;
+    for (int k = 0; k < 3; ++k) r.node_area(tris(e, k)) += r.area[e] / 3.0;
+  }
+  return r;
+}
+
 void scatter_triangle_forces(const Tris& tris, const std::vector<Mat32>& G, Points& f) {
   const Eigen::Index m = tris.rows();
   for (Eigen::Index e = 0; e < m; ++e) {

@@ -1,5 +1,6 @@
 #include "invfem/shells/bending_force.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -29,9 +30,28 @@ BendingForce::BendingForce(const Points& X, const Tris& tris, const BendingParam
     throw std::invalid_argument(what + ": " + e.what());
   }
   geom_.resize(hinges_.size());
-  update_positions(X, 0.0);
   rest_angles_.resize(hinges_.size());
+  yielded_.assign(hinges_.size(), 0);
+  // The rest angles come from X itself; no flow at the rest state.
+  skip_next_flow_ = true;
+  update_positions(X, 0.0);
   for (std::size_t h = 0; h < hinges_.size(); ++h) rest_angles_[h] = hinge_angle(geom_[h]);
+  original_rest_angles_ = rest_angles_;
+}
+
+void BendingForce::set_rest_angles(std::vector<double> angles) {
+  if (angles.size() != hinges_.size())
+    throw std::invalid_argument(what_ + ": " + std::to_string(angles.size()) + " rest angles for " +
+                                std::to_string(hinges_.size()) + " hinges");
+  for (std::size_t h = 0; h < angles.size(); ++h)
+    if (!std::isfinite(angles[h]))
+      throw std::invalid_argument(what_ + ": rest angle of hinge " + std::to_string(h) + " is not finite");
+  rest_angles_ = std::move(angles);
+  original_rest_angles_ = rest_angles_;
+}
+
+int BendingForce::yielded_count() const {
+  return static_cast<int>(std::count(yielded_.begin(), yielded_.end(), 1));
 }
 
 void BendingForce::set_params(const BendingParams& p) {
@@ -41,6 +61,14 @@ void BendingForce::set_params(const BendingParams& p) {
   if (!std::isfinite(p.damping) || p.damping < 0)
     throw std::invalid_argument(what_ + ": bending damping must be finite and >= 0, got " +
                                 std::to_string(p.damping));
+  if (p.plasticity) {
+    if (!(std::isfinite(p.plasticity->yield_angle) && p.plasticity->yield_angle >= 0))
+      throw std::invalid_argument(what_ + ": bending plasticity yield_angle must be finite and >= 0, got " +
+                                  std::to_string(p.plasticity->yield_angle));
+    if (!(p.plasticity->max_change > 0))
+      throw std::invalid_argument(what_ + ": bending plasticity max_change must be > 0, got " +
+                                  std::to_string(p.plasticity->max_change));
+  }
   params_ = p;
 }
 
@@ -49,7 +77,23 @@ void BendingForce::update_positions(const Points& x, double /*time*/) {
     throw std::invalid_argument(what_ + ": positions have " + std::to_string(x.rows()) +
                                 " rows, the mesh has " + std::to_string(n_nodes_) + " nodes");
   if (!x.allFinite()) throw std::invalid_argument(what_ + ": positions contain NaN or inf");
-  parallel_for_each(hinges_.size(), kGrain, [&](std::size_t h) { geom_[h] = hinge_geometry(x, hinges_[h]); });
+  const bool flow = params_.plasticity && !skip_next_flow_;  // a restored state already holds this flow
+  skip_next_flow_ = false;
+  const BendingPlasticity plastic = params_.plasticity.value_or(BendingPlasticity{});
+  parallel_for_each(hinges_.size(), kGrain, [&](std::size_t h) {
+    geom_[h] = hinge_geometry(x, hinges_[h]);
+    if (!flow) return;
+    yielded_[h] = 0;
+    if (!geom_[h].valid) return;
+    // ITF04 section 8: the return mapping of section 6.3 on the rest angle.
+    const double theta = hinge_angle(geom_[h]), d = theta - rest_angles_[h];
+    if (std::abs(d) <= plastic.yield_angle) return;
+    const double theta0 = original_rest_angles_[h];
+    rest_angles_[h] = std::clamp(theta - std::copysign(plastic.yield_angle, d), theta0 - plastic.max_change,
+                                 theta0 + plastic.max_change);
+    yielded_[h] = 1;
+  });
+  if (!params_.plasticity) std::fill(yielded_.begin(), yielded_.end(), 0);
 }
 
 void BendingForce::add_elastic_forces(Points& f) const {
@@ -85,6 +129,7 @@ void BendingForce::restore_state(StateReader& in) {
   for (std::size_t h = 0; h < angles.size(); ++h)
     if (!std::isfinite(angles[h])) throw StateError(what_ + ": rest angle of hinge " + std::to_string(h) + " is not finite");
   rest_angles_ = std::move(angles);
+  skip_next_flow_ = true;
 }
 
 double BendingForce::elastic_energy() const {

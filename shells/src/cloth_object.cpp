@@ -1,32 +1,73 @@
 #include "invfem/shells/cloth_object.hpp"
 
+#include <Eigen/Geometry>
+
 #include "invfem/core/pins.hpp"
 #include "invfem/core/triangle_kernel.hpp"
 
 namespace invfem {
 
-SimObject make_cloth_object(const std::string& name, const TriangleSurface& surface, ClothObjectParams p) {
+namespace {
+
+// Unit-free face normals (x1 - x0) x (x2 - x0) of every triangle at positions x.
+std::vector<Vec3> face_normals(const Points& x, const Tris& tris) {
+  std::vector<Vec3> n(static_cast<std::size_t>(tris.rows()));
+  for (Eigen::Index t = 0; t < tris.rows(); ++t)
+    n[t] = (x.row(tris(t, 1)) - x.row(tris(t, 0))).transpose().cross((x.row(tris(t, 2)) - x.row(tris(t, 0))).transpose());
+  return n;
+}
+
+}  // namespace
+
+SimObject make_cloth_object(const std::string& name, const Garment& garment, ClothObjectParams p) {
   const std::string what = "cloth \"" + name + "\"";
+  const TriangleSurface& surface = garment.surface;
+  const Points& x0 = garment.initial ? *garment.initial : surface.x;
   SimObject o;
   o.name = name;
   o.kind = ObjectKind::Cloth;
-  auto membrane =
-      std::make_unique<MembraneForce>(surface.x, surface.tris, MembraneParams{p.model, p.thickness, p.damping}, what);
-  o.body.x = surface.x;
-  o.body.v = Points(surface.x.rows(), 3);
+  MembraneParams mp{p.model, p.thickness, p.damping, p.plasticity, {}};
+  if (p.inversion == InversionReference::Rest)
+    mp.inversion_normals = face_normals(garment.pattern.empty() ? surface.x : x0, surface.tris);
+  else if (p.inversion == InversionReference::Direction)
+    mp.inversion_normals.assign(static_cast<std::size_t>(surface.tris.rows()), p.inversion_direction);
+  std::unique_ptr<MembraneForce> membrane =
+      garment.pattern.empty()
+          ? std::make_unique<MembraneForce>(surface.x, surface.tris, mp, what)
+          : std::make_unique<MembraneForce>(make_triangle_rest(garment.pattern, surface.tris, surface.x.rows(), what), mp,
+                                            what);
+  o.body.x = x0;
+  o.body.v = Points(x0.rows(), 3);
   o.body.v.rowwise() = p.velocity.transpose();
   o.body.mass = lumped_triangle_masses(membrane->rest(), p.density * p.thickness);
   o.body.gravity = p.gravity;
   auto bending = std::make_unique<BendingForce>(surface.x, surface.tris, p.bending, what);
+  // A pattern is flat: a garment's rest bend angle is 0 along every hinge.
+  if (!garment.pattern.empty()) bending->set_rest_angles(std::vector<double>(bending->hinges().size(), 0.0));
   membrane->update_positions(o.body.x, 0.0);
   bending->update_positions(o.body.x, 0.0);
+  std::vector<Stitch> stitches = garment.stitches;
+  stitches.insert(stitches.end(), p.extra_stitches.begin(), p.extra_stitches.end());
+  std::unique_ptr<StitchForce> stitch;
+  if (!stitches.empty()) {
+    std::vector<double> lengths = seam_lengths(stitches, membrane->rest());
+    stitch = std::make_unique<StitchForce>(std::move(stitches), std::move(lengths), x0.rows(), p.stitch, what);
+    stitch->update_positions(o.body.x, 0.0);
+  }
   o.forces.push_back(std::move(membrane));
   o.forces.push_back(std::move(bending));
+  if (stitch) o.forces.push_back(std::move(stitch));
   o.pins = std::move(p.pins);
   set_pinned_velocities(o, 0.0);
-  o.surface = extract_surface(surface.x, surface.tris, o.surface_nodes);
+  o.surface = extract_surface(o.body.x, surface.tris, o.surface_nodes);
   o.surface.source = surface.source;
   return o;
+}
+
+SimObject make_cloth_object(const std::string& name, const TriangleSurface& surface, ClothObjectParams params) {
+  Garment g;
+  g.surface = surface;
+  return make_cloth_object(name, g, std::move(params));
 }
 
 }  // namespace invfem

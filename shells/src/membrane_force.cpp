@@ -1,5 +1,9 @@
 #include "invfem/shells/membrane_force.hpp"
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -19,26 +23,56 @@ double model_mu(const IsotropicModel& m) {
 double model_lambda(const IsotropicModel& m) {
   return std::visit([](const auto& x) { return x.lambda; }, m);
 }
+
+// Fp^-1 from a checkpoint: finite, symmetric, positive definite.
+void validate_Fp_inv(const Mat2& A, std::size_t e, const std::string& what) {
+  const std::string where = what + ": plastic state of triangle " + std::to_string(e) + ": Fp^-1 ";
+  if (!A.allFinite()) throw StateError(where + "is not finite");
+  if (!((A - A.transpose()).norm() <= 1e-9 * A.norm())) throw StateError(where + "is not symmetric");
+  if (!(A(0, 0) > 0 && A.determinant() > 0)) throw StateError(where + "is not positive definite");
+}
 }  // namespace
 
 MembraneForce::MembraneForce(const Points& X, const Tris& tris, const MembraneParams& params,
                              const std::string& what)
-    : what_(what),
-      rest_(make_triangle_rest(X, tris, what)),
-      thickness_(params.thickness),
-      rayleigh_(params.rayleigh) {
+    : what_(what), rest_(make_triangle_rest(X, tris, what)) {
+  init(params);
+  update_positions(X, 0.0);
+}
+
+MembraneForce::MembraneForce(TriangleRest rest, const MembraneParams& params, const std::string& what)
+    : what_(what), rest_(std::move(rest)) {
+  init(params);
+}
+
+void MembraneForce::init(const MembraneParams& params) {
+  thickness_ = params.thickness;
+  rayleigh_ = params.rayleigh;
   if (!std::isfinite(thickness_) || thickness_ <= 0)
-    throw std::invalid_argument(what + ": thickness must be finite and > 0, got " +
-                                std::to_string(thickness_));
+    throw std::invalid_argument(what_ + ": thickness must be finite and > 0, got " + std::to_string(thickness_));
   if (!std::isfinite(rayleigh_) || rayleigh_ < 0)
-    throw std::invalid_argument(what + ": rayleigh damping coefficient must be finite and >= 0, got " +
+    throw std::invalid_argument(what_ + ": rayleigh damping coefficient must be finite and >= 0, got " +
                                 std::to_string(rayleigh_));
   set_model(params.model);
   const std::size_t m = rest_.area.size();
-  diag_.resize(m);
+  plasticity_ = params.plasticity;
+  if (plasticity_) plasticity_->validate(what_ + ": plasticity");
+  inversion_normals_ = params.inversion_normals;
+  if (!inversion_normals_.empty()) {
+    if (inversion_normals_.size() != m)
+      throw std::invalid_argument(what_ + ": " + std::to_string(inversion_normals_.size()) +
+                                  " inversion-test normals for " + std::to_string(m) + " triangles");
+    for (std::size_t e = 0; e < m; ++e)
+      if (!inversion_normals_[e].allFinite() || !(inversion_normals_[e].norm() > 0))
+        throw std::invalid_argument(what_ + ": inversion-test normal of triangle " + std::to_string(e) +
+                                    " is zero or not finite");
+  }
+  plastic_ = make_plastic_state2(static_cast<int>(m));
+  diag_.assign(m, Diagonalization32{Mat32::Identity(), Vec2::Ones(), Mat2::Identity()});
   G_.assign(m, Mat32::Zero());
   psi_.assign(m, 0.0);
-  update_positions(X, 0.0);
+  yielded_.assign(m, 0);
+  inverted_.assign(m, 0);
 }
 
 void MembraneForce::set_model(const IsotropicModel& model) {
@@ -55,18 +89,52 @@ void MembraneForce::update_positions(const Points& x, double /*time*/) {
                                 " rows, the mesh has " + std::to_string(rest_.node_area.size()) +
                                 " nodes");
   if (!x.allFinite()) throw std::invalid_argument(what_ + ": positions contain NaN or inf");
+  const bool flow = plasticity_ && !skip_next_flow_;  // a restored state already holds this flow
+  skip_next_flow_ = false;
+  // The plain ITF04 membrane (no plasticity, no inversion test) keeps its original expression.
+  const bool plain = !plasticity_ && plastic_identity_ && inversion_normals_.empty();
   // Visit the model once for the whole batch; the element loop is then monomorphic.
   std::visit(
       [&](const auto& model) {
         parallel_for_each(rest_.area.size(), kGrain, [&](std::size_t e) {
           const Mat32 F = deformation_gradient(rest_, static_cast<int>(e), x);
-          diag_[e] = diagonalize(F);
-          psi_[e] = model.template psi<2>(diag_[e].sigma);
-          G_[e] = triangle_forces(first_piola(model, diag_[e]), rest_.Dm_inv[e],
+          if (plain) {
+            diag_[e] = diagonalize(F);
+            psi_[e] = model.template psi<2>(diag_[e].sigma);
+            G_[e] = triangle_forces(first_piola(model, diag_[e]), rest_.Dm_inv[e], rest_.area[e] * thickness_);
+            return;
+          }
+          Mat2& Fp_inv = plastic_.Fp_inv[e];
+          if (flow) {
+            const PlasticUpdate2 u = plastic_flow(F, Fp_inv, *plasticity_);
+            yielded_[e] = u.yielded;
+            diag_[e] = u.elastic;
+          } else {
+            diag_[e] = diagonalize(Mat32(F * Fp_inv));
+          }
+          inverted_[e] = 0;
+          if (!inversion_normals_.empty()) {
+            const auto t = rest_.tris.row(static_cast<Eigen::Index>(e));
+            const Vec3 n = (x.row(t(1)) - x.row(t(0))).transpose().cross((x.row(t(2)) - x.row(t(0))).transpose());
+            if (n.dot(inversion_normals_[e]) < 0) {  // F = U diag(s) V^T is unchanged by both flips
+              diag_[e].sigma(1) = -diag_[e].sigma(1);
+              diag_[e].U.col(1) = -diag_[e].U.col(1);
+              inverted_[e] = 1;
+            }
+          }
+          const double area_factor = plastic_volume_factor(Fp_inv);  // det Fp
+          psi_[e] = area_factor * model.template psi<2>(diag_[e].sigma);
+          G_[e] = triangle_forces(plastic_stress(first_piola(model, diag_[e]), Fp_inv), rest_.Dm_inv[e],
                                   rest_.area[e] * thickness_);
         });
       },
       model_);
+  if (!flow) {
+    std::fill(yielded_.begin(), yielded_.end(), 0);
+  } else {
+    plastic_identity_ = std::all_of(plastic_.Fp_inv.begin(), plastic_.Fp_inv.end(),
+                                    [](const Mat2& A) { return A == Mat2::Identity(); });
+  }
 }
 
 void MembraneForce::add_elastic_forces(Points& f) const { scatter_triangle_forces(rest_.tris, G_, f); }
@@ -75,14 +143,16 @@ void MembraneForce::add_damping_forces(const Points& v, Points& f) const {
   if (rayleigh_ == 0) return;
   const double alpha = rayleigh_ * model_lambda(model_);
   const double beta = rayleigh_ * model_mu(model_);
+  const bool plain = plastic_identity_;
   std::vector<Mat32> Gd(rest_.area.size());
   parallel_for_each(Gd.size(), kGrain, [&](std::size_t e) {
     const Diagonalization32& d = diag_[e];
-    const Mat2 Fdot_hat = d.U.transpose() * velocity_gradient(rest_, static_cast<int>(e), v) * d.V;
-    const Mat2 Pd_hat = beta * (Fdot_hat + Fdot_hat.transpose()) +
-                        alpha * Fdot_hat.trace() * Mat2::Identity();
+    const Mat32 Fdot = velocity_gradient(rest_, static_cast<int>(e), v);
+    const Mat2& Fp_inv = plastic_.Fp_inv[e];
+    const Mat2 Fdot_hat = plain ? Mat2(d.U.transpose() * Fdot * d.V) : Mat2(d.U.transpose() * (Fdot * Fp_inv) * d.V);
+    const Mat2 Pd_hat = beta * (Fdot_hat + Fdot_hat.transpose()) + alpha * Fdot_hat.trace() * Mat2::Identity();
     const Mat32 Pd = d.U * Pd_hat * d.V.transpose();
-    Gd[e] = triangle_forces(Pd, rest_.Dm_inv[e], rest_.area[e] * thickness_);
+    Gd[e] = triangle_forces(plain ? Pd : plastic_stress(Pd, Fp_inv), rest_.Dm_inv[e], rest_.area[e] * thickness_);
   });
   scatter_triangle_forces(rest_.tris, Gd, f);
 }
@@ -110,9 +180,37 @@ double MembraneForce::stable_time_step(const Eigen::VectorXd& mass) const {
                                     " has non-positive or NaN mass " + std::to_string(mass(i)));
       rho = std::min(rho, mass(i) / (thickness_ * rest_.node_area(i)));
     }
-    dt = std::min(dt, rest_.min_altitude[e] * std::sqrt(rho / modulus));
+    double dt_e = rest_.min_altitude[e] * std::sqrt(rho / modulus);
+    if (!plastic_identity_) {
+      const Eigen::SelfAdjointEigenSolver<Mat2> eig(plastic_.Fp_inv[static_cast<std::size_t>(e)]);
+      dt_e *= std::sqrt(eig.eigenvalues().minCoeff() / eig.eigenvalues().maxCoeff());
+    }
+    dt = std::min(dt, dt_e);
   }
   return dt;
+}
+
+void MembraneForce::save_state(StateWriter& out) const { out.matrices(plastic_.Fp_inv); }
+
+void MembraneForce::restore_state(StateReader& in) {
+  std::vector<Mat2> fp;
+  in.matrices(fp, plastic_.Fp_inv.size(), what_ + ": plastic state (Fp^-1 per triangle)");
+  bool identity = true;
+  for (std::size_t e = 0; e < fp.size(); ++e) {
+    validate_Fp_inv(fp[e], e, what_);
+    identity = identity && fp[e] == Mat2::Identity();
+  }
+  plastic_.Fp_inv = std::move(fp);
+  plastic_identity_ = identity;
+  skip_next_flow_ = true;
+}
+
+int MembraneForce::yielded_count() const {
+  return static_cast<int>(std::count(yielded_.begin(), yielded_.end(), 1));
+}
+
+int MembraneForce::inverted_count() const {
+  return static_cast<int>(std::count(inverted_.begin(), inverted_.end(), 1));
 }
 
 }  // namespace invfem

@@ -40,4 +40,40 @@ TriangleSurface make_grid(double width, double height, int nx, int ny, const Vec
   return mesh;
 }
 
+TriangleSurface make_half_torus(double R, double r, int around, int across) {
+  if (!(r > 0 && r < R && std::isfinite(R)))
+    throw std::invalid_argument("make_half_torus: need 0 < minor radius < major radius, got " + std::to_string(r) +
+                                " and " + std::to_string(R));
+  if (around < 3 || across < 1)
+    throw std::invalid_argument("make_half_torus: need around >= 3 and across >= 1, got " + std::to_string(around) +
+                                " and " + std::to_string(across));
+  constexpr double kPi = 3.14159265358979323846;
+  TriangleSurface s;
+  s.source = "half torus " + std::to_string(around) + "x" + std::to_string(across);
+  s.x.resize(around * (across + 1), 3);
+  auto id = [&](int i, int j) { return (i % around) * (across + 1) + j; };
+  for (int i = 0; i < around; ++i)
+    for (int j = 0; j <= across; ++j) {
+      const double theta = 2 * kPi * i / around, phi = kPi * j / across;
+      const double rho = R + r * std::cos(phi);
+      s.x.row(id(i, j)) << rho * std::cos(theta), r * std::sin(phi), -rho * std::sin(theta);
+    }
+  s.tris.resize(2 * around * across, 3);
+  int t = 0;
+  for (int i = 0; i < around; ++i)
+    for (int j = 0; j < across; ++j) {
+      // (i, j) -> (i+1, j) runs around the axis, (i, j) -> (i, j+1) over the tube: (d theta) x
+      // (d phi) points out of the tube for theta counter-clockwise seen from +y.
+      const int a = id(i, j), b = id(i + 1, j), c = id(i, j + 1), d = id(i + 1, j + 1);
+      if ((i + j) % 2 == 0) {
+        s.tris.row(t++) << a, b, d;
+        s.tris.row(t++) << a, d, c;
+      } else {
+        s.tris.row(t++) << a, b, c;
+        s.tris.row(t++) << b, d, c;
+      }
+    }
+  return s;
+}
+
 }  // namespace invfem

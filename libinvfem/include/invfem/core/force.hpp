@@ -50,6 +50,14 @@ class Force {
     return std::numeric_limits<double>::infinity();
   }
 
+  // A force linear in x with a constant symmetric positive semidefinite stiffness K, f(x + d) =
+  // f(x) - K d (stitches), may be taken implicitly by the ITF04 step (newmark_step.hpp): then it
+  // limits no explicit time step. add_stiffness_product: Kp += K p (n x 3); add_stiffness_diagonal:
+  // d(i) += the diagonal of K's 3x3 block of node i (K acts alike on x, y and z).
+  virtual bool implicit_stiffness() const { return false; }
+  virtual void add_stiffness_product(const Points& p, Points& Kp) const {}
+  virtual void add_stiffness_diagonal(Eigen::VectorXd& d) const {}
+
   // State that is not a function of the positions (plastic Fp, plastic rest angles), for
   // checkpoints. save_state is called right after an update_positions(x); restore_state reads
   // exactly what save_state wrote (throwing StateError, with the force unchanged, when it does

@@ -8,6 +8,15 @@
 //   4. F, its diagonalization and plastic flow, once, at x(n+1)  (Force::update_positions)
 //   5. v(n+1)    = v~(n) + dt/2 (a(x(n), v~(n)) + a(x(n+1), v(n+1)))   trapezoid, implicit in
 //                  v(n+1) through damping; flagged nodes keep their normal velocity.
+//
+// Forces with a constant linear stiffness K (Force::implicit_stiffness: stitches) are taken
+// implicitly, so their stiffness sets no time step: line 1 evaluates them at the position it
+// produces, f(x(n) + dt v~) = f(x(n)) - dt K v~, adding dt/2 dt K to its system; line 5 at
+// x(n+1) + dt/2 v(n+1), adding (dt/2)^2 K. For an undamped spring this keeps the energy at or
+// below its start for every omega dt and damps it: strongly for the stiff modes stitches have
+// (omega dt >= 1 loses 11% or more in the first step), about 0.25% a step at omega dt = 0.1.
+// Taking line 5 explicitly instead keeps the positions bounded but lets the velocities grow as
+// (omega dt)^2.
 #include <vector>
 
 #include "invfem/core/collision_processor.hpp"

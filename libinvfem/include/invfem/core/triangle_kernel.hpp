@@ -7,6 +7,7 @@
 //   F = Ds Dm^-1 (3x2),  Ds = [x1-x0, x2-x0] (world),
 //   G = [g1 g2] = -A0 h P Dm^-T (3x2),  g0 = -(g1 + g2),
 // with P = U P^ V^T and P^ = dPsi/dsigma of the model in 2D (psi_gradient<2>).
+#include <array>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,19 @@ struct TriangleRest {
 // longest edge squared, below 1e-14: Dm would not be invertible in double).
 TriangleRest make_triangle_rest(const Points& X, const Tris& tris,
                                 const std::string& what = "triangle mesh");
+
+// The 2D corners of one triangle in its sewing pattern (a garment's rest shape: OBJ vt).
+using PatternTriangle = std::array<Vec2, 3>;
+
+// Rest data from 2D pattern coordinates, one PatternTriangle per triangle (so a vertex on a seam
+// may have different corners in different triangles): the same material frame as above built
+// from the 2D edges, so a pattern triangle and the same triangle laid flat in 3D give the same
+// Dm. A mirrored pattern triangle (negative signed area) is fine: only edge lengths and the
+// altitude enter. node_area has num_nodes entries. Throws std::invalid_argument naming `what`
+// and the element for a size mismatch, an index out of range, a non-finite corner or a zero-area
+// pattern triangle (same threshold as above).
+TriangleRest make_triangle_rest(const std::vector<PatternTriangle>& pattern, const Tris& tris,
+                                Eigen::Index num_nodes, const std::string& what = "triangle mesh");
 
 inline Mat32 deformation_gradient(const TriangleRest& rest, int e, const Points& x) {
   const auto t = rest.tris.row(e);

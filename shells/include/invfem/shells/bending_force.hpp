@@ -9,6 +9,7 @@
 //   W = k_e c (2 cos(theta0/2) - 2 cos(theta/2) - (theta - theta0) sin(theta0/2)),
 // whose derivative in theta at fixed c gives the force exactly; -grad W differs from the force by
 // k_e g(theta) grad c, which is O((theta - theta0)^2) (the tests check both relations).
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,9 +18,20 @@
 
 namespace invfem {
 
+// Plastic bending (ITF04 section 8, bending-BMF03.md section 7 (a)): the rest angle theta_p of a
+// hinge flows toward the current angle theta when the bend exceeds the yield angle,
+//   |theta - theta_p| > yield_angle  =>  theta_p <- theta - yield_angle sign(theta - theta_p),
+// once per update_positions, and never moves more than max_change from its original value theta_0
+// (the total plastic change is limited, as Fp is for solids). The rest angles are plain data.
+struct BendingPlasticity {
+  double yield_angle = 0.1;  // gamma_b [rad] >= 0
+  double max_change = 1.0;   // [rad] > 0
+};
+
 struct BendingParams {
   double stiffness = 0;  // k_e [N m] >= 0
   double damping = 0;    // k_d [N s] >= 0
+  std::optional<BendingPlasticity> plasticity{};
 };
 
 class BendingForce : public Force {
@@ -36,16 +48,23 @@ class BendingForce : public Force {
   // Estimate from the Gauss-Newton stiffness k_e c cos(theta/2)/2 u u^T of each hinge:
   // dt = 1 / sqrt(max_h k_e c_h / 2 sum_i |u_i|^2 / m_i). +inf without stiffness.
   double stable_time_step(const Eigen::VectorXd& mass) const override;
-  // The rest angles (plain data that plasticity moves).
+  // The rest angles (plain data that plasticity moves); restoring them skips the next flow (no
+  // second flow at the saved positions).
   void save_state(StateWriter& out) const override;
   void restore_state(StateReader& in) override;
+  // New rest angles theta_0 (e.g. flat, 0, for a garment whose rest shape is its pattern): the
+  // plastic rest angles start there and the plastic limit is measured from them. Throws
+  // std::invalid_argument for a wrong count or a non-finite angle.
+  void set_rest_angles(std::vector<double> angles);
+  int yielded_count() const;  // hinges whose rest angle flowed in the last update
 
   const std::vector<Hinge>& hinges() const { return hinges_; }
   const HingeStats& hinge_stats() const { return stats_; }
-  // Rest angle theta0 per hinge [rad], plain data so that plasticity (bending-BMF03.md 7) can
-  // move it between steps.
+  // Rest angle theta_p per hinge [rad], plain data that plasticity (bending-BMF03.md 7) moves
+  // between steps; original_rest_angles() are the theta_0 the plastic limit is measured from.
   std::vector<double>& rest_angles() { return rest_angles_; }
   const std::vector<double>& rest_angles() const { return rest_angles_; }
+  const std::vector<double>& original_rest_angles() const { return original_rest_angles_; }
   // Current angle per hinge (0 for a degenerate one), from the last update_positions.
   double angle(std::size_t h) const { return hinge_angle(geom_[h]); }
   const HingeGeometry& geometry(std::size_t h) const { return geom_[h]; }
@@ -59,7 +78,10 @@ class BendingForce : public Force {
   std::vector<Hinge> hinges_;
   HingeStats stats_;
   std::vector<double> rest_angles_;
+  std::vector<double> original_rest_angles_;
   std::vector<HingeGeometry> geom_;
+  std::vector<char> yielded_;
+  bool skip_next_flow_ = false;
 };
 
 // f (n x 3) += per-hinge forces (columns = forces on x1..x4), sequentially in hinge order.

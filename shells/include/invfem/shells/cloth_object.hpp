@@ -1,30 +1,51 @@
 #pragma once
-// A cloth or shell as a simulated object of the World (core/world.hpp): its vertices with lumped
-// masses, the membrane force on the 3x2 F (ITF04 section 8) and BMF03 bending, its pins. A cloth
-// is its surface: surface vertex i is node i.
+// A cloth, garment or shell as a simulated object of the World (core/world.hpp): its vertices
+// with lumped masses (from the rest areas), the membrane force on the 3x2 F (ITF04 section 8),
+// BMF03 bending, the seams' stitches, and pins. A cloth is its surface: surface vertex i is node i.
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "invfem/core/materials/model.hpp"
+#include "invfem/core/plasticity.hpp"
 #include "invfem/core/world.hpp"
 #include "invfem/shells/bending_force.hpp"
+#include "invfem/shells/garment.hpp"
 #include "invfem/shells/membrane_force.hpp"
+#include "invfem/shells/stitch_force.hpp"
 
 namespace invfem {
+
+// Where the inversion test of ITF04 section 8 takes its known surface normal per triangle.
+enum class InversionReference {
+  None,       // no test (cloth: a flipped triangle is a rotated one)
+  Rest,       // the triangle's normal in the rest shape (or the initial shape, for a pattern rest)
+  Direction,  // one fixed direction for every triangle
+};
 
 struct ClothObjectParams {
   IsotropicModel model = RotatedLinear{};  // 3D Lame parameters (plane stress is taken inside)
   double thickness = 0.001;                // h [m]
   double density = 300;                    // [kg/m^3]; areal density = density * thickness
   double damping = 0;                      // in-plane Rayleigh coefficient k [s]
-  BendingParams bending;                   // k_e [N m], k_d [N m s]
+  BendingParams bending;                   // k_e [N m], k_d [N m s], optional plastic rest angles
+  std::optional<PlasticParams> plasticity; // in-plane plasticity (ITF04 section 8), off when empty
+  InversionReference inversion = InversionReference::None;
+  Vec3 inversion_direction = Vec3::UnitY();  // for InversionReference::Direction
+  StitchParams stitch;                     // for the garment's stitches and `extra_stitches`
+  std::vector<Stitch> extra_stitches;      // stitches given besides the file's
   Vec3 velocity = Vec3::Zero();            // initial velocity of every free vertex [m/s]
   Vec3 gravity = Vec3(0, -9.81, 0);        // [m/s^2]
-  std::vector<PinGroup> pins;              // over the surface's vertices
+  std::vector<PinGroup> pins;              // over the garment's vertices
 };
 
-// The rest shape is `surface` itself (rest angles from its geometry). Throws
-// std::invalid_argument naming `name` for bad parameters or a bad rest mesh.
+// Rest shape: the garment's pattern when it has one (rest bend angles flat), else its 3D surface
+// (rest angles from its geometry). Initial positions: garment.initial, else the surface. Forces:
+// membrane, bending, then stitches (when there are any). Throws std::invalid_argument naming
+// `name` for bad parameters, a bad rest mesh or a bad stitch.
+SimObject make_cloth_object(const std::string& name, const Garment& garment, ClothObjectParams params);
+
+// The same for a plain surface (its own rest shape): a generated grid or shell.
 SimObject make_cloth_object(const std::string& name, const TriangleSurface& surface, ClothObjectParams params);
 
 }  // namespace invfem

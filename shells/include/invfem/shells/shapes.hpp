@@ -12,4 +12,11 @@ namespace invfem {
 TriangleSurface make_grid(double width, double height, int nx, int ny, const Vec3& origin = Vec3::Zero(),
                           const Vec3& u_axis = Vec3::UnitX(), const Vec3& v_axis = Vec3::UnitY());
 
+// The upper half of a torus about the y axis: tube angle phi in [0, pi] (phi = 0 on the outer rim,
+// pi on the inner rim, both at y = 0; the crest at y = minor_radius), `around` cells around the
+// axis and `across` cells over the half tube, 2 around across triangles wound so their normals
+// point out of the tube. Throws std::invalid_argument for radii not 0 < minor < major, around < 3
+// or across < 1.
+TriangleSurface make_half_torus(double major_radius, double minor_radius, int around, int across);
+
 }  // namespace invfem

@@ -1,0 +1,221 @@
+// Scene fields of a cloth, garment or shell object ($.cloths[i]); schema in apps/scenes/README.md.
+#include <cmath>
+#include <set>
+
+#include "scene_parts.hpp"
+
+namespace invfem::app::scene_detail {
+
+namespace {
+
+ClothMaterialSpec parse_cloth_material(const Fields& f) {
+  f.reject_unknown({"model", "young", "poisson", "compression_limit", "hardening_deformation", "hardening_strength",
+                    "density", "thickness", "damping", "bending_stiffness", "bending_damping"});
+  ClothMaterialSpec m;
+  m.model = f.string("model", m.model);
+  static const std::set<std::string> models{"rotated_linear", "neo_hookean", "stvk", "spline"};
+  if (!models.count(m.model)) f.fail("model", "one of rotated_linear, neo_hookean, stvk, spline");
+  m.young = f.number_in("young", m.young, 0, 1e13);
+  m.poisson = f.number("poisson", m.poisson);
+  if (!(m.poisson > -1 && m.poisson < 0.5)) f.fail("poisson", "a Poisson's ratio in (-1, 0.5)");
+  m.compression_limit = f.number("compression_limit", m.compression_limit);
+  if (!(m.compression_limit > 0 && m.compression_limit < 1)) f.fail("compression_limit", "a number in (0, 1)");
+  m.hardening_deformation = f.number("hardening_deformation", m.hardening_deformation);
+  if (!(m.hardening_deformation > 0 && m.hardening_deformation < 1))
+    f.fail("hardening_deformation", "a number in (0, 1)");
+  m.hardening_strength = f.number_in("hardening_strength", m.hardening_strength, 1, 1e3);
+  m.density = f.number("density", m.density);
+  if (!(m.density > 0 && m.density < 1e5)) f.fail("density", "a density in (0, 1e5) [kg/m^3]");
+  m.thickness = f.number("thickness", m.thickness);
+  if (!(m.thickness > 0 && m.thickness < 1)) f.fail("thickness", "a thickness in (0, 1) [m]");
+  m.damping = f.number_in("damping", m.damping, 0, 10);
+  m.bending_stiffness = f.number_in("bending_stiffness", m.bending_stiffness, 0, 1e6);
+  m.bending_damping = f.number_in("bending_damping", m.bending_damping, 0, 1e6);
+  return m;
+}
+
+std::vector<int> parse_vertex_list(const Fields& f, const std::string& key) {
+  const auto& v = f.raw(key);
+  if (!v.is_array()) f.fail(key, "an array of vertex indices");
+  std::vector<int> out;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    // Checked in 64 bits before narrowing: 4294967297 must not pass as vertex 1.
+    if (!v[i].is_number_integer() || v[i].get<long long>() < 0 || v[i].get<long long>() > 2147483647LL)
+      f.fail(key, "vertex indices in [0, 2^31)", "element " + std::to_string(i) + ": " + describe(v[i]));
+    out.push_back(static_cast<int>(v[i].get<long long>()));
+  }
+  return out;
+}
+
+PinSpec parse_pin(const Fields& f) {
+  f.reject_unknown({"vertices", "box", "group", "motion"});
+  PinSpec p;
+  const int ways = int(f.has("vertices")) + int(f.has("box")) + int(f.has("group"));
+  if (ways != 1) f.fail("vertices", "exactly one of \"vertices\", \"box\" or \"group\"");
+  if (f.has("vertices")) p.vertices = parse_vertex_list(f, "vertices");
+  if (f.has("box")) p.box = parse_pin_box(f.object("box"));
+  if (f.has("group")) {
+    p.group = f.string("group");
+    if (p.group.empty()) f.fail("group", "a group name");
+  }
+  p.motion = parse_motion(f.object_or_empty("motion"));
+  return p;
+}
+
+StitchSpec parse_stitches(const Fields& f) {
+  f.reject_unknown({"from_mesh", "list", "stiffness", "damping"});
+  StitchSpec s;
+  s.from_mesh = f.boolean("from_mesh", s.from_mesh);
+  s.stiffness = f.number_in("stiffness", s.stiffness, 1e-6, 1e9);
+  s.damping = f.number_in("damping", s.damping, 0, 1e6);
+  if (f.has("list")) {
+    const auto& v = f.raw("list");
+    if (!v.is_array()) f.fail("list", "an array of [i, j, k, r] stitches");
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const auto& e = v[i];
+      const bool ok = e.is_array() && e.size() == 4 && e[0].is_number_integer() && e[1].is_number_integer() &&
+                      e[2].is_number_integer() && e[3].is_number();
+      if (!ok) f.fail("list", "[i, j, k, r] with integer vertices and a number r", "element " + std::to_string(i) + ": " + describe(e));
+      std::array<double, 4> st{};
+      for (int a = 0; a < 3; ++a) {
+        const long long idx = e[a].get<long long>();
+        if (idx < 0 || idx > 2147483647LL)
+          f.fail("list", "vertex indices in [0, 2^31)", "element " + std::to_string(i) + ": " + describe(e));
+        st[a] = static_cast<double>(idx);
+      }
+      st[3] = e[3].get<double>();
+      if (!(st[3] >= 0 && st[3] <= 1)) f.fail("list", "r in [0, 1]", "element " + std::to_string(i) + ": " + describe(e));
+      s.list.push_back(st);
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool check_files) {
+  f.reject_unknown({"name", "mesh", "grid", "half_torus", "rest_shape", "initial_shape", "transform", "velocity",
+                    "material", "plasticity", "bending_plasticity", "inversion_test", "stitches", "pin_vertices",
+                    "pin_boxes", "pins"});
+  ClothSpec c;
+  c.name = f.string("name");
+  const int shapes = int(f.has("mesh")) + int(f.has("grid")) + int(f.has("half_torus"));
+  if (shapes > 1) f.fail("mesh", "one of \"mesh\", \"grid\" or \"half_torus\", not several");
+  if (f.has("mesh")) {
+    c.mesh = parse_mesh_path(f, "mesh", dir, check_files);
+  } else if (f.has("half_torus")) {
+    const Fields h = f.object("half_torus");
+    h.reject_unknown({"major_radius", "minor_radius", "around", "across"});
+    HalfTorusSpec t;
+    t.major_radius = h.number_in("major_radius", t.major_radius, 1e-4, 1e4);
+    t.minor_radius = h.number_in("minor_radius", t.minor_radius, 1e-5, 1e4);
+    if (!(t.minor_radius < t.major_radius)) h.fail("minor_radius", "a tube radius below major_radius");
+    t.around = h.integer("around", t.around, 3, 4000);
+    t.across = h.integer("across", t.across, 1, 4000);
+    c.half_torus = t;
+  } else {
+    const Fields g = f.object_or_empty("grid");
+    g.reject_unknown({"width", "height", "nx", "ny"});
+    c.grid.width = g.number_in("width", c.grid.width, 1e-4, 1e4);
+    c.grid.height = g.number_in("height", c.grid.height, 1e-4, 1e4);
+    c.grid.nx = g.integer("nx", c.grid.nx, 1, 2000);
+    c.grid.ny = g.integer("ny", c.grid.ny, 1, 2000);
+  }
+  c.rest_shape = f.string("rest_shape", c.rest_shape);
+  if (c.rest_shape != "mesh" && c.rest_shape != "pattern") f.fail("rest_shape", "\"mesh\" or \"pattern\"");
+  if (c.rest_shape == "pattern" && c.mesh.empty())
+    f.fail("rest_shape", "\"mesh\" for a grid or shape (a pattern comes from a mesh file's vt lines)");
+  if (f.has("initial_shape")) {
+    const Fields i = f.object("initial_shape");
+    i.reject_unknown({"mesh", "transform"});
+    if (c.mesh.empty()) f.fail("initial_shape", "a \"mesh\" object (an initial shape needs a mesh's vertex order)");
+    c.initial_shape = parse_mesh_path(i, "mesh", dir, check_files);
+    if (i.has("transform")) c.initial_transform = parse_transform(i.object("transform"));
+  }
+  c.transform = parse_transform(f.object_or_empty("transform"));
+  c.velocity = f.vec3("velocity", c.velocity);
+  c.material = parse_cloth_material(f.object_or_empty("material"));
+  if (f.has("plasticity")) c.plasticity = parse_plasticity(f.object("plasticity"));
+  if (f.has("bending_plasticity")) {
+    const Fields b = f.object("bending_plasticity");
+    b.reject_unknown({"yield_degrees", "max_change_degrees"});
+    BendingPlasticitySpec bp;
+    bp.yield_degrees = b.number_in("yield_degrees", bp.yield_degrees, 0, 180);
+    bp.max_change_degrees = b.number_in("max_change_degrees", bp.max_change_degrees, 1e-6, 360);
+    c.bending_plasticity = bp;
+  }
+  if (f.has("inversion_test")) {
+    const auto& v = f.raw("inversion_test");
+    if (v.is_string() && (v.get<std::string>() == "none" || v.get<std::string>() == "rest")) {
+      c.inversion_test = v.get<std::string>();
+    } else if (v.is_array()) {
+      c.inversion_test = "direction";
+      c.inversion_direction = f.vec3("inversion_test", c.inversion_direction);
+      if (std::hypot(c.inversion_direction[0], c.inversion_direction[1], c.inversion_direction[2]) < 1e-12)
+        f.fail("inversion_test", "a non-zero direction");
+    } else {
+      f.fail("inversion_test", "\"none\", \"rest\" or a direction [x, y, z]");
+    }
+  }
+  c.stitches = parse_stitches(f.object_or_empty("stitches"));
+  if (f.has("pin_vertices")) c.pin_vertices = parse_vertex_list(f, "pin_vertices");
+  c.pin_boxes = parse_pin_boxes(f);
+  if (f.has("pins")) {
+    const auto& v = f.raw("pins");
+    if (!v.is_array()) f.fail("pins", "an array of pins");
+    for (std::size_t i = 0; i < v.size(); ++i)
+      c.pins.push_back(parse_pin(Fields(v[i], f.file(), f.path_of("pins") + "[" + std::to_string(i) + "]")));
+  }
+  return c;
+}
+
+nlohmann::json cloth_json(const ClothSpec& c) {
+  const auto& m = c.material;
+  nlohmann::json j{{"name", c.name},
+                   {"rest_shape", c.rest_shape},
+                   {"transform", transform_json(c.transform)},
+                   {"velocity", c.velocity},
+                   {"material", {{"model", m.model}, {"young", m.young}, {"poisson", m.poisson},
+                                 {"compression_limit", m.compression_limit},
+                                 {"hardening_deformation", m.hardening_deformation},
+                                 {"hardening_strength", m.hardening_strength}, {"density", m.density},
+                                 {"thickness", m.thickness}, {"damping", m.damping},
+                                 {"bending_stiffness", m.bending_stiffness}, {"bending_damping", m.bending_damping}}},
+                   {"stitches", {{"from_mesh", c.stitches.from_mesh}, {"list", c.stitches.list},
+                                 {"stiffness", c.stitches.stiffness}, {"damping", c.stitches.damping}}},
+                   {"pin_vertices", c.pin_vertices},
+                   {"pin_boxes", pin_boxes_json(c.pin_boxes)}};
+  if (!c.mesh.empty())
+    j["mesh"] = c.mesh.string();
+  else if (c.half_torus)
+    j["half_torus"] = {{"major_radius", c.half_torus->major_radius}, {"minor_radius", c.half_torus->minor_radius},
+                       {"around", c.half_torus->around}, {"across", c.half_torus->across}};
+  else
+    j["grid"] = {{"width", c.grid.width}, {"height", c.grid.height}, {"nx", c.grid.nx}, {"ny", c.grid.ny}};
+  if (!c.initial_shape.empty()) {
+    j["initial_shape"] = {{"mesh", c.initial_shape.string()}};
+    if (c.initial_transform) j["initial_shape"]["transform"] = transform_json(*c.initial_transform);
+  }
+  if (c.plasticity) j["plasticity"] = plasticity_json(*c.plasticity);
+  if (c.bending_plasticity)
+    j["bending_plasticity"] = {{"yield_degrees", c.bending_plasticity->yield_degrees},
+                               {"max_change_degrees", c.bending_plasticity->max_change_degrees}};
+  if (c.inversion_test == "direction")
+    j["inversion_test"] = c.inversion_direction;
+  else
+    j["inversion_test"] = c.inversion_test;
+  if (!c.pins.empty()) {
+    j["pins"] = nlohmann::json::array();
+    for (const auto& p : c.pins) {
+      nlohmann::json pj;
+      if (p.box) pj["box"] = {{"min", p.box->min}, {"max", p.box->max}};
+      else if (!p.group.empty()) pj["group"] = p.group;
+      else pj["vertices"] = p.vertices;
+      pj["motion"] = motion_json(p.motion);
+      j["pins"].push_back(pj);
+    }
+  }
+  return j;
+}
+
+}  // namespace invfem::app::scene_detail

@@ -1,0 +1,33 @@
+#pragma once
+// Private to the scene parser (scene.cpp, scene_cloth.cpp): the field parsers and JSON writers
+// the object kinds share.
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <vector>
+
+#include "json_fields.hpp"
+#include "scene.hpp"
+
+namespace invfem::app::scene_detail {
+
+ScalarTrack parse_track(const Fields& f, const std::string& key, double fallback);
+Transform parse_transform(const Fields& f);
+std::vector<PinBox> parse_pin_boxes(const Fields& f);
+PinBox parse_pin_box(const Fields& b);
+PlasticitySpec parse_plasticity(const Fields& f);
+MotionSpec parse_motion(const Fields& f);
+// A mesh path relative to the scene file's folder, made absolute; checked to exist if asked.
+std::filesystem::path parse_mesh_path(const Fields& f, const std::string& key, const std::filesystem::path& dir,
+                                      bool check_files);
+
+nlohmann::json track_json(const ScalarTrack& t);
+nlohmann::json transform_json(const Transform& t);
+nlohmann::json pin_boxes_json(const std::vector<PinBox>& boxes);
+nlohmann::json motion_json(const MotionSpec& m);
+nlohmann::json plasticity_json(const PlasticitySpec& p);
+
+ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool check_files);
+nlohmann::json cloth_json(const ClothSpec& c);
+
+}  // namespace invfem::app::scene_detail

@@ -1,0 +1,68 @@
+#pragma once
+// Seams of a garment: each stitch sews vertex i to the point (1 - r) x_j + r x_k of the edge
+// (j, k) (C-IPC's `stitch i j k r` lines). A stitch is a stiff zero-length spring on the gap
+//   C = x_i - (1 - r) x_j - r x_k = sum_a w_a x_a,   w = (1, -(1 - r), -r),
+// with energy k_s/2 |C|^2, forces f_a = -k_s w_a C, and damping f_a = -c_s w_a (sum_b w_b v_b),
+// which is symmetric negative semidefinite in v (so it sits in the implicit damping solve). The
+// spring is linear with the constant stiffness K = k_s w w^T (per coordinate), so the time step
+// takes it implicitly (Force::implicit_stiffness, newmark_step.hpp): a stiff seam costs CG
+// iterations, not substeps.
+// k_s = stiffness * l_s and c_s = damping * l_s, with l_s the length of seam the stitch stands
+// for (half the rest length of the boundary edges at vertex i): the seam holds with the same
+// strength per metre whatever the mesh resolution, and a tiny corner triangle's light vertex gets
+// a proportionally weak stitch instead of setting the time step.
+// Springs rather than welds: a stitch may land inside an edge (306 of the C-IPC dress's 851 do),
+// the file's vertex numbering is kept for the output, and an open seam (a garment still to be
+// sewn) closes under the same force.
+#include <string>
+#include <vector>
+
+#include "invfem/core/force.hpp"
+#include "invfem/core/triangle_kernel.hpp"
+
+namespace invfem {
+
+struct Stitch {
+  int i = -1, j = -1, k = -1;  // vertex i sewn onto the edge (j, k)
+  double r = 0;                // in [0, 1]
+};
+
+struct StitchParams {
+  double stiffness = 5e3;  // per metre of seam [N/m^2] > 0
+  double damping = 0;      // per metre of seam [N s/m^2] >= 0
+};
+
+class StitchForce final : public Force {
+ public:
+  // seam_lengths: l_s [m] > 0 per stitch (seam_lengths() below). Throws std::invalid_argument
+  // naming `what` and the stitch for an index outside [0, n_nodes), i equal to j or k, r outside
+  // [0, 1], a length that is not > 0, or bad parameters.
+  StitchForce(std::vector<Stitch> stitches, std::vector<double> seam_lengths, Eigen::Index n_nodes,
+              const StitchParams& params, const std::string& what = "stitches");
+
+  void update_positions(const Points& x, double time) override;
+  void add_elastic_forces(Points& f) const override;
+  void add_damping_forces(const Points& v, Points& f) const override;
+  double elastic_energy() const override;
+  // Implicit in the time step: K p and diag K.
+  bool implicit_stiffness() const override { return true; }
+  void add_stiffness_product(const Points& p, Points& Kp) const override;
+  void add_stiffness_diagonal(Eigen::VectorXd& d) const override;
+
+  const std::vector<Stitch>& stitches() const { return stitches_; }
+
+ private:
+  std::string what_;
+  Eigen::Index n_nodes_;
+  StitchParams params_;
+  std::vector<Stitch> stitches_;
+  std::vector<double> length_;  // l_s per stitch
+  std::vector<Vec3> gap_;       // C per stitch at the last update
+};
+
+// l_s per stitch: half the summed rest length of the boundary edges (edges of one triangle) at
+// the stitch's vertex i, from `rest` (the kernel's rest data: pattern or 3D); sqrt of the vertex's
+// lumped rest area for a vertex on no boundary edge.
+std::vector<double> seam_lengths(const std::vector<Stitch>& stitches, const TriangleRest& rest);
+
+}  // namespace invfem

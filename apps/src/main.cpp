@@ -1,4 +1,6 @@
 // The invfem command line. Exit codes: 0 ok, 1 simulation failure, 2 bad input.
+#include <malloc.h>
+
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -38,6 +40,12 @@ std::string self_executable(const char* argv0) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A time step still allocates and frees its temporaries (CG vectors, per-element arrays). glibc
+  // then gives the top of the heap back to the kernel after nearly every step: measured on the
+  // quick half_torus_shell, 39,000 brk calls in 960 steps and half of the run time. Keeping 64 MB
+  // of padding and never trimming below 128 MB makes those frees free; results are unchanged.
+  mallopt(M_TOP_PAD, 64 << 20);
+  mallopt(M_TRIM_THRESHOLD, 128 << 20);
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || (args[0] == "help" && args.size() == 1)) {
     std::cout << kHelp;

@@ -280,6 +280,7 @@ void TetSolidForce::add_element_stats(ElementStats& s) const {
   s.inverted += inverted_count();
   s.elements += static_cast<int>(diag_.size());
   s.min_det_F = std::min(s.min_det_F, min_det_F());
+  s.yielded += yielded_count();
   for (std::size_t e = 0; e < rest_.volume.size(); ++e) {
     s.volume += rest_.volume[e] * det_F_[e];
     s.rest_volume += rest_.volume[e];

@@ -47,6 +47,20 @@ inline Csv read_csv(const std::filesystem::path& path) {
   return csv;
 }
 
+// One number per line of stats.jsonl: the value of "key": (a top-level integer or real field).
+inline std::vector<double> stats_column(const std::filesystem::path& path, const std::string& key) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path.string() + ": cannot open");
+  std::vector<double> out;
+  const std::string tag = "\"" + key + "\":";
+  for (std::string line; std::getline(in, line);) {
+    const auto at = line.find(tag);
+    if (at == std::string::npos) throw std::runtime_error(path.string() + ": a line without " + tag);
+    out.push_back(std::stod(line.substr(at + tag.size())));
+  }
+  return out;
+}
+
 inline bool update_golden() {
   const char* v = std::getenv("INVFEM_UPDATE_GOLDEN");
   return v && std::string(v) == "1";

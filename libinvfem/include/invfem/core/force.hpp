@@ -11,13 +11,16 @@
 
 namespace invfem {
 
-// Element figures summed over every force that has volumetric elements (tets): written per frame.
+// Element figures summed over the forces, written per frame. The first five are over volumetric
+// elements (tets); the plastic counts over every element and hinge that has plasticity.
 struct ElementStats {
-  int inverted = 0;       // elements with det F < 0
-  int elements = 0;
+  int inverted = 0;       // tets with det F < 0
+  int elements = 0;       // tets
   double min_det_F = 1;
   double volume = 0;      // [m^3], sum of V0 det F (signed)
   double rest_volume = 0; // [m^3]
+  int yielded = 0;          // tets and triangles whose plastic state flowed in the last update
+  int yielded_hinges = 0;   // hinges whose rest angle flowed in the last update
 };
 
 // Per-element output fields (VTU cell data): name -> one value per element.

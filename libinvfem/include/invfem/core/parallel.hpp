@@ -2,7 +2,8 @@
 // The one parallel element loop of invfem (every force's per-element pass uses it). body(e) runs
 // for every e in [0, n), in TBB chunks of `grain` elements. The body must write only element e's
 // own slots; sums over elements are taken afterwards, sequentially in element order (the scatter
-// helpers of the kernels), so results are bit-identical whatever the thread count.
+// helpers of the kernels), so results are bit-identical whatever the thread count. A loop of at
+// most one grain runs on the calling thread.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -11,6 +12,10 @@
 namespace invfem {
 
 template <class Body> void parallel_for_each(std::size_t n, std::size_t grain, const Body& body) {
+  if (n <= grain) {  // one chunk: run it here rather than wake the workers for it
+    for (std::size_t e = 0; e < n; ++e) body(e);
+    return;
+  }
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t e = r.begin(); e != r.end(); ++e) body(e);
   });

@@ -57,6 +57,7 @@ class BendingForce : public Force {
   // std::invalid_argument for a wrong count or a non-finite angle.
   void set_rest_angles(std::vector<double> angles);
   int yielded_count() const;  // hinges whose rest angle flowed in the last update
+  void add_element_stats(ElementStats& stats) const override { stats.yielded_hinges += yielded_count(); }
 
   const std::vector<Hinge>& hinges() const { return hinges_; }
   const HingeStats& hinge_stats() const { return stats_; }

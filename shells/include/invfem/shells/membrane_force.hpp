@@ -56,6 +56,8 @@ class MembraneForce : public Force {
   // at the saved positions), as for solids.
   void save_state(StateWriter& out) const override;
   void restore_state(StateReader& in) override;
+  // Adds yielded_count() to stats.yielded.
+  void add_element_stats(ElementStats& stats) const override { stats.yielded += yielded_count(); }
 
   // Replace the model (3D Lame parameters, e.g. a time-dependent strength).
   void set_model(const IsotropicModel& model);

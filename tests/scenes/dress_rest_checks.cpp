@@ -1,0 +1,62 @@
+// The C-IPC dress (pattern rest shape and 851 stitches from the stage file, started from its
+// drape) hangs under gravity from a box around its topmost vertices. Its seams hold: every stitch
+// stays within 1 mm in every frame. Checks what `invfem run apps/scenes/dress_rest.json --quick`
+// and `invfem render` wrote; registered only where ../shared/data is present.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "invfem/shells/garment.hpp"
+#include "scene_output.hpp"
+
+namespace invfem::test {
+namespace {
+
+const std::filesystem::path kOut = INVFEM_SCENE_DIR;
+const std::string kStage = std::string(INVFEM_SHARED_DATA) + "/cloth/dress_knife_stage_cipc.obj";
+constexpr int kLastFrame = 3;  // the scene's quick "frames"
+constexpr double kPinY = 1.274;
+
+TriangleSurface frame(int f) { return read_obj_surface((kOut / "frames/dress" / frame_file(f)).string()); }
+
+TEST(DressRest, EveryStitchStaysWithinOneMillimetre) {
+  const Garment g = load_garment(kStage);
+  ASSERT_EQ(g.stitches.size(), 851u);
+  for (int f = 0; f <= kLastFrame; ++f) {
+    const TriangleSurface s = frame(f);
+    ASSERT_EQ(s.x.rows(), 15656) << "the output keeps the file's vertex numbering";
+    const std::vector<double> gaps = stitch_gaps(g.stitches, s.x);
+    const auto worst = std::max_element(gaps.begin(), gaps.end());
+    EXPECT_LT(*worst, 1e-3) << "frame " << f << ": stitch " << (worst - gaps.begin()) << " gapes " << *worst << " m";
+  }
+}
+
+TEST(DressRest, HangsFromItsPinnedTop) {
+  const TriangleSurface first = frame(0), last = frame(kLastFrame);
+  int pinned = 0;
+  for (Eigen::Index i = 0; i < first.x.rows(); ++i)
+    if (first.x(i, 1) >= kPinY) {
+      ++pinned;
+      EXPECT_LT((last.x.row(i) - first.x.row(i)).norm(), 1e-9) << "pinned vertex " << i << " moved";
+    }
+  EXPECT_GT(pinned, 100);
+  // The rest moves (it was draped on a body that is not there).
+  EXPECT_GT((last.x - first.x).rowwise().norm().maxCoeff(), 1e-3);
+  const Csv csv = read_csv(kOut / "energies.csv");
+  for (const auto& col : csv.header)
+    for (double v : csv[col]) ASSERT_TRUE(std::isfinite(v)) << col;
+}
+
+TEST(DressRest, EnergiesMatchGolden) {
+  expect_matches_golden_csv(kOut / "energies.csv", std::filesystem::path(INVFEM_GOLDEN_DIR) / "energies/dress_rest.csv",
+                            {"kinetic", "elastic", "gravity"}, 1e-3, 1e-3);
+}
+
+TEST(DressRest, PreviewsMatchGolden) {
+  for (int f : {0, kLastFrame})
+    expect_matches_golden_png(kOut / "png" / frame_file(f, "png"),
+                              std::filesystem::path(INVFEM_GOLDEN_DIR) / "images/dress_rest" / frame_file(f, "png"));
+}
+
+}  // namespace
+}  // namespace invfem::test

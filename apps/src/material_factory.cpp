@@ -28,6 +28,26 @@ IsotropicModel make_model(const MaterialSpec& spec) {
   return model;
 }
 
+IsotropicModel make_model(const ClothMaterialSpec& c) {
+  MaterialSpec m;
+  m.model = c.model;
+  m.young = c.young;
+  m.poisson = c.poisson;
+  m.compression_limit = c.compression_limit;
+  m.hardening_deformation = c.hardening_deformation;
+  m.hardening_strength = c.hardening_strength;
+  return make_model(m);
+}
+
+PlasticParams make_plastic_params(const PlasticitySpec& spec) {
+  PlasticParams p;
+  p.yield = spec.yield;
+  p.deviatoric_only = spec.deviatoric_only;
+  p.preserve_volume = spec.preserve_volume;
+  p.max_stretch = spec.max_stretch;
+  return p;
+}
+
 TetMaterial make_tet_material(const MaterialSpec& spec, double cfl) {
   TetMaterial m;
   m.model = make_model(spec);

@@ -4,7 +4,6 @@
 #include <iostream>
 #include <optional>
 
-#include "invfem/core/materials/lame.hpp"
 #include "invfem/core/mesh_error.hpp"
 #include "invfem/core/pins.hpp"
 #include "invfem/core/plasticity_control.hpp"
@@ -94,14 +93,7 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
   params.pins = pins_in_boxes(mesh.X, spec.pin_boxes, what);
   try {
     TetMaterial material = make_tet_material(spec.material, scene.solver.cfl);
-    if (spec.plasticity) {
-      PlasticParams p;
-      p.yield = spec.plasticity->yield;
-      p.deviatoric_only = spec.plasticity->deviatoric_only;
-      p.preserve_volume = spec.plasticity->preserve_volume;
-      p.max_stretch = spec.plasticity->max_stretch;
-      material.plasticity = p;
-    }
+    if (spec.plasticity) material.plasticity = make_plastic_params(*spec.plasticity);
     if (spec.plastic_goal) {
       const Points goal = axis_scaled_goal(mesh.X, to_vec(spec.plastic_goal->center), to_vec(spec.plastic_goal->scale));
       material.plastic_goal_log = make_plastic_goal(mesh.X, mesh.tets, goal).log_Fp_goal;
@@ -184,14 +176,7 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
     params.bending.plasticity =
         BendingPlasticity{spec.bending_plasticity->yield_degrees * kDeg, spec.bending_plasticity->max_change_degrees * kDeg};
   }
-  if (spec.plasticity) {
-    PlasticParams p;
-    p.yield = spec.plasticity->yield;
-    p.deviatoric_only = spec.plasticity->deviatoric_only;
-    p.preserve_volume = spec.plasticity->preserve_volume;
-    p.max_stretch = spec.plasticity->max_stretch;
-    params.plasticity = p;
-  }
+  if (spec.plasticity) params.plasticity = make_plastic_params(*spec.plasticity);
   if (spec.inversion_test == "rest") params.inversion = InversionReference::Rest;
   if (spec.inversion_test == "direction") {
     params.inversion = InversionReference::Direction;
@@ -208,14 +193,7 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
       throw InputError(where + ": pin_vertices has vertex " + std::to_string(i) + " but the mesh has " +
                        std::to_string(n) + " vertices");
   try {
-    MaterialSpec model_spec;
-    model_spec.model = m.model;
-    model_spec.young = m.young;
-    model_spec.poisson = m.poisson;
-    model_spec.compression_limit = m.compression_limit;
-    model_spec.hardening_deformation = m.hardening_deformation;
-    model_spec.hardening_strength = m.hardening_strength;
-    params.model = make_model(model_spec);
+    params.model = make_model(m);
     if (!spec.pin_vertices.empty())
       params.pins.push_back(make_pin_group(x0, spec.pin_vertices, std::nullopt, what + ": pin_vertices"));
     for (auto& pin : pins_in_boxes(x0, spec.pin_boxes, where)) params.pins.push_back(std::move(pin));

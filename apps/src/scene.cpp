@@ -37,9 +37,7 @@ MaterialSpec parse_material(const Fields& f) {
   f.reject_unknown({"model", "young", "poisson", "density", "damping", "compression_limit",
                     "hardening_deformation", "hardening_strength", "strength"});
   MaterialSpec m;
-  m.model = f.string("model", m.model);
-  static const std::set<std::string> models{"rotated_linear", "neo_hookean", "stvk", "spline"};
-  if (!models.count(m.model)) f.fail("model", "one of rotated_linear, neo_hookean, stvk, spline");
+  parse_model_choice(f, m.model, m.compression_limit, m.hardening_deformation, m.hardening_strength);
   m.young = f.number_in("young", m.young, 0, 1e13);
   m.poisson = f.number("poisson", m.poisson);
   if (!(m.poisson > -1 && m.poisson < 0.5))
@@ -47,14 +45,20 @@ MaterialSpec parse_material(const Fields& f) {
   m.density = f.number("density", m.density);
   if (!(m.density > 0)) f.fail("density", "a density > 0 [kg/m^3]");
   m.damping = f.number_in("damping", m.damping, 0, 10);
-  m.compression_limit = f.number("compression_limit", m.compression_limit);
-  if (!(m.compression_limit > 0 && m.compression_limit < 1)) f.fail("compression_limit", "a number in (0, 1)");
-  m.hardening_deformation = f.number("hardening_deformation", m.hardening_deformation);
-  if (!(m.hardening_deformation > 0 && m.hardening_deformation < 1))
-    f.fail("hardening_deformation", "a number in (0, 1)");
-  m.hardening_strength = f.number_in("hardening_strength", m.hardening_strength, 1, 1e3);
   m.strength = parse_track(f, "strength", 1.0);
   return m;
+}
+
+void parse_model_choice(const Fields& f, std::string& model, double& compression_limit, double& hardening_deformation,
+                        double& hardening_strength) {
+  model = f.string("model", model);
+  static const std::set<std::string> models{"rotated_linear", "neo_hookean", "stvk", "spline"};
+  if (!models.count(model)) f.fail("model", "one of rotated_linear, neo_hookean, stvk, spline");
+  compression_limit = f.number("compression_limit", compression_limit);
+  if (!(compression_limit > 0 && compression_limit < 1)) f.fail("compression_limit", "a number in (0, 1)");
+  hardening_deformation = f.number("hardening_deformation", hardening_deformation);
+  if (!(hardening_deformation > 0 && hardening_deformation < 1)) f.fail("hardening_deformation", "a number in (0, 1)");
+  hardening_strength = f.number_in("hardening_strength", hardening_strength, 1, 1e3);
 }
 
 Transform parse_transform(const Fields& f) {

@@ -1,6 +1,5 @@
 // Scene fields of a cloth, garment or shell object ($.cloths[i]); schema in apps/scenes/README.md.
 #include <cmath>
-#include <set>
 
 #include "scene_parts.hpp"
 
@@ -12,18 +11,10 @@ ClothMaterialSpec parse_cloth_material(const Fields& f) {
   f.reject_unknown({"model", "young", "poisson", "compression_limit", "hardening_deformation", "hardening_strength",
                     "density", "thickness", "damping", "bending_stiffness", "bending_damping"});
   ClothMaterialSpec m;
-  m.model = f.string("model", m.model);
-  static const std::set<std::string> models{"rotated_linear", "neo_hookean", "stvk", "spline"};
-  if (!models.count(m.model)) f.fail("model", "one of rotated_linear, neo_hookean, stvk, spline");
+  parse_model_choice(f, m.model, m.compression_limit, m.hardening_deformation, m.hardening_strength);
   m.young = f.number_in("young", m.young, 0, 1e13);
   m.poisson = f.number("poisson", m.poisson);
   if (!(m.poisson > -1 && m.poisson < 0.5)) f.fail("poisson", "a Poisson's ratio in (-1, 0.5)");
-  m.compression_limit = f.number("compression_limit", m.compression_limit);
-  if (!(m.compression_limit > 0 && m.compression_limit < 1)) f.fail("compression_limit", "a number in (0, 1)");
-  m.hardening_deformation = f.number("hardening_deformation", m.hardening_deformation);
-  if (!(m.hardening_deformation > 0 && m.hardening_deformation < 1))
-    f.fail("hardening_deformation", "a number in (0, 1)");
-  m.hardening_strength = f.number_in("hardening_strength", m.hardening_strength, 1, 1e3);
   m.density = f.number("density", m.density);
   if (!(m.density > 0 && m.density < 1e5)) f.fail("density", "a density in (0, 1e5) [kg/m^3]");
   m.thickness = f.number("thickness", m.thickness);

@@ -16,6 +16,10 @@ Transform parse_transform(const Fields& f);
 std::vector<PinBox> parse_pin_boxes(const Fields& f);
 PinBox parse_pin_box(const Fields& b);
 PlasticitySpec parse_plasticity(const Fields& f);
+// The fields choosing a constitutive model: model, compression_limit, hardening_deformation,
+// hardening_strength (solids' and cloths' materials alike).
+void parse_model_choice(const Fields& f, std::string& model, double& compression_limit, double& hardening_deformation,
+                        double& hardening_strength);
 MotionSpec parse_motion(const Fields& f);
 // A mesh path relative to the scene file's folder, made absolute; checked to exist if asked.
 std::filesystem::path parse_mesh_path(const Fields& f, const std::string& key, const std::filesystem::path& dir,

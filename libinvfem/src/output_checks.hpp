@@ -1,5 +1,5 @@
 #pragma once
-// Private to solids/src: argument checks shared by the interchange writers (PLY, VTU, USDA).
+// Private to libinvfem/src: argument checks shared by the interchange writers (PLY, VTU, USDA).
 // Each throws std::invalid_argument whose message starts with `who` (e.g. "write_ply(out.ply)").
 #include <Eigen/Core>
 #include <stdexcept>

@@ -1,5 +1,6 @@
 #include "invfem/core/plasticity.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
@@ -199,6 +200,18 @@ Mat32 plastic_stress(const Mat32& P_e, const Mat2& Fp_inv) {
 }
 
 double plastic_volume_factor(const Mat2& Fp_inv) { return 1.0 / Fp_inv.determinant(); }
+
+namespace {
+template <int D> std::string inverse_problem(const MatD<D>& A) {
+  if (!A.allFinite()) return "is not finite";
+  if (!((A - A.transpose()).norm() <= 1e-9 * A.norm())) return "is not symmetric";
+  if (Eigen::LLT<MatD<D>>(A).info() != Eigen::Success || !(A.determinant() > 0)) return "is not positive definite";
+  return "";
+}
+}  // namespace
+
+std::string plastic_inverse_problem(const Mat3& Fp_inv) { return inverse_problem<3>(Fp_inv); }
+std::string plastic_inverse_problem(const Mat2& Fp_inv) { return inverse_problem<2>(Fp_inv); }
 
 Mat3 sym_log(const Mat3& A) {
   Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (A + A.transpose()));

@@ -31,6 +31,8 @@ std::string lower_extension(const std::string& path) {
 struct Gather {
   std::vector<std::array<double, 3>> vertices;
   std::vector<std::array<int, 3>> tris;
+  std::vector<int> tri_group;            // the aiMesh (group) of each triangle
+  std::vector<std::string> group_names;  // one per aiMesh with triangles
   int meshes = 0;
   int non_triangles = 0;
 };
@@ -46,6 +48,8 @@ void gather(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent,
       continue;
     }
     ++out.meshes;
+    const int group = static_cast<int>(out.group_names.size());
+    out.group_names.push_back(mesh->mName.length ? mesh->mName.C_Str() : "mesh" + std::to_string(group));
     const int base = static_cast<int>(out.vertices.size());
     for (unsigned i = 0; i < mesh->mNumVertices; ++i) {
       const aiVector3D p = xf * mesh->mVertices[i];
@@ -68,6 +72,7 @@ void gather(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent,
         t[c] = base + static_cast<int>(face.mIndices[c]);
       }
       out.tris.push_back(t);
+      out.tri_group.push_back(group);
     }
   }
   for (unsigned c = 0; c < node->mNumChildren; ++c)
@@ -119,14 +124,17 @@ TriangleSurface load_triangle_surface(const std::string& path, SurfaceLoadReport
   // always has valid rest data.
   auto pos = [&](int i) { return Vec3(unique[i][0], unique[i][1], unique[i][2]); };
   std::vector<std::array<int, 3>> kept;
+  std::vector<int> kept_group;
   kept.reserve(g.tris.size());
-  for (const auto& t0 : g.tris) {
+  for (std::size_t k = 0; k < g.tris.size(); ++k) {
+    const auto& t0 = g.tris[k];
     const std::array<int, 3> t{weld[t0[0]], weld[t0[1]], weld[t0[2]]};
     if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) continue;
     const Vec3 d1 = pos(t[1]) - pos(t[0]), d2 = pos(t[2]) - pos(t[0]);
     const double longest = std::max({d1.norm(), d2.norm(), (d2 - d1).norm()});
     if (!(d1.cross(d2).norm() > 1e-14 * longest * longest)) continue;
     kept.push_back(t);
+    kept_group.push_back(g.tri_group[k]);
   }
   if (kept.empty())
     throw std::runtime_error(path + ": every triangle has zero area");
@@ -155,6 +163,8 @@ TriangleSurface load_triangle_surface(const std::string& path, SurfaceLoadReport
     report->removed_triangles = static_cast<int>(g.tris.size() - kept.size());
     report->removed_vertices = static_cast<int>(unique.size()) - n;
     report->non_triangle_primitives = g.non_triangles;
+    report->groups = g.group_names;
+    report->triangle_group = std::move(kept_group);
   }
   return mesh;
 }

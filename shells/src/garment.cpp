@@ -118,13 +118,14 @@ Garment load_garment(const std::string& path, const GarmentLoadOptions& options)
   if (!is_obj(path)) {
     if (options.pattern)
       throw MeshError(path + ": a pattern rest shape comes from an OBJ's vt lines; this is not an OBJ file");
+    SurfaceLoadReport report;
     try {
-      g.surface = load_triangle_surface(path);
+      g.surface = load_triangle_surface(path, &report);
     } catch (const std::runtime_error& e) {
       throw MeshError(e.what());
     }
-    g.groups = {"mesh"};
-    g.triangle_group.assign(static_cast<std::size_t>(g.surface.tris.rows()), 0);
+    g.groups = report.groups;  // assimp's meshes are the panels
+    g.triangle_group = report.triangle_group;
     check_garment(g);
     return g;
   }

@@ -26,10 +26,9 @@ double model_lambda(const IsotropicModel& m) {
 
 // Fp^-1 from a checkpoint: finite, symmetric, positive definite.
 void validate_Fp_inv(const Mat2& A, std::size_t e, const std::string& what) {
-  const std::string where = what + ": plastic state of triangle " + std::to_string(e) + ": Fp^-1 ";
-  if (!A.allFinite()) throw StateError(where + "is not finite");
-  if (!((A - A.transpose()).norm() <= 1e-9 * A.norm())) throw StateError(where + "is not symmetric");
-  if (!(A(0, 0) > 0 && A.determinant() > 0)) throw StateError(where + "is not positive definite");
+  const std::string problem = plastic_inverse_problem(A);
+  if (!problem.empty())
+    throw StateError(what + ": plastic state of triangle " + std::to_string(e) + ": Fp^-1 " + problem);
 }
 }  // namespace
 

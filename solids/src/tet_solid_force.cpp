@@ -38,12 +38,9 @@ void validate_activation(const ScalarTrack& track) {
 
 // Fp^-1 of a checkpoint or a caller: finite, symmetric and positive definite (plasticity.hpp).
 void validate_Fp_inv(const Mat3& A, std::size_t e) {
-  const std::string where = "plastic state: element " + std::to_string(e) + ": Fp^-1 ";
-  if (!A.allFinite()) throw std::invalid_argument(where + "is not finite");
-  if (!((A - A.transpose()).norm() <= 1e-9 * A.norm()))
-    throw std::invalid_argument(where + "is not symmetric");
-  if (Eigen::LLT<Mat3>(A).info() != Eigen::Success || !(A.determinant() > 0))
-    throw std::invalid_argument(where + "is not positive definite");
+  const std::string problem = plastic_inverse_problem(A);
+  if (!problem.empty())
+    throw std::invalid_argument("plastic state: element " + std::to_string(e) + ": Fp^-1 " + problem);
 }
 }  // namespace
 

@@ -56,5 +56,21 @@ expect 2 "no frames to render" -- render "$work/empty_run"
 expect 2 "cannot open" -- render "$work/nothing"
 expect 2 "no such scene file" -- batch "$work/missing.json" --out "$work/b"
 expect 2 "--shard: expected I/N" -- batch "$good" --out "$work/b" --shard 3/2
+# Garments: a cloth field, a group, a vertex and a stitch that do not exist, a pattern asked of a non-OBJ.
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\ng front\nf 1 2 3\nf 1 3 4\n' > "$work/data/sheet.obj"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' > "$work/data/tri.ply"
+cloth='"cloths": [{"name": "c", "mesh": "data/sheet.obj"'
+expect 2 "no group \"back\" in" -- run "$(scene nogroup '{ '"$cloth"', "pins": [{"group": "back"}] }] }')" --out "$work/o"
+expect 2 "pins[0]: vertex 9 but the mesh has 4 vertices" -- \
+  run "$(scene pinrange '{ '"$cloth"', "pins": [{"vertices": [9]}] }] }')" --out "$work/o"
+expect 2 "\$.cloths[0].pin_vertices: expected vertex indices in [0, 2^31)" -- \
+  run "$(scene pinbig '{ '"$cloth"', "pin_vertices": [4294967297] }] }')" --out "$work/o"
+expect 2 "stitch 0 (0 1 9) names vertex 9, outside [0, 4)" -- \
+  run "$(scene stitchrange '{ '"$cloth"', "stitches": {"list": [[0, 1, 9, 0.5]]} }] }')" --out "$work/o"
+expect 2 "has no vt lines" -- run "$(scene novt '{ '"$cloth"', "rest_shape": "pattern" }] }')" --out "$work/o"
+expect 2 "this is not an OBJ file" -- \
+  run "$(scene plypattern '{ "cloths": [{"name": "c", "mesh": "data/tri.ply", "rest_shape": "pattern" }] }')" --out "$work/o"
+expect 2 "\$.cloths[0].rest_shape: expected \"mesh\" for a grid" -- \
+  run "$(scene gridpattern '{ "cloths": [{"name": "c", "rest_shape": "pattern" }] }')" --out "$work/o"
 if [ "$fail" -ne 0 ]; then exit 1; fi
 echo "every documented error gives its message and exit code 2"

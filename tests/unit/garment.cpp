@@ -12,23 +12,14 @@
 #include "invfem/core/triangle_kernel.hpp"
 #include "invfem/shells/cloth_object.hpp"
 #include "invfem/shells/garment.hpp"
+#include "temp_dir.hpp"
 
 namespace invfem {
 namespace {
 
 const std::string kShared = INVFEM_SHARED_DATA;
 
-struct TempDir {
-  std::filesystem::path dir;
-  TempDir() : dir(std::filesystem::temp_directory_path() / ("invfem_garment_" + std::to_string(::getpid()))) {
-    std::filesystem::create_directories(dir);
-  }
-  ~TempDir() { std::filesystem::remove_all(dir); }
-  std::string file(const std::string& name, const std::string& text) const {
-    std::ofstream(dir / name) << text;
-    return (dir / name).string();
-  }
-};
+using test::TempDir;
 
 // Two panels, each a unit square in its pattern (two triangles), placed in 3D at a bend and
 // already sewn along one edge by two stitches: panel "front" (vertices 0-3) and "back" (4-7).
@@ -162,7 +153,7 @@ TEST(Garment, ErrorsNameTheFileAndTheProblem) {
     EXPECT_NE(msg.find(c.name), std::string::npos) << msg;
     EXPECT_NE(msg.find(c.phrase), std::string::npos) << msg;
   }
-  EXPECT_THROW(load_garment((t.dir / "missing.obj").string()), MeshError);
+  EXPECT_THROW(load_garment(t.path("missing.obj").string()), MeshError);
 }
 
 TEST(Garment, TheCipcDressWithItsPatternAndDrape) {

@@ -22,6 +22,7 @@
 #include "invfem/core/usd_writer.hpp"
 #include "invfem/core/vtu_writer.hpp"
 #include "xml_check.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace invfem;
@@ -30,28 +31,8 @@ using invfem::test::XmlParser;
 
 namespace {
 
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("invfem_" + std::string(info->test_suite_name()) + "_" +
-                                        info->name() + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  ~TempDir() { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
- private:
-  fs::path dir_;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::TempDir;
+using test::slurp;
 
 // A curved sheet: a grid whose nodes are lifted by a smooth bump, so no coordinate is trivial.
 TriangleSurface curved_sheet(int nx, int ny) {

@@ -2,6 +2,7 @@
 // relative indices, groups, uninterpreted lines, line ends, every documented error with its file
 // and line, and the shared garments.
 #include "invfem/core/obj_file.hpp"
+#include "temp_dir.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -19,30 +20,9 @@ using namespace invfem;
 
 namespace {
 
+using test::TempDir;
+
 const std::string kShared = INVFEM_SHARED_DATA;
-
-// A fresh directory per test, removed at the end.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("invfem_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" +
-            std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  ~TempDir() { fs::remove_all(dir_); }
-  std::string file(const std::string& name, const std::string& contents) const {
-    const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary) << contents;
-    return p.string();
-  }
-  fs::path path(const std::string& name) const { return dir_ / name; }
-
- private:
-  fs::path dir_;
-};
 
 // The message of the ObjError thrown by reading `path`, or "" (and a test failure) if none.
 std::string obj_error_of(const std::string& path) {

@@ -1,6 +1,8 @@
 // Triangle meshes: generated grids and the assimp loader (OBJ/PLY/STL/OFF/glTF).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
@@ -316,4 +318,12 @@ TEST(TriangleSurface, LoadsOffAndMultiGroupGarments) {
   EXPECT_EQ(report.meshes, 14);
   EXPECT_EQ(d.x.rows(), 15656);
   EXPECT_EQ(d.tris.rows(), 29456);
+  // assimp's meshes are kept as groups (a garment's panels when it is not read as OBJ).
+  ASSERT_EQ(report.groups.size(), 14u);
+  ASSERT_EQ(report.triangle_group.size(), 29456u);
+  std::vector<int> per_group(14, 0);
+  for (int g : report.triangle_group) ++per_group[g];
+  std::sort(per_group.begin(), per_group.end());
+  // The 14 `g panelK` groups of the file, by face count.
+  EXPECT_EQ(per_group, (std::vector<int>{448, 452, 503, 523, 942, 996, 1565, 1575, 1785, 1804, 2899, 2919, 6522, 6523}));
 }

@@ -1,7 +1,8 @@
 #pragma once
 // Strict Wavefront OBJ reader for garments: positions, 2D pattern coordinates (vt), faces with
 // their vt corners, groups (panels), and the lines it does not interpret (C-IPC `stitch`/`seam`,
-// ARCSim `vv`/`t`, ...) handed back verbatim. Core library: depends on Eigen only.
+// ARCSim `vv`/`t`, ...) handed back verbatim, in file vertex order. Not assimp: it reorders
+// vertices and drops these lines.
 //
 // Handled keywords:
 //   v x y z [w]        position; w, or an r g b vertex colour (6 numbers), is parsed and dropped

@@ -145,6 +145,12 @@ Mat9 plastic_stress_derivative(const Mat9& dPdFe, const Mat3& Fp_inv);
 // det Fp = 1/det Fp^-1: rest volume and energy scale.
 double plastic_volume_factor(const Mat3& Fp_inv);
 
+// What is wrong with a stored Fp^-1 (from a checkpoint or a caller): "" when it is finite,
+// symmetric (to 1e-9 relative) and positive definite, else "is not finite", "is not symmetric" or
+// "is not positive definite".
+std::string plastic_inverse_problem(const Mat3& Fp_inv);
+std::string plastic_inverse_problem(const Mat2& Fp_inv);
+
 // ---- Triangles (3x2 F, 2x2 Fp^-1): see "In-plane plasticity" above. Same semantics as 3D. ----
 
 struct PlasticState2 {

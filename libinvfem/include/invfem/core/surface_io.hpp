@@ -1,6 +1,7 @@
 #pragma once
 // Reading triangle surfaces with assimp (any format it reads: OBJ, PLY, STL, OFF, glTF, ...).
 #include <string>
+#include <vector>
 
 #include "invfem/core/surface.hpp"
 
@@ -13,6 +14,8 @@ struct SurfaceLoadReport {
   int removed_triangles = 0;      // zero-area or repeated-index triangles dropped
   int removed_vertices = 0;       // vertices left unreferenced and dropped
   int non_triangle_primitives = 0;  // points/lines assimp produced, ignored
+  std::vector<std::string> groups;  // one per aiMesh with triangles (its name, or "meshK")
+  std::vector<int> triangle_group;  // per triangle of the result, index into groups
 };
 
 // Reads a file as one welded triangle surface: normals and UVs are dropped so corners weld

@@ -6,7 +6,7 @@
 // Vertex numbering is the file's: OBJ files are read by the core's strict OBJ reader (file
 // order, groups, vt, extra lines), so stitches, pinned vertices and a draped file all refer to
 // the same vertices and every output frame keeps that numbering. Other formats go through
-// assimp (welded, one panel, no pattern).
+// assimp (welded; each of its meshes is a panel; no pattern).
 #include <map>
 #include <optional>
 #include <string>

@@ -6,14 +6,13 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <string_view>
-#include <system_error>
 #include <unordered_map>
 #include <utility>
 #include <vector>
+
+#include "invfem/core/text_file.hpp"
 
 namespace invfem {
 
@@ -121,27 +120,6 @@ bool parse_integer(std::string_view t, long long& out, bool& overflow) {
   if (ec != std::errc()) return false;
   out = v;
   return true;
-}
-
-std::string read_whole_file(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (ec || !fs::exists(st)) throw ObjError(path + ": file not found");
-  if (!fs::is_regular_file(st)) throw ObjError(path + ": not a regular file");
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec) throw ObjError(path + ": cannot determine the file size: " + ec.message());
-  if (size > kMaxFileBytes)
-    throw ObjError(path + ": file is " + std::to_string(size) +
-                   " bytes, over the 1 GiB limit of the OBJ reader");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ObjError(path + ": cannot open file for reading");
-  std::string text(static_cast<std::size_t>(size), '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  if (in.bad()) throw ObjError(path + ": read error");
-  // The file may have shrunk since file_size(); keep what was read.
-  text.resize(static_cast<std::size_t>(in.gcount()));
-  return text;
 }
 
 class Parser {
@@ -447,7 +425,14 @@ ObjFile parse_obj_text(std::string_view text, const std::string& path) {
 }
 
 ObjFile read_obj_file(const std::string& path) {
-  const std::string text = read_whole_file(path);
+  std::string text;
+  try {
+    text = read_text_file(path, kMaxFileBytes, "the OBJ reader");
+  } catch (const ObjError&) {
+    throw;
+  } catch (const MeshError& e) {
+    throw ObjError(e.what());  // callers of the OBJ reader catch ObjError
+  }
   return parse_obj_text(text, path);
 }
 

@@ -1,13 +1,13 @@
 #include "text_scanner.hpp"
 
+#include "invfem/core/text_file.hpp"
+
 #include <cctype>
 #include <charconv>
 #include <climits>
 #include <cstdint>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <system_error>
 
 namespace invfem::detail {
@@ -24,27 +24,8 @@ bool iequals(std::string_view a, std::string_view b) {
 }
 
 std::string read_text_file(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (ec || !fs::exists(st)) throw MeshError(path + ": file not found");
-  if (!fs::is_regular_file(st)) throw MeshError(path + ": not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw MeshError(path + ": cannot open file for reading");
-  std::string text;
-  const auto size = fs::file_size(path, ec);
-  // Text meshes this large would not fit a simulation on one machine anyway; refuse before
-  // reading rather than exhausting memory.
-  constexpr std::uintmax_t kMaxBytes = std::uintmax_t{4} << 30;
-  if (!ec && size > kMaxBytes)
-    throw MeshError(path + ": file is " + std::to_string(size) +
-                    " bytes, over the 4 GiB limit of the text mesh readers");
-  if (!ec) text.reserve(size);
-  text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  if (in.bad()) throw MeshError(path + ": read error");
-  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
-    throw MeshError(path + ": file is empty");
-  return text;
+  // Text meshes this large would not fit a simulation on one machine anyway.
+  return invfem::read_text_file(path, std::uintmax_t{4} << 30, "the text mesh readers");
 }
 
 TextScanner::TextScanner(std::string path, std::string text, char comment)

@@ -1,7 +1,7 @@
 #pragma once
 // Private to solids/src: a whitespace tokenizer over a whole text file that remembers line
 // numbers, parses numbers strictly (the whole token, finite reals) and throws MeshError with
-// "<file>:<line>: <problem>" messages. Shared by the VTK, MEDIT, Gmsh and OBJ readers.
+// "<file>:<line>: <problem>" messages. Shared by the VTK, MEDIT and Gmsh readers.
 #include <cstddef>
 #include <string>
 #include <string_view>
@@ -10,7 +10,7 @@
 
 namespace invfem::detail {
 
-// Reads a regular file whole; MeshError if missing, not a regular file, unreadable or empty.
+// core/text_file.hpp's reader with the tet mesh readers' 4 GiB limit.
 std::string read_text_file(const std::string& path);
 
 class TextScanner {

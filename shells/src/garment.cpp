@@ -198,11 +198,4 @@ std::vector<int> group_vertices(const Garment& g, const std::string& name) {
   return out;
 }
 
-std::vector<double> stitch_gaps(const std::vector<Stitch>& stitches, const Points& x) {
-  std::vector<double> out;
-  out.reserve(stitches.size());
-  for (const Stitch& s : stitches) out.push_back((x.row(s.i) - (1 - s.r) * x.row(s.j) - s.r * x.row(s.k)).norm());
-  return out;
-}
-
 }  // namespace invfem

@@ -64,8 +64,7 @@ void StitchForce::update_positions(const Points& x, double /*time*/) {
     throw std::invalid_argument(what_ + ": positions have " + std::to_string(x.rows()) + " rows, expected " +
                                 std::to_string(n_nodes_));
   parallel_for_each(stitches_.size(), kGrain, [&](std::size_t s) {
-    const Stitch& t = stitches_[s];
-    gap_[s] = (x.row(t.i) - (1 - t.r) * x.row(t.j) - t.r * x.row(t.k)).transpose();
+    gap_[s] = stitch_gap(stitches_[s], x);
   });
 }
 
@@ -119,6 +118,13 @@ void StitchForce::add_stiffness_diagonal(Eigen::VectorXd& d) const {
     d(t.j) += k * w[1] * w[1];
     d(t.k) += k * w[2] * w[2];
   }
+}
+
+std::vector<double> stitch_gaps(const std::vector<Stitch>& stitches, const Points& x) {
+  std::vector<double> out;
+  out.reserve(stitches.size());
+  for (const Stitch& s : stitches) out.push_back(stitch_gap(s, x).norm());
+  return out;
 }
 
 std::vector<double> seam_lengths(const std::vector<Stitch>& stitches, const TriangleRest& rest) {

@@ -52,7 +52,4 @@ void load_initial_shape(Garment& garment, const std::string& path);
 // known groups when there is no such group.
 std::vector<int> group_vertices(const Garment& garment, const std::string& name);
 
-// |x_i - ((1 - r) x_j + r x_k)| per stitch for the positions x.
-std::vector<double> stitch_gaps(const std::vector<Stitch>& stitches, const Points& x);
-
 }  // namespace invfem

@@ -27,6 +27,14 @@ struct Stitch {
   double r = 0;                // in [0, 1]
 };
 
+// The gap C = x_i - (1 - r) x_j - r x_k of one stitch at positions x (#V x 3).
+inline Vec3 stitch_gap(const Stitch& s, const Points& x) {
+  return (x.row(s.i) - (1 - s.r) * x.row(s.j) - s.r * x.row(s.k)).transpose();
+}
+
+// |C| per stitch at positions x [m].
+std::vector<double> stitch_gaps(const std::vector<Stitch>& stitches, const Points& x);
+
 struct StitchParams {
   double stiffness = 5e3;  // per metre of seam [N/m^2] > 0
   double damping = 0;      // per metre of seam [N s/m^2] >= 0

@@ -45,7 +45,7 @@ struct MeshSurface::Impl {
     vertex_n.assign(x.rows(), Vec3::Zero());
     for (Eigen::Index t = 0; t < m; ++t) {
       const Vec3 p[3] = {x.row(tris(t, 0)).transpose(), x.row(tris(t, 1)).transpose(), x.row(tris(t, 2)).transpose()};
-      const Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]);
+      const Vec3 n = triangle_normal(x, tris, t);
       const double len = n.norm();
       if (!(len > 0)) continue;  // degenerate: contributes nothing
       const Vec3 u = n / len;

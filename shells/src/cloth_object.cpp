@@ -1,7 +1,5 @@
 #include "invfem/shells/cloth_object.hpp"
 
-#include <Eigen/Geometry>
-
 #include "invfem/core/pins.hpp"
 #include "invfem/core/triangle_kernel.hpp"
 
@@ -9,11 +7,11 @@ namespace invfem {
 
 namespace {
 
-// Unit-free face normals (x1 - x0) x (x2 - x0) of every triangle at positions x.
+// triangle_normal of every triangle at positions x.
 std::vector<Vec3> face_normals(const Points& x, const Tris& tris) {
   std::vector<Vec3> n(static_cast<std::size_t>(tris.rows()));
   for (Eigen::Index t = 0; t < tris.rows(); ++t)
-    n[t] = (x.row(tris(t, 1)) - x.row(tris(t, 0))).transpose().cross((x.row(tris(t, 2)) - x.row(tris(t, 0))).transpose());
+    n[t] = triangle_normal(x, tris, t);
   return n;
 }
 

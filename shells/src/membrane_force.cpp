@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "invfem/core/parallel.hpp"
+#include "invfem/core/surface.hpp"
 
 namespace invfem {
 
@@ -113,9 +114,7 @@ void MembraneForce::update_positions(const Points& x, double /*time*/) {
           }
           inverted_[e] = 0;
           if (!inversion_normals_.empty()) {
-            const auto t = rest_.tris.row(static_cast<Eigen::Index>(e));
-            const Vec3 n = (x.row(t(1)) - x.row(t(0))).transpose().cross((x.row(t(2)) - x.row(t(0))).transpose());
-            if (n.dot(inversion_normals_[e]) < 0) {  // F = U diag(s) V^T is unchanged by both flips
+            if (triangle_normal(x, rest_.tris, static_cast<Eigen::Index>(e)).dot(inversion_normals_[e]) < 0) {  // F = U diag(s) V^T is unchanged by both flips
               diag_[e].sigma(1) = -diag_[e].sigma(1);
               diag_[e].U.col(1) = -diag_[e].U.col(1);
               inverted_[e] = 1;

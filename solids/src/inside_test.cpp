@@ -39,11 +39,7 @@ InsideTest::InsideTest(const TriangleSurface& surface) : bvh_(surface) {
   const Vec3 lo = X.colwise().minCoeff().transpose(), hi = X.colwise().maxCoeff().transpose();
   centre_ = 0.5 * (lo + hi);
   normals_.resize(T.rows(), 3);
-  for (Eigen::Index t = 0; t < T.rows(); ++t) {
-    const Vec3 a = X.row(T(t, 0)).transpose(), b = X.row(T(t, 1)).transpose(),
-               c = X.row(T(t, 2)).transpose();
-    normals_.row(t) = (b - a).cross(c - a).transpose();
-  }
+  for (Eigen::Index t = 0; t < T.rows(); ++t) normals_.row(t) = triangle_normal(X, T, t).transpose();
 }
 
 bool InsideTest::inside_ray_parity(const Vec3& p) const {

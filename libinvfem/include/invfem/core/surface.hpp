@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>  // cross()
+
 #include "invfem/core/types.hpp"
 
 namespace invfem {
@@ -20,6 +22,13 @@ struct TriangleSurface {
   Eigen::Index num_vertices() const { return x.rows(); }
   Eigen::Index num_triangles() const { return tris.rows(); }
 };
+
+// (x1 - x0) x (x2 - x0) of triangle t over positions x (#V x 3): along the normal the winding
+// gives, with length twice the triangle's area. Not normalized.
+inline Vec3 triangle_normal(const Points& x, const Tris& tris, Eigen::Index t) {
+  const Vec3 x0 = x.row(tris(t, 0)).transpose();
+  return (x.row(tris(t, 1)).transpose() - x0).cross(x.row(tris(t, 2)).transpose() - x0);
+}
 
 // Throws std::invalid_argument naming `what` for: no vertex or no triangle, a non-finite position
 // (naming the vertex), an index outside [0, #V) or a triangle repeating a vertex (naming the

@@ -12,18 +12,26 @@ RigidBody::RigidBody(std::string name, std::shared_ptr<const ImplicitSurface> im
       implicit_(std::move(implicit)),
       friction_(friction),
       body_(std::move(body_surface)),
-      world_(body_),
-      motion_(std::move(motion)) {
+      motion_(std::move(motion)),
+      world_(body_) {
   if (!implicit_) throw std::invalid_argument("rigid body \"" + name_ + "\": no implicit surface");
   if (!(friction_ >= 0)) throw std::invalid_argument("rigid body \"" + name_ + "\": friction must be >= 0");
   world_.source = name_;
-  move_to(0.0);
 }
 
 void RigidBody::move_to(double t) {
-  if (!body_.x.rows()) return;
-  const RigidTransform T = motion_.body_to_world(t);
-  for (Eigen::Index i = 0; i < body_.x.rows(); ++i) world_.x.row(i) = T.apply(body_.x.row(i).transpose()).transpose();
+  if (t != time_) posed_ = false;
+  time_ = t;
+}
+
+const TriangleSurface* RigidBody::surface() const {
+  if (!body_.x.rows()) return nullptr;
+  if (!posed_) {
+    const RigidTransform T = motion_.body_to_world(time_);
+    for (Eigen::Index i = 0; i < body_.x.rows(); ++i) world_.x.row(i) = T.apply(body_.x.row(i).transpose()).transpose();
+    posed_ = true;
+  }
+  return &world_;
 }
 
 std::unique_ptr<RigidCollisions> make_rigid_collisions(const std::vector<std::shared_ptr<RigidBody>>& bodies) {

@@ -100,14 +100,18 @@ void World::advance_to(double t_end, FrameReport& report) {
         report.cg_all_converged = report.cg_all_converged && s.half_step.converged && s.trapezoid.converged;
         report.colliding_nodes += s.colliding_nodes;
       }
-    // 4. After-step passes.
-    for (auto& o : objects_) o.refresh_surface();
-    for (const auto& p : passes_) p->after_step(objects_, x_start, time_, dt);
+    // 4. After-step passes, on refreshed surfaces (without passes nothing reads the surfaces
+    // until the frame is done: they are refreshed once, below).
+    if (!passes_.empty()) {
+      for (auto& o : objects_) o.refresh_surface();
+      for (const auto& p : passes_) p->after_step(objects_, x_start, time_, dt);
+    }
     time_ += dt;
     ++report.substeps;
   }
   time_ = t_end;
   for (const auto& k : kinematic_) k->move_to(time_);
+  for (auto& o : objects_) o.refresh_surface();
 }
 
 void World::measure(FrameReport& r) const {

@@ -2,7 +2,8 @@
 // A kinematic rigid body (ITF04 section 9: bodies move by script and are not simulated): one
 // shape seen two ways, moved by one Motion. Collision processing queries its implicit surface
 // (phi, normal, velocity at time t); output, previews and the coming collision layer read its
-// triangle surface, posed at the time of the last move_to.
+// triangle surface, posed at the time of the last move_to. The pose is computed when the surface
+// is read, not at every move_to: the step moves bodies each substep, output reads them per frame.
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,7 +26,8 @@ class RigidBody final : public KinematicBody {
 
   const std::string& name() const override { return name_; }
   void move_to(double t) override;
-  const TriangleSurface* surface() const override { return world_.x.rows() ? &world_ : nullptr; }
+  // Not thread-safe on the first read after a move_to (it poses the cached surface then).
+  const TriangleSurface* surface() const override;
 
   const std::shared_ptr<const ImplicitSurface>& implicit() const { return implicit_; }
   double friction() const { return friction_; }
@@ -35,9 +37,11 @@ class RigidBody final : public KinematicBody {
   std::string name_;
   std::shared_ptr<const ImplicitSurface> implicit_;
   double friction_;
-  TriangleSurface body_;   // body frame
-  TriangleSurface world_;  // at the last move_to
+  TriangleSurface body_;           // body frame
   Motion motion_;
+  double time_ = 0;                // of the last move_to
+  mutable TriangleSurface world_;  // body_ posed at time_ once `posed_`
+  mutable bool posed_ = false;
 };
 
 // Collision processing against every body's implicit surface with its friction.

@@ -7,7 +7,8 @@
 //   2. solids step (ITF04 section 9, newmark_step), in the order they were added;
 //   3. cloths and shells step, likewise, so that they see the solids at t + dt (one-way coupling);
 //   4. after-step passes: every object's surface is refreshed from its nodes, then each StepPass
-//      runs in the order added (the BFA02 self-collision pass goes here).
+//      runs in the order added (the BFA02 self-collision pass goes here). With no pass, surfaces
+//      are refreshed once, when advance_to returns.
 // dt is the smallest stable step of every object (and solver.max_dt), shortened so the steps of
 // a frame are equal and land exactly on the frame time.
 #include <memory>
@@ -44,7 +45,8 @@ struct SimObject {
   std::vector<std::unique_ptr<Force>> forces;
   std::vector<PinGroup> pins;
   // What is written, rendered and collided: a solid's boundary, a cloth itself. Surface vertex s
-  // is body node surface_nodes[s]; positions are refreshed after every step (refresh_surface).
+  // is body node surface_nodes[s]; positions are refreshed before after-step passes and at the
+  // end of every advance_to (refresh_surface).
   TriangleSurface surface;
   std::vector<int> surface_nodes;
   Tets tets;  // solids: the tet mesh, for volumetric output; empty otherwise

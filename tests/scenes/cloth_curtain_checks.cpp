@@ -50,8 +50,7 @@ TEST(ClothCurtain, MembraneDoesNotOverstretch) {
 TEST(ClothCurtain, SwingsWithoutGainingEnergy) {
   const Csv csv = read_csv(kOut / "energies.csv");
   ASSERT_EQ(csv.rows(), static_cast<std::size_t>(kLastFrame + 1));
-  for (const auto& col : csv.header)
-    for (double v : csv[col]) ASSERT_TRUE(std::isfinite(v)) << col;
+  ASSERT_NO_FATAL_FAILURE(expect_all_finite(csv));
   // The sheet swings down like a pendulum: most of its potential energy becomes kinetic.
   const double drop = csv["gravity"].front() - *std::min_element(csv["gravity"].begin(), csv["gravity"].end());
   const double peak_kinetic = *std::max_element(csv["kinetic"].begin(), csv["kinetic"].end());

@@ -47,8 +47,7 @@ TEST(ClothDrape, RestsOnTheSphereAndHangsAroundIt) {
 TEST(ClothDrape, LosesEnergyAndComesToRest) {
   const Csv csv = read_csv(kOut / "energies.csv");
   ASSERT_EQ(csv.rows(), static_cast<std::size_t>(kLastFrame + 1));
-  for (const auto& col : csv.header)
-    for (double v : csv[col]) ASSERT_TRUE(std::isfinite(v)) << col;
+  ASSERT_NO_FATAL_FAILURE(expect_all_finite(csv));
   const double start = csv["total"].front();
   const double drop = start - *std::min_element(csv["total"].begin(), csv["total"].end());
   ASSERT_GT(drop, 0);

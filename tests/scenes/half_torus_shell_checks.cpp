@@ -45,8 +45,7 @@ TEST(HalfTorusShell, KeepsItsNewShapeWhenTheLoadGoesAway) {
   EXPECT_LT(last.x.col(1).maxCoeff(), 0.7 * crest0);
   EXPECT_GT(last.x.col(1).minCoeff(), -1e-6) << "through the ground";
   const Csv csv = read_csv(kOut / "energies.csv");
-  for (const auto& col : csv.header)
-    for (double v : csv[col]) ASSERT_TRUE(std::isfinite(v)) << col;
+  ASSERT_NO_FATAL_FAILURE(expect_all_finite(csv));
   const double peak_elastic = *std::max_element(csv["elastic"].begin(), csv["elastic"].end());
   // It is at rest, and it holds its shape by itself: plastic flow has relaxed the stress that an
   // elastic shell squeezed like this would keep (about 20% of its peak, held by ground friction).

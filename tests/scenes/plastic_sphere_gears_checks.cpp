@@ -48,8 +48,7 @@ TEST(PlasticSphereGears, EndsNearTheControlledDisk) {
 TEST(PlasticSphereGears, InvertsWhileCrushedAndRecovers) {
   const Csv csv = read_csv(kOut / "energies.csv");
   ASSERT_EQ(csv.rows(), static_cast<std::size_t>(kLast + 1));
-  for (const auto& col : csv.header)
-    for (double v : csv[col]) ASSERT_TRUE(std::isfinite(v)) << col;
+  ASSERT_NO_FATAL_FAILURE(expect_all_finite(csv));
   const double peak = *std::max_element(csv["inverted"].begin(), csv["inverted"].end());
   EXPECT_GT(peak, 0) << "the gears crush some elements through inversion";
   EXPECT_EQ(csv["inverted"].back(), 0);

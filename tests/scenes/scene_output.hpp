@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -59,6 +60,14 @@ inline std::vector<double> stats_column(const std::filesystem::path& path, const
     out.push_back(std::stod(line.substr(at + tag.size())));
   }
   return out;
+}
+
+// Every value of every column is finite (a fatal failure naming the column and frame otherwise;
+// call it inside ASSERT_NO_FATAL_FAILURE to stop the test there).
+inline void expect_all_finite(const Csv& csv) {
+  for (const auto& col : csv.header)
+    for (std::size_t i = 0; i < csv[col].size(); ++i)
+      ASSERT_TRUE(std::isfinite(csv[col][i])) << col << " at frame " << i;
 }
 
 inline bool update_golden() {

@@ -190,13 +190,6 @@ TEST(Bending, ForceMatchesEnergyGradientNearRest) {
   BendingForce f(m.x, m.tris, BendingParams{0.02, 0.0});
   std::mt19937 rng(17);
   const Points dir = random_points(m.x.rows(), 1.0, rng);
-  auto energy = [&](const Eigen::VectorXd& y) {
-    f.update_positions(unflat(y), 0.0);
-    return f.elastic_energy();
-  };
-  auto minus_force = [&](const Eigen::VectorXd& y) -> Eigen::VectorXd {
-    return -flat(elastic_forces_at(f, unflat(y)));
-  };
   fd::Options single_step;
   single_step.eps_max = single_step.eps_min = 1e-7;
   single_step.check_rate = false;
@@ -204,7 +197,7 @@ TEST(Bending, ForceMatchesEnergyGradientNearRest) {
   for (double eps : {1e-2, 1e-3}) {
     const Points x = m.x + eps * dir;
     ASSERT_GT(elastic_forces_at(f, x).norm(), 1e-8);  // the helper's value_scale floor stays inactive
-    const fd::Result r = fd::check_gradient(energy, minus_force, flat(x), single_step);
+    const fd::Result r = invfem::test::check_force_is_minus_energy_gradient(f, x, single_step);
     ASSERT_EQ(r.error.size(), 1u) << r.report;
     const double rel = r.error[0];
     std::cout << "eps " << eps << ": |f + grad W| / |f| = " << rel << "\n";

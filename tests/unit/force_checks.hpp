@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "fd_check.hpp"
 #include "invfem/core/force.hpp"
 
 namespace invfem::test {
@@ -24,12 +25,25 @@ inline Points random_points(Eigen::Index n, double scale, std::mt19937& rng) {
   return p;
 }
 
-// The elastic forces (n x 3) of `f` at positions x (updates the force's state to x).
-inline Points elastic_forces_at(Force& f, const Points& x) {
-  f.update_positions(x, 0.0);
+// The elastic forces (n x 3) of `f` at positions x and time t (updates the force's state to x).
+inline Points elastic_forces_at(Force& f, const Points& x, double t = 0.0) {
+  f.update_positions(x, t);
   Points out = Points::Zero(x.rows(), 3);
   f.add_elastic_forces(out);
   return out;
+}
+
+// The shared FD check of a force's elastic forces against its energy at x: elastic_energy and
+// -forces both through update_positions(y, t). A force whose update flows plastically must have
+// its plasticity off (its Fp then stays as set).
+inline fd::Result check_force_is_minus_energy_gradient(Force& f, const Points& x, const fd::Options& o,
+                                                       double t = 0.0) {
+  auto energy = [&](const Eigen::VectorXd& y) {
+    f.update_positions(unflat(y), t);
+    return f.elastic_energy();
+  };
+  auto minus_force = [&](const Eigen::VectorXd& y) -> Eigen::VectorXd { return -flat(elastic_forces_at(f, unflat(y), t)); };
+  return fd::check_gradient(energy, minus_force, flat(x), o);
 }
 
 inline Points damping_of(const Force& f, const Points& v) {

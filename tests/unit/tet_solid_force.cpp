@@ -21,6 +21,7 @@ namespace {
 
 using namespace invfem;
 using invfem::test::flat;
+using invfem::test::elastic_forces_at;
 using invfem::test::unflat;
 
 // An nx x ny x nz lattice of unit-h cubes, each split into 6 tets around its (0,0,0)-(1,1,1)
@@ -87,23 +88,11 @@ Points deformed(const Points& X, const Mat3& A, double noise, unsigned seed) {
   return x;
 }
 
-Points forces_at(TetSolidForce& f, const Points& x, double t = 0) {
-  f.update_positions(x, t);
-  Points out = Points::Zero(x.rows(), 3);
-  f.add_elastic_forces(out);
-  return out;
-}
-
 // Force = -d(elastic_energy)/dx, with plasticity OFF so that Fp stays as set.
 void expect_force_is_minus_energy_gradient(TetSolidForce& force, const Points& x, double t = 0) {
-  auto energy = [&](const Eigen::VectorXd& q) {
-    force.update_positions(unflat(q), t);
-    return force.elastic_energy();
-  };
-  auto grad = [&](const Eigen::VectorXd& q) -> Eigen::VectorXd { return -flat(forces_at(force, unflat(q), t)); };
   fd::Options o;
   o.step_scale = 1e-2;  // keeps the sweep within a few 1e-4 of x: away from the fiber law's kinks
-  const auto r = fd::check_gradient(energy, grad, flat(x), o);
+  const auto r = invfem::test::check_force_is_minus_energy_gradient(force, x, o, t);
   EXPECT_TRUE(r.pass) << r.report;
 }
 
@@ -204,14 +193,14 @@ TEST(TetSolidForce, ZeroForceAtRest) {
   mats.back().plasticity = PlasticParams{};          // nothing yields at rest
   for (const TetMaterial& mat : mats) {
     TetSolidForce force(m.rest, mat);
-    const Points f = forces_at(force, m.X);
+    const Points f = elastic_forces_at(force, m.X);
     EXPECT_LT(f.norm(), 1e-13) << "model " << mat.model.index();
     EXPECT_NEAR(force.elastic_energy(), 0.0, 1e-15);
     EXPECT_EQ(force.yielded_count(), 0);
   }
   // An active fiber pulls at rest (its rest stretch is shortened): not zero.
   TetSolidForce active(m.rest, fiber_material(elements(m), 1.0));
-  EXPECT_GT(forces_at(active, m.X).norm(), 1e-3);
+  EXPECT_GT(elastic_forces_at(active, m.X).norm(), 1e-3);
 }
 
 TEST(TetSolidForce, RigidMotionInvarianceNetForceAndTorque) {
@@ -220,7 +209,7 @@ TEST(TetSolidForce, RigidMotionInvarianceNetForceAndTorque) {
   TetSolidForce force(m.rest, mat);
   force.set_plastic_state(PlasticState{random_Fp_inv(elements(m), 14, 0.2)});
   const Points x = deformed(m.X, kStretch, 0.05, 15);
-  const Points f = forces_at(force, x);
+  const Points f = elastic_forces_at(force, x);
   const double E = force.elastic_energy();
   const double scale = f.cwiseAbs().maxCoeff();
   ASSERT_GT(scale, 1e-3);
@@ -237,7 +226,7 @@ TEST(TetSolidForce, RigidMotionInvarianceNetForceAndTorque) {
   const Vec3 shift(3.0, -2.0, 0.5);
   Points xr = x * R.transpose();
   xr.rowwise() += shift.transpose();
-  const Points fr = forces_at(force, xr);
+  const Points fr = elastic_forces_at(force, xr);
   EXPECT_NEAR(force.elastic_energy(), E, 1e-12 * E);
   EXPECT_LT((fr - f * R.transpose()).norm(), 1e-11 * f.norm());
 }
@@ -438,7 +427,7 @@ TEST(TetSolidForce, BitIdenticalAcrossThreadCounts) {
     for (int k = 0; k < 3; ++k) {
       const Mat3 A = Vec3(1.0 + 0.3 * k, 1.0 - 0.2 * k, 1.0).asDiagonal();
       const Points x = deformed(X, A, 0.01, 30 + k);
-      o.fe = forces_at(force, x, 0.1 * k);
+      o.fe = elastic_forces_at(force, x, 0.1 * k);
     }
     o.fd = Points::Zero(X.rows(), 3);
     force.add_damping_forces(deformed(X, Mat3::Identity(), 0.1, 40), o.fd);

@@ -25,15 +25,21 @@ ClothMaterialSpec parse_cloth_material(const Fields& f) {
   return m;
 }
 
+// A vertex index in [0, 2^31), checked in 64 bits before narrowing (4294967297 must not pass as
+// vertex 1); -1 when `e` is not one.
+int vertex_index(const nlohmann::json& e) {
+  if (!e.is_number_integer() || e.get<long long>() < 0 || e.get<long long>() > 2147483647LL) return -1;
+  return static_cast<int>(e.get<long long>());
+}
+
 std::vector<int> parse_vertex_list(const Fields& f, const std::string& key) {
   const auto& v = f.raw(key);
   if (!v.is_array()) f.fail(key, "an array of vertex indices");
   std::vector<int> out;
   for (std::size_t i = 0; i < v.size(); ++i) {
-    // Checked in 64 bits before narrowing: 4294967297 must not pass as vertex 1.
-    if (!v[i].is_number_integer() || v[i].get<long long>() < 0 || v[i].get<long long>() > 2147483647LL)
-      f.fail(key, "vertex indices in [0, 2^31)", "element " + std::to_string(i) + ": " + describe(v[i]));
-    out.push_back(static_cast<int>(v[i].get<long long>()));
+    const int index = vertex_index(v[i]);
+    if (index < 0) f.fail(key, "vertex indices in [0, 2^31)", "element " + std::to_string(i) + ": " + describe(v[i]));
+    out.push_back(index);
   }
   return out;
 }
@@ -69,10 +75,9 @@ StitchSpec parse_stitches(const Fields& f) {
       if (!ok) f.fail("list", "[i, j, k, r] with integer vertices and a number r", "element " + std::to_string(i) + ": " + describe(e));
       std::array<double, 4> st{};
       for (int a = 0; a < 3; ++a) {
-        const long long idx = e[a].get<long long>();
-        if (idx < 0 || idx > 2147483647LL)
-          f.fail("list", "vertex indices in [0, 2^31)", "element " + std::to_string(i) + ": " + describe(e));
-        st[a] = static_cast<double>(idx);
+        const int idx = vertex_index(e[a]);
+        if (idx < 0) f.fail("list", "vertex indices in [0, 2^31)", "element " + std::to_string(i) + ": " + describe(e));
+        st[a] = idx;
       }
       st[3] = e[3].get<double>();
       if (!(st[3] >= 0 && st[3] <= 1)) f.fail("list", "r in [0, 1]", "element " + std::to_string(i) + ": " + describe(e));

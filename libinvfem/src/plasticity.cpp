@@ -145,22 +145,22 @@ void PlasticParams::validate(const std::string& what) const {
                                 std::to_string(max_stretch));
 }
 
-PlasticState make_plastic_state(int num_elements) {
+namespace {
+// Fp^-1 = Id for each of n elements.
+template <class State> State identity_state(int num_elements, const char* who) {
   if (num_elements < 0)
-    throw std::invalid_argument("make_plastic_state: negative element count " +
-                                std::to_string(num_elements));
-  PlasticState s;
-  s.Fp_inv.assign(static_cast<size_t>(num_elements), Mat3::Identity());
+    throw std::invalid_argument(std::string(who) + ": negative element count " + std::to_string(num_elements));
+  State s;
+  s.Fp_inv.assign(static_cast<size_t>(num_elements), decltype(s.Fp_inv)::value_type::Identity());
   return s;
 }
+}  // namespace
 
+PlasticState make_plastic_state(int num_elements) {
+  return identity_state<PlasticState>(num_elements, "make_plastic_state");
+}
 PlasticState2 make_plastic_state2(int num_elements) {
-  if (num_elements < 0)
-    throw std::invalid_argument("make_plastic_state2: negative element count " +
-                                std::to_string(num_elements));
-  PlasticState2 s;
-  s.Fp_inv.assign(static_cast<size_t>(num_elements), Mat2::Identity());
-  return s;
+  return identity_state<PlasticState2>(num_elements, "make_plastic_state2");
 }
 
 PlasticTrial plastic_trial(const Mat3& F, const Mat3& Fp_inv, const PlasticParams& p) {

@@ -173,8 +173,8 @@ void SurfaceBvh::refit(const Points& x) {
 std::optional<SurfacePoint> SurfaceBvh::closest_point(const Vec3& p, double radius) const {
   if (!p.allFinite()) throw std::invalid_argument("SurfaceBvh(" + surface_.source + "): query point is not finite");
   const Embree& e = *embree_;
-  ClosestQuery q{&surface_.x, &surface_.tris, p, e.inv_scale, e.slack};
-  if (std::isfinite(radius)) q.best_d2 = radius * radius;
+  ClosestQuery q{&surface_.x, &surface_.tris, p, e.inv_scale, e.slack,
+                 std::isfinite(radius) ? radius * radius : std::numeric_limits<double>::infinity(), {}, false};
   const Vec3 o = (p - e.centre) * e.inv_scale;
   RTCPointQuery pq;
   pq.x = static_cast<float>(o.x());

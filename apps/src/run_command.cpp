@@ -159,10 +159,18 @@ int run_command(const std::vector<std::string>& raw) {
     recent_frame_seconds = frame == start_frame + 1 ? wall : 0.7 * recent_frame_seconds + 0.3 * wall;
     if (!quiet) {
       const double eta = recent_frame_seconds * (last - frame);
-      std::printf("frame %d/%d  t=%.3fs  %.2fs/frame  ETA %s  inverted %d (%.1f%%)  collisions %d  substeps %d  cg %d%s\n",
+      std::string newton;
+      if (r.newton_iterations > 0) newton = "  newton " + std::to_string(r.newton_iterations);
+      if (r.newton_capped > 0) {
+        char capped[160];
+        std::snprintf(capped, sizeof capped, " (Newton stopped above its tolerance in %d steps, worst residual %.2g)",
+                      r.newton_capped, r.newton_worst_residual);
+        newton += capped;
+      }
+      std::printf("frame %d/%d  t=%.3fs  %.2fs/frame  ETA %s  inverted %d (%.1f%%)  collisions %d  substeps %d%s  cg %d%s\n",
                   frame, last, world.time(), wall, format_duration(eta).c_str(), r.elements.inverted,
-                  100.0 * r.elements.inverted / std::max(1, r.elements.elements), r.colliding_nodes, r.substeps, r.cg_iterations,
-                  r.cg_all_converged ? "" : " (CG hit its iteration limit)");
+                  100.0 * r.elements.inverted / std::max(1, r.elements.elements), r.colliding_nodes, r.substeps,
+                  newton.c_str(), r.cg_iterations, r.cg_all_converged ? "" : " (CG hit its iteration limit)");
       std::fflush(stdout);
     }
   }

@@ -322,11 +322,18 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   s.gravity = root.vec3("gravity", s.gravity);
 
   const Fields solver = root.object_or_empty("solver");
-  solver.reject_unknown({"cfl", "max_dt", "cg_tolerance", "cg_max_iterations"});
+  solver.reject_unknown({"integrator", "cfl", "max_dt", "cg_tolerance", "cg_max_iterations", "newton_tolerance",
+                         "newton_max_iterations"});
+  s.solver.integrator = solver.string("integrator", "");
+  if (!s.solver.integrator.empty() && s.solver.integrator != "itf04" && s.solver.integrator != "implicit")
+    solver.fail("integrator", "\"itf04\" or \"implicit\"");
   s.solver.cfl = solver.number_in("cfl", s.solver.cfl, 1e-3, 1);
+  const bool max_dt_given = j.contains("solver") && j["solver"].is_object() && j["solver"].contains("max_dt");
   s.solver.max_dt = solver.number_in("max_dt", s.solver.max_dt, 1e-9, 1);
   s.solver.cg_tolerance = solver.number_in("cg_tolerance", s.solver.cg_tolerance, 1e-14, 1e-1);
   s.solver.cg_max_iterations = solver.integer("cg_max_iterations", s.solver.cg_max_iterations, 1, 100000);
+  s.solver.newton_tolerance = solver.number_in("newton_tolerance", s.solver.newton_tolerance, 1e-12, 1);
+  s.solver.newton_max_iterations = solver.integer("newton_max_iterations", s.solver.newton_max_iterations, 1, 1000);
 
   const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
   std::set<std::string> names;
@@ -371,6 +378,10 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
     }
   }
   if (s.solids.empty() && s.cloths.empty()) root.fail("solids", "at least one solid or cloth object");
+  // Cloth and garment scenes take large implicit steps unless they say otherwise (a cloth's
+  // in-plane stiffness would cost hundreds of explicit substeps a frame).
+  if (s.solver.integrator.empty()) s.solver.integrator = s.cloths.empty() ? "itf04" : "implicit";
+  if (s.solver.integrator == "implicit" && !max_dt_given) s.solver.max_dt = 0.5 / s.fps;
   s.render = parse_render(root.object_or_empty("render"));
   if (j.contains("quick")) {
     if (!j["quick"].is_object()) root.fail("quick", "an object of field overrides, e.g. {\"frames\": 30}");
@@ -507,8 +518,13 @@ nlohmann::json to_json(const Scene& s) {
   j["fps"] = s.fps;
   j["frames"] = s.frames;
   j["gravity"] = s.gravity;
-  j["solver"] = {{"cfl", s.solver.cfl}, {"max_dt", s.solver.max_dt}, {"cg_tolerance", s.solver.cg_tolerance},
-                 {"cg_max_iterations", s.solver.cg_max_iterations}};
+  j["solver"] = {{"integrator", s.solver.integrator},
+                 {"cfl", s.solver.cfl},
+                 {"max_dt", s.solver.max_dt},
+                 {"cg_tolerance", s.solver.cg_tolerance},
+                 {"cg_max_iterations", s.solver.cg_max_iterations},
+                 {"newton_tolerance", s.solver.newton_tolerance},
+                 {"newton_max_iterations", s.solver.newton_max_iterations}};
   j["solids"] = nlohmann::json::array();
   for (const auto& o : s.solids) j["solids"].push_back(solid_json(o));
   j["cloths"] = nlohmann::json::array();

@@ -185,10 +185,15 @@ struct ColliderSpec {
 };
 
 struct SolverSpec {
+  // "itf04" (the ITF04 section 9 step) | "implicit" (backward Euler by Newton, core/implicit_step.hpp).
+  // Default: implicit when the scene has a cloth, else itf04.
+  std::string integrator;
   double cfl = 0.5;
-  double max_dt = 0.005;          // [s]
-  double cg_tolerance = 1e-8;     // relative residual
+  double max_dt = 0.005;          // [s]; implicit default: half a frame
+  double cg_tolerance = 1e-8;     // relative residual (itf04 solves; floor of the implicit forcing term)
   int cg_max_iterations = 1000;
+  double newton_tolerance = 1e-4;   // implicit: |S grad E| relative to the forces at play
+  int newton_max_iterations = 12;   // implicit: a step that hits it is reported
 };
 
 struct Scene {

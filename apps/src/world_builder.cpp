@@ -1,5 +1,7 @@
 #include "world_builder.hpp"
 
+#include <algorithm>
+
 #include "collider_builders.hpp"
 #include "json_fields.hpp"
 #include "object_builders.hpp"
@@ -15,6 +17,10 @@ World build_world(const Scene& scene) {
   WorldSettings settings;
   settings.max_dt = scene.solver.max_dt;
   settings.cg = CGSettings{scene.solver.cg_tolerance, scene.solver.cg_max_iterations};
+  settings.integrator = scene.solver.integrator == "implicit" ? Integrator::Implicit : Integrator::ITF04;
+  settings.implicit.tolerance = scene.solver.newton_tolerance;
+  settings.implicit.max_newton_iterations = scene.solver.newton_max_iterations;
+  settings.implicit.cg = CGSettings{std::max(scene.solver.cg_tolerance, 1e-6), scene.solver.cg_max_iterations};
   try {
     return World(settings, std::move(objects), std::move(kinematic), make_rigid_collisions(bodies));
   } catch (const std::invalid_argument& e) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <limits>
 
+#include "invfem/core/contact_friction.hpp"
+
 namespace invfem {
 
 namespace {
@@ -58,13 +60,9 @@ CGResult damping_solve(const Body& body, const std::vector<Force*>& forces, doub
   return projected_cg(apply_A, b, inv_diag, constraints, v_out, cg);
 }
 
-// Coulomb friction for the impulse the normal constraints absorbed in the solve A v = b:
-// at a constrained node the residual J = A v - b is the constraint's impulse [kg m/s]. Its
-// normal part J_N > 0 (pushing out of the body) is a normal velocity change J_N / m, of which
-// collision processing already charged `friction_charged` (for a node at rest, dx_N/dt =
-// dt a_N / 2 of the step's dt a_N). The rest buys a tangential velocity change of mu times it,
-// toward the body's tangential velocity (time-integration.md step 8). Without it a block on a
-// slope would feel about half its friction.
+// Coulomb friction (contact_friction.hpp) for the impulse the normal constraints absorbed in the
+// solve A v = b: at a constrained node the residual J = A v - b is the constraint's impulse
+// [kg m/s]. Without it a block on a slope would feel about half its friction.
 void constraint_friction(const Body& body, const std::vector<Force*>& forces, double tau, double kappa,
                          const Points& b, const NodeConstraints& constraints, Points& v) {
   bool any = false;
@@ -72,18 +70,12 @@ void constraint_friction(const Body& body, const std::vector<Force*>& forces, do
   if (!any) return;
   Points Av;
   apply_system(body, forces, tau, kappa, v, Av);
-  for (const auto& c : constraints) {
-    if (c.kind != NodeConstraint::Kind::Normal || c.friction <= 0) continue;
-    const double dv_N = (Av.row(c.node) - b.row(c.node)).dot(c.normal.transpose()) / body.mass(c.node) -
-                        c.friction_charged;
-    if (dv_N <= 0) continue;
-    const Vec3 v_rel = v.row(c.node).transpose() - c.velocity;
-    const Vec3 v_T = v_rel - v_rel.dot(c.normal) * c.normal;
-    const double len = v_T.norm();
-    if (len <= 0) continue;
-    const double keep = std::max(0.0, 1.0 - c.friction * dv_N / len);
-    v.row(c.node) -= ((1.0 - keep) * v_T).transpose();
+  std::vector<double> impulse(constraints.size(), 0.0);
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    const NodeConstraint& c = constraints[k];
+    if (c.kind == NodeConstraint::Kind::Normal) impulse[k] = (Av.row(c.node) - b.row(c.node)).dot(c.normal.transpose());
   }
+  apply_contact_friction(constraints, impulse, body.mass, v);
 }
 
 }  // namespace
@@ -127,6 +119,8 @@ StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionP
 
   body.x = std::move(x_new);
   body.v = std::move(v_new);
+  stats.cg_iterations = stats.half_step.iterations + stats.trapezoid.iterations;
+  stats.cg_converged = stats.half_step.converged && stats.trapezoid.converged;
   return stats;
 }
 

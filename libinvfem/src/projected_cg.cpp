@@ -34,22 +34,23 @@ double dot(const Points& a, const Points& b) {
 }
 }  // namespace
 
-CGResult projected_cg(const std::function<void(const Points&, Points&)>& apply_A, const Points& b,
-                      const Eigen::VectorXd& inv_diag, const NodeConstraints& constraints, Points& v,
-                      const CGSettings& settings) {
+CGResult projected_pcg(const std::function<void(const Points&, Points&)>& apply_A,
+                       const std::function<void(const Points&, Points&)>& apply_P, const Points& b,
+                       const NodeConstraints& constraints, Points& v, const CGSettings& settings, CGWorkspace& ws) {
   const Eigen::Index n = b.rows();
+  for (Points* q : {&ws.Ap, &ws.r, &ws.z, &ws.p}) q->resize(n, 3);
+  Points &Ap = ws.Ap, &r = ws.r, &z = ws.z, &p = ws.p;
   impose(constraints, v);
-  Points Ap(n, 3), r(n, 3), z(n, 3), p(n, 3);
   apply_A(v, Ap);
   r = b - Ap;
   project_free(constraints, r);
-  Points Sb = b;
-  project_free(constraints, Sb);
-  const double b_norm = std::sqrt(dot(Sb, Sb));
+  ws.Sb = b;
+  project_free(constraints, ws.Sb);
+  const double b_norm = std::sqrt(dot(ws.Sb, ws.Sb));
   const double tol = settings.relative_tolerance * b_norm + 1e-300;
 
   CGResult res;
-  z = inv_diag.asDiagonal() * r;
+  apply_P(r, z);
   p = z;
   double rz = dot(r, z);
   res.residual = std::sqrt(dot(r, r));
@@ -71,12 +72,20 @@ CGResult projected_cg(const std::function<void(const Points&, Points&)>& apply_A
       res.converged = true;
       break;
     }
-    z = inv_diag.asDiagonal() * r;
+    apply_P(r, z);
     const double rz_new = dot(r, z);
     p = z + (rz_new / rz) * p;
     rz = rz_new;
   }
   return res;
+}
+
+CGResult projected_cg(const std::function<void(const Points&, Points&)>& apply_A, const Points& b,
+                      const Eigen::VectorXd& inv_diag, const NodeConstraints& constraints, Points& v,
+                      const CGSettings& settings) {
+  CGWorkspace ws;
+  return projected_pcg(
+      apply_A, [&](const Points& r, Points& z) { z = inv_diag.asDiagonal() * r; }, b, constraints, v, settings, ws);
 }
 
 }  // namespace invfem

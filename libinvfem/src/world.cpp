@@ -71,6 +71,7 @@ World::World(WorldSettings settings, std::vector<SimObject> objects,
       throw std::invalid_argument("world: two objects or bodies are named \"" + k->name() + "\"");
   for (const auto& k : kinematic_) k->move_to(time_);
   for (SimObject& o : objects_) o.refresh_surface();
+  implicit_.resize(objects_.size());
 }
 
 void World::advance_to(double t_end, FrameReport& report) {
@@ -80,7 +81,8 @@ void World::advance_to(double t_end, FrameReport& report) {
   // step (ITF04's scheme takes a variable dt).
   while (time_ < t_end - 1e-12 * std::max(1.0, t_end)) {
     double dt = std::min(settings_.max_dt, t_end - time_);
-    for (const auto& o : objects_) dt = std::min(dt, stable_time_step(o.body, o.force_pointers()));
+    if (settings_.integrator == Integrator::ITF04)
+      for (const auto& o : objects_) dt = std::min(dt, stable_time_step(o.body, o.force_pointers()));
     const double left = t_end - time_;
     dt = left / std::ceil(left / dt - 1e-9);
     report.colliding_nodes = 0;
@@ -92,13 +94,23 @@ void World::advance_to(double t_end, FrameReport& report) {
     }
     // 2, 3. Solids, then cloths.
     for (ObjectKind kind : stage_order)
-      for (auto& o : objects_) {
+      for (std::size_t k = 0; k < objects_.size(); ++k) {
+        SimObject& o = objects_[k];
         if (o.kind != kind) continue;
-        const StepStats s = newmark_step(o.body, o.force_pointers(), collisions_.get(), o.pin_constraints(time_, dt),
-                                         time_, dt, settings_.cg);
-        report.cg_iterations += s.half_step.iterations + s.trapezoid.iterations;
-        report.cg_all_converged = report.cg_all_converged && s.half_step.converged && s.trapezoid.converged;
+        const StepStats s =
+            settings_.integrator == Integrator::ITF04
+                ? newmark_step(o.body, o.force_pointers(), collisions_.get(), o.pin_constraints(time_, dt), time_, dt,
+                               settings_.cg)
+                : implicit_step(o.body, o.force_pointers(), collisions_.get(), o.pin_constraints(time_, dt), time_,
+                                dt, settings_.implicit, implicit_[k]);
+        report.cg_iterations += s.cg_iterations;
+        report.cg_all_converged = report.cg_all_converged && s.cg_converged;
         report.colliding_nodes += s.colliding_nodes;
+        report.newton_iterations += s.newton_iterations;
+        if (!s.newton_converged) {
+          ++report.newton_capped;
+          report.newton_worst_residual = std::max(report.newton_worst_residual, s.newton_residual);
+        }
       }
     // 4. After-step passes, on refreshed surfaces (without passes nothing reads the surfaces
     // until the frame is done: they are refreshed once, below).

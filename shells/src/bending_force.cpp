@@ -72,13 +72,17 @@ void BendingForce::set_params(const BendingParams& p) {
   params_ = p;
 }
 
-void BendingForce::update_positions(const Points& x, double /*time*/) {
+void BendingForce::update_positions(const Points& x, double /*time*/) { update(x, true); }
+
+void BendingForce::evaluate_at(const Points& x, double /*time*/) { update(x, false); }
+
+void BendingForce::update(const Points& x, bool allow_flow) {
   if (x.rows() != n_nodes_)
     throw std::invalid_argument(what_ + ": positions have " + std::to_string(x.rows()) +
                                 " rows, the mesh has " + std::to_string(n_nodes_) + " nodes");
   if (!x.allFinite()) throw std::invalid_argument(what_ + ": positions contain NaN or inf");
-  const bool flow = params_.plasticity && !skip_next_flow_;  // a restored state already holds this flow
-  skip_next_flow_ = false;
+  const bool flow = allow_flow && params_.plasticity && !skip_next_flow_;  // a restored state already holds this flow
+  if (allow_flow) skip_next_flow_ = false;
   const BendingPlasticity plastic = params_.plasticity.value_or(BendingPlasticity{});
   parallel_for_each(hinges_.size(), kGrain, [&](std::size_t h) {
     geom_[h] = hinge_geometry(x, hinges_[h]);

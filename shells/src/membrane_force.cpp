@@ -83,14 +83,18 @@ void MembraneForce::set_model(const IsotropicModel& model) {
   model_ = plane_stress(model);
 }
 
-void MembraneForce::update_positions(const Points& x, double /*time*/) {
+void MembraneForce::update_positions(const Points& x, double /*time*/) { update(x, true); }
+
+void MembraneForce::evaluate_at(const Points& x, double /*time*/) { update(x, false); }
+
+void MembraneForce::update(const Points& x, bool allow_flow) {
   if (x.rows() != rest_.node_area.size())
     throw std::invalid_argument(what_ + ": positions have " + std::to_string(x.rows()) +
                                 " rows, the mesh has " + std::to_string(rest_.node_area.size()) +
                                 " nodes");
   if (!x.allFinite()) throw std::invalid_argument(what_ + ": positions contain NaN or inf");
-  const bool flow = plasticity_ && !skip_next_flow_;  // a restored state already holds this flow
-  skip_next_flow_ = false;
+  const bool flow = allow_flow && plasticity_ && !skip_next_flow_;  // a restored state already holds this flow
+  if (allow_flow) skip_next_flow_ = false;
   // The plain ITF04 membrane (no plasticity, no inversion test) keeps its original expression.
   const bool plain = !plasticity_ && plastic_identity_ && inversion_normals_.empty();
   // Visit the model once for the whole batch; the element loop is then monomorphic.
@@ -128,7 +132,7 @@ void MembraneForce::update_positions(const Points& x, double /*time*/) {
       },
       model_);
   if (!flow) {
-    std::fill(yielded_.begin(), yielded_.end(), 0);
+    if (allow_flow) std::fill(yielded_.begin(), yielded_.end(), 0);
   } else {
     plastic_identity_ = std::all_of(plastic_.Fp_inv.begin(), plastic_.Fp_inv.end(),
                                     [](const Mat2& A) { return A == Mat2::Identity(); });

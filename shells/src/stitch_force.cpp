@@ -120,6 +120,43 @@ void StitchForce::add_stiffness_diagonal(Eigen::VectorXd& d) const {
   }
 }
 
+namespace {
+// Per stitch (nodes i, j, k) the 9x9 matrix coeff_s (w w^T kron I3): the stiffness with
+// coeff = k_s, the damping with coeff = c_s (the spring and dashpot act alike on x, y and z).
+void stitch_matrices(const std::vector<Stitch>& stitches, const std::vector<double>& length, double per_metre,
+                     ElementMatrices& out) {
+  const auto m = static_cast<Eigen::Index>(stitches.size());
+  if (out.arity != 3 || out.count() != m) {
+    out.resize(m, 3);
+    for (Eigen::Index s = 0; s < m; ++s) {
+      const Stitch& t = stitches[static_cast<std::size_t>(s)];
+      out.nodes.row(s) << t.i, t.j, t.k;
+    }
+  }
+  for (Eigen::Index s = 0; s < m; ++s) {
+    const auto w = weights(stitches[static_cast<std::size_t>(s)]);
+    const double c = per_metre * length[static_cast<std::size_t>(s)];
+    auto K = out.matrix<9>(s);
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) K.block<3, 3>(3 * a, 3 * b) = (c * w[a] * w[b]) * Mat3::Identity();
+  }
+}
+}  // namespace
+
+bool StitchForce::stiffness_matrices(ElementMatrices& out) const {
+  stitch_matrices(stitches_, length_, params_.stiffness, out);
+  return true;
+}
+
+bool StitchForce::damping_matrices(ElementMatrices& out) const {
+  if (params_.damping == 0) {
+    out.resize(0, 3);
+    return true;
+  }
+  stitch_matrices(stitches_, length_, params_.damping, out);
+  return true;
+}
+
 std::vector<double> stitch_gaps(const std::vector<Stitch>& stitches, const Points& x) {
   std::vector<double> out;
   out.reserve(stitches.size());

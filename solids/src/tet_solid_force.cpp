@@ -107,14 +107,18 @@ void TetSolidForce::restore_plastic_state(PlasticState state) {
   skip_next_flow_ = true;
 }
 
-void TetSolidForce::update_positions(const Points& x, double time) {
+void TetSolidForce::update_positions(const Points& x, double time) { update(x, time, true); }
+
+void TetSolidForce::evaluate_at(const Points& x, double time) { update(x, time, false); }
+
+void TetSolidForce::update(const Points& x, double time, bool allow_flow) {
   time_ = time;
   strength_ = material_.strength.at(time);
   const IsotropicModel model = with_strength(material_.model, strength_);
   const int m = static_cast<int>(diag_.size());
   const PlasticParams* plasticity = material_.plasticity ? &*material_.plasticity : nullptr;
-  const bool flow = plasticity && !skip_next_flow_;  // a restored state already holds this flow
-  skip_next_flow_ = false;
+  const bool flow = allow_flow && plasticity && !skip_next_flow_;  // a restored state already holds this flow
+  if (allow_flow) skip_next_flow_ = false;
   const bool control = !material_.plastic_goal_log.empty();
   const FiberMaterial* fiber = material_.fiber ? &*material_.fiber : nullptr;
   if (fiber) {
@@ -164,7 +168,7 @@ void TetSolidForce::update_positions(const Points& x, double time) {
       },
       model);
   if (!flow) {
-    std::fill(yielded_.begin(), yielded_.end(), 0);
+    if (allow_flow) std::fill(yielded_.begin(), yielded_.end(), 0);
   } else {
     // Flow moves Fp away from the identity; keep the flag conservative (sequential, cheap).
     plastic_identity_ = std::all_of(plastic_.Fp_inv.begin(), plastic_.Fp_inv.end(),

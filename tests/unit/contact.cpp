@@ -1,6 +1,7 @@
 // Contact of tet solids with kinematic rigid bodies through the ITF04 section 9 step
 // (newmark_step + RigidCollisions): a sphere settling on a plane (no penetration, no jitter), a
-// block on an incline (Coulomb stick and slide), and a moving plane imposing its normal velocity.
+// block on an incline (Coulomb stick and slide, also with the implicit integrator), and a moving
+// plane imposing its normal velocity.
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -18,9 +19,11 @@
 #include "invfem/collisions/analytic_surfaces.hpp"
 #include "invfem/collisions/moving_surface.hpp"
 #include "invfem/collisions/rigid_collisions.hpp"
+#include "invfem/core/implicit_step.hpp"
 #include "invfem/core/newmark_step.hpp"
 #include "invfem/solids/mass.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
+#include "test_meshes.hpp"
 
 namespace {
 
@@ -34,59 +37,18 @@ std::string sci(double v) {
   return s.str();
 }
 
-struct Mesh {
-  Points X;
-  Tets T;
-};
-
-// Cubes of side h at integer cells (i, j, k) accepted by `keep`, each split into 6 tets around its
-// (0,0,0)-(1,1,1) diagonal (conforming), positively oriented; only used nodes are kept.
-template <class Keep> Mesh cube_cells(int n, double h, const Vec3& origin, const Keep& keep) {
-  std::map<std::array<int, 3>, int> ids;
-  std::vector<Vec3> nodes;
-  auto node = [&](int i, int j, int k) {
-    auto [it, fresh] = ids.try_emplace({i, j, k}, static_cast<int>(nodes.size()));
-    if (fresh) nodes.push_back(origin + h * Vec3(i, j, k));
-    return it->second;
-  };
-  const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  std::vector<Eigen::Vector4i> tets;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        if (!keep(i, j, k)) continue;
-        for (const auto& p : perms) {
-          int c[3] = {0, 0, 0};
-          Eigen::Vector4i t;
-          t(0) = node(i, j, k);
-          for (int s = 0; s < 3; ++s) {
-            c[p[s]] = 1;
-            t(s + 1) = node(i + c[0], j + c[1], k + c[2]);
-          }
-          Mat3 D;
-          for (int s = 0; s < 3; ++s) D.col(s) = nodes[t(s + 1)] - nodes[t(0)];
-          if (D.determinant() < 0) std::swap(t(1), t(2));
-          tets.push_back(t);
-        }
-      }
-  Mesh m;
-  m.X.resize(static_cast<Eigen::Index>(nodes.size()), 3);
-  for (std::size_t i = 0; i < nodes.size(); ++i) m.X.row(static_cast<Eigen::Index>(i)) = nodes[i].transpose();
-  m.T.resize(static_cast<Eigen::Index>(tets.size()), 4);
-  for (std::size_t e = 0; e < tets.size(); ++e) m.T.row(static_cast<Eigen::Index>(e)) = tets[e].transpose();
-  return m;
-}
+using Mesh = test::TetMesh;
 
 // A coarse sphere: the cells of an n^3 lattice over [-r, r]^3 whose centers lie inside r.
 Mesh coarse_sphere(double r, int n) {
   const double h = 2 * r / n;
-  return cube_cells(n, h, Vec3::Constant(-r), [&](int i, int j, int k) {
+  return test::cube_cells({n, n, n}, h, Vec3::Constant(-r), [&](int i, int j, int k) {
     return (h * (Vec3(i, j, k) + Vec3::Constant(0.5)) - Vec3::Constant(r)).norm() < r;
   });
 }
 
 Mesh block(int n, double size) {
-  return cube_cells(n, size / n, Vec3::Zero(), [](int, int, int) { return true; });
+  return test::cube_cells_mesh({n, n, n}, size / n);
 }
 
 struct Sim {
@@ -105,9 +67,19 @@ struct Sim {
     collisions = std::make_unique<RigidCollisions>(std::move(colliders));
     dt = force->stable_time_step(body.mass);
   }
+  bool implicit = false;  // the implicit integrator (implicit_step.hpp) with steps of 1/100 s
+  ImplicitWorkspace ws;
+  void use_implicit() {
+    implicit = true;
+    dt = 0.01;
+  }
   void step() {
     std::vector<Force*> forces = {force.get()};
-    newmark_step(body, forces, collisions.get(), {}, t, dt, CGSettings{});
+    if (implicit) {
+      implicit_step(body, forces, collisions.get(), {}, t, dt, ImplicitSettings{}, ws);
+    } else {
+      newmark_step(body, forces, collisions.get(), {}, t, dt, CGSettings{});
+    }
     t += dt;
   }
   double kinetic_energy() const { return 0.5 * (body.mass.asDiagonal() * body.v).cwiseProduct(body.v).sum(); }
@@ -164,7 +136,7 @@ TEST(Contact, SphereSettlesOnPlaneWithoutPenetrationOrJitter) {
 struct SlopeRun {
   std::vector<double> t, s;
 };
-SlopeRun run_incline(double theta, double mu, double duration) {
+SlopeRun run_incline(double theta, double mu, double duration, bool implicit = false) {
   const Mesh cube = block(2, 0.1);
   const double c = std::cos(theta), sn = std::sin(theta);
   Mat3 R;  // body x -> slope tangent (c, s, 0), body y -> plane normal (-s, c, 0)
@@ -173,6 +145,7 @@ SlopeRun run_incline(double theta, double mu, double duration) {
   const Vec3 normal = R.col(1), downhill = -R.col(0);
   const auto plane = std::make_shared<PlaneSurface>(Vec3::Zero(), normal);
   Sim sim(cube, x0, material(1e6, 0.005), {{plane, mu}});
+  if (implicit) sim.use_implicit();
   const Vec3 c0 = sim.center_of_mass();
   SlopeRun r;
   while (sim.t < duration) {
@@ -205,9 +178,11 @@ TEST(Contact, ParticleOnInclineFollowsCoulomb) {
 }
 
 TEST(Contact, BlockOnInclineSticksWhenFrictionExceedsTangent) {
+  for (bool implicit : {false, true})
   for (double deg : {20.0, 35.0}) {
+    SCOPED_TRACE(implicit ? "implicit integrator" : "ITF04 step");
     const double theta = deg * std::numbers::pi / 180;
-    const SlopeRun r = run_incline(theta, 1.5 * std::tan(theta), 1.0);
+    const SlopeRun r = run_incline(theta, 1.5 * std::tan(theta), 1.0, implicit);
     // Free sliding would cover g sin(theta) / 2 ~ 1.7-2.8 m in 1 s; landing and elastic shear
     // settle the block by ~1e-4 m at 35 deg.
     EXPECT_LT(std::abs(r.s.back()), 1e-3) << deg << " deg";
@@ -217,10 +192,12 @@ TEST(Contact, BlockOnInclineSticksWhenFrictionExceedsTangent) {
 }
 
 TEST(Contact, BlockOnInclineSlidesWithCoulombAcceleration) {
+  for (bool implicit : {false, true})
   for (double deg : {20.0, 35.0}) {
+    SCOPED_TRACE(implicit ? "implicit integrator" : "ITF04 step");
     const double theta = deg * std::numbers::pi / 180;
     const double mu = 0.5 * std::tan(theta);
-    const SlopeRun r = run_incline(theta, mu, 0.5);
+    const SlopeRun r = run_incline(theta, mu, 0.5, implicit);
     const double expected = kG * (std::sin(theta) - mu * std::cos(theta));
     // Least-squares fit of s = a t^2 / 2 + b t + c over the second half (past the start transient).
     Eigen::MatrixXd A(0, 3);
@@ -237,7 +214,7 @@ TEST(Contact, BlockOnInclineSlidesWithCoulombAcceleration) {
     const Eigen::Vector3d fit = A.colPivHouseholderQr().solve(y);
     const double a = fit(0);
     EXPECT_NEAR(a, expected, 0.12 * expected) << deg << " deg: a = " << a << ", expected " << expected;
-    RecordProperty("accel_" + std::to_string(static_cast<int>(deg)) + "deg", sci(a / expected));
+    RecordProperty(std::string(implicit ? "implicit_" : "itf04_") + "accel_" + std::to_string(static_cast<int>(deg)) + "deg", sci(a / expected));
   }
 }
 

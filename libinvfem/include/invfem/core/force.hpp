@@ -6,6 +6,7 @@
 #include <map>
 #include <string>
 
+#include "invfem/core/element_matrices.hpp"
 #include "invfem/core/state_stream.hpp"
 #include "invfem/core/types.hpp"
 
@@ -60,6 +61,20 @@ class Force {
   virtual bool implicit_stiffness() const { return false; }
   virtual void add_stiffness_product(const Points& p, Points& Kp) const {}
   virtual void add_stiffness_diagonal(Eigen::VectorXd& d) const {}
+
+  // The implicit integrator (implicit_step.hpp) evaluates Newton's trial positions with
+  // evaluate_at: like update_positions (forces, energy and matrices then refer to x), but with
+  // no plastic flow or other change of rest state, which happens once per step, in
+  // update_positions at the step's end. The default serves forces without such state.
+  virtual void evaluate_at(const Points& x, double time) { update_positions(x, time); }
+
+  // Element matrices at the last update_positions / evaluate_at (element_matrices.hpp):
+  // stiffness_matrices writes K_e, positive semidefinite, approximating -d f_e/d x (exact where no
+  // clamping applies); damping_matrices writes C_e = -d f_d,e / d v (the damping force is linear
+  // in v). The node lists stay the same from call to call. A force with no such term writes zero
+  // elements and returns true; false means the force cannot give them (no implicit integration).
+  virtual bool stiffness_matrices(ElementMatrices& out) const { return false; }
+  virtual bool damping_matrices(ElementMatrices& out) const { return false; }
 
   // State that is not a function of the positions (plastic Fp, plastic rest angles), for
   // checkpoints. save_state is called right after an update_positions(x); restore_state reads

@@ -33,10 +33,16 @@ struct Body {
   Vec3 gravity = Vec3(0, -9.81, 0);  // [m/s^2]; the world is y-up
 };
 
+// What one step of either integrator (this one or implicit_step.hpp) reports.
 struct StepStats {
-  CGResult half_step;   // CG of line 1
-  CGResult trapezoid;   // CG of line 5
+  CGResult half_step;   // ITF04 step: CG of line 1
+  CGResult trapezoid;   // ITF04 step: CG of line 5
   int colliding_nodes = 0;
+  int cg_iterations = 0;        // every CG iteration of the step
+  bool cg_converged = true;     // every CG solve met its tolerance
+  int newton_iterations = 0;    // implicit step: Newton iterations (0 for the ITF04 step)
+  bool newton_converged = true; // implicit step: the stopping rule was met within the cap
+  double newton_residual = 0;   // implicit step: final |S grad E| / h^2 / force_scale
 };
 
 // Advance `body` from t to t + dt. Precondition: every force's update_positions was last called

@@ -29,6 +29,18 @@ CGResult projected_cg(const std::function<void(const Points&, Points&)>& apply_A
                       const Eigen::VectorXd& inv_diag, const NodeConstraints& constraints, Points& v,
                       const CGSettings& settings);
 
+// Scratch vectors of a solve, kept by a caller that solves often (no allocation per solve).
+struct CGWorkspace {
+  Points Ap, r, z, p, Sb;
+};
+
+// The same with a general preconditioner: apply_P(r, z) writes z = P r for a symmetric positive
+// definite P on the free subspace (z must come out filtered: zero constrained components).
+// projected_cg is this with z = inv_diag r.
+CGResult projected_pcg(const std::function<void(const Points&, Points&)>& apply_A,
+                       const std::function<void(const Points&, Points&)>& apply_P, const Points& b,
+                       const NodeConstraints& constraints, Points& v, const CGSettings& settings, CGWorkspace& ws);
+
 // Apply the filter S (zero the constrained components) in place.
 void project_free(const NodeConstraints& constraints, Points& p);
 

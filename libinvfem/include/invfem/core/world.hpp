@@ -4,13 +4,15 @@
 //
 // Each step t -> t + dt runs these stages, in this order:
 //   1. kinematic bodies move to t + dt (rigid colliders now; bodies from mesh sequences later);
-//   2. solids step (ITF04 section 9, newmark_step), in the order they were added;
+//   2. solids step (the ITF04 section 9 step, newmark_step, or the implicit step, implicit_step),
+//      in the order they were added;
 //   3. cloths and shells step, likewise, so that they see the solids at t + dt (one-way coupling);
 //   4. after-step passes: every object's surface is refreshed from its nodes, then each StepPass
 //      runs in the order added (the BFA02 self-collision pass goes here). With no pass, surfaces
 //      are refreshed once, when advance_to returns.
-// dt is the smallest stable step of every object (and solver.max_dt), shortened so the steps of
-// a frame are equal and land exactly on the frame time.
+// dt is solver.max_dt, with the ITF04 step also the smallest stable step of every object,
+// shortened so the steps of a frame are equal and land exactly on the frame time. The implicit
+// step has no stability limit: its dt is max_dt (a frame or a fraction of one).
 #include <memory>
 #include <optional>
 #include <string>
@@ -18,6 +20,7 @@
 
 #include "invfem/core/collision_processor.hpp"
 #include "invfem/core/force.hpp"
+#include "invfem/core/implicit_step.hpp"
 #include "invfem/core/newmark_step.hpp"
 #include "invfem/core/rigid_motion.hpp"
 #include "invfem/core/state_stream.hpp"
@@ -78,9 +81,15 @@ class StepPass {
                           double dt) = 0;
 };
 
+// itf04: ITF04 section 9 (explicit elasticity, implicit damping; CFL-limited), the reference.
+// implicit: backward Euler by Newton's method (implicit_step.hpp), steps of max_dt.
+enum class Integrator { ITF04, Implicit };
+
 struct WorldSettings {
   double max_dt = 0.005;  // [s]
-  CGSettings cg;
+  CGSettings cg;          // the ITF04 step's damping solves
+  Integrator integrator = Integrator::ITF04;
+  ImplicitSettings implicit;
 };
 
 // Per-frame figures, summed over objects.
@@ -89,6 +98,10 @@ struct FrameReport {
   ElementStats elements;                         // tets only
   int substeps = 0, cg_iterations = 0, colliding_nodes = 0;
   bool cg_all_converged = true;
+  // Implicit integrator: Newton iterations, and the object steps whose Newton stopped at its
+  // iteration cap (or without descent) above the tolerance, with the worst final residual.
+  int newton_iterations = 0, newton_capped = 0;
+  double newton_worst_residual = 0;
 };
 
 class World {
@@ -127,6 +140,7 @@ class World {
   std::vector<std::shared_ptr<KinematicBody>> kinematic_;
   std::unique_ptr<CollisionProcessor> collisions_;
   std::vector<std::unique_ptr<StepPass>> passes_;
+  std::vector<ImplicitWorkspace> implicit_;  // per object, for the implicit integrator
 };
 
 }  // namespace invfem

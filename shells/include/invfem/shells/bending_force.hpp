@@ -42,7 +42,13 @@ class BendingForce : public Force {
                const std::string& what = "bending");
 
   void update_positions(const Points& x, double time) override;
+  // The same at a Newton trial position: rest angles do not flow.
+  void evaluate_at(const Points& x, double time) override;
   void add_elastic_forces(Points& f) const override;
+  // 12x12 per hinge (bending_stiffness.cpp): the Gauss-Newton k_e c cos(theta/2)/2 u u^T and the
+  // exact damping k_d |E| u u^T.
+  bool stiffness_matrices(ElementMatrices& out) const override;
+  bool damping_matrices(ElementMatrices& out) const override;
   void add_damping_forces(const Points& v, Points& f) const override;
   double elastic_energy() const override;
   // Estimate from the Gauss-Newton stiffness k_e c cos(theta/2)/2 u u^T of each hinge:
@@ -73,6 +79,8 @@ class BendingForce : public Force {
   void set_params(const BendingParams& params);
 
  private:
+  void update(const Points& x, bool allow_flow);
+
   std::string what_;
   Eigen::Index n_nodes_;
   BendingParams params_;

@@ -40,7 +40,13 @@ class MembraneForce : public Force {
   MembraneForce(TriangleRest rest, const MembraneParams& params, const std::string& what = "membrane");
 
   void update_positions(const Points& x, double time) override;
+  // The same at a Newton trial position: no plastic flow.
+  void evaluate_at(const Points& x, double time) override;
   void add_elastic_forces(Points& f) const override;
+  // 9x9 per triangle (membrane_stiffness.cpp): K_e from the clamped 3x2 dP/dF on the plastic rest
+  // shape; C_e of the rotated damping. Zero elements without damping.
+  bool stiffness_matrices(ElementMatrices& out) const override;
+  bool damping_matrices(ElementMatrices& out) const override;
   // Rotated damping (ITF04 section 6.2, time-integration.md section 5):
   // F_dot^ = U^T F_dot V, P^_d = 2 beta sym(F_dot^) + alpha tr(F_dot^) Id, P_d = U P^_d V^T,
   // G_d = -A0 h P_d Dm^-T, with U, V frozen at the last update_positions. With plasticity it acts
@@ -70,6 +76,7 @@ class MembraneForce : public Force {
 
  private:
   void init(const MembraneParams& params);
+  void update(const Points& x, bool allow_flow);
 
   std::string what_;
   TriangleRest rest_;

@@ -56,6 +56,9 @@ class StitchForce final : public Force {
   bool implicit_stiffness() const override { return true; }
   void add_stiffness_product(const Points& p, Points& Kp) const override;
   void add_stiffness_diagonal(Eigen::VectorXd& d) const override;
+  // The implicit integrator's 9x9 per stitch: k_s (w w^T kron I3) and c_s (w w^T kron I3).
+  bool stiffness_matrices(ElementMatrices& out) const override;
+  bool damping_matrices(ElementMatrices& out) const override;
 
   const std::vector<Stitch>& stitches() const { return stitches_; }
 

@@ -50,8 +50,14 @@ class TetSolidForce final : public Force {
   // Diagonalization, plastic flow (when enabled) and element forces at x; time picks the
   // strength and activation. Throws std::invalid_argument for non-finite positions.
   void update_positions(const Points& x, double time) override;
+  // The same at a Newton trial position: no plastic flow (the yielded counts keep the last update's).
+  void evaluate_at(const Points& x, double time) override;
   void add_elastic_forces(Points& f) const override;
   void add_damping_forces(const Points& v, Points& f) const override;
+  // 12x12 per tet (tet_solid_stiffness.cpp): K_e from the clamped diagonal-space dP/dF on the
+  // plastic rest shape, plus the fiber's; C_e of the rotated damping. Zero elements without damping.
+  bool stiffness_matrices(ElementMatrices& out) const override;
+  bool damping_matrices(ElementMatrices& out) const override;
   // sum_e V0 (det(Fp) Psi(Fe) + Psi_f(|F a|)) at the last update.
   double elastic_energy() const override;
   // Gershgorin bound on the current plastic rest shape (see the .cpp), fiber stiffness included.
@@ -83,6 +89,8 @@ class TetSolidForce final : public Force {
   void restore_plastic_state(PlasticState state);
 
  private:
+  void update(const Points& x, double time, bool allow_flow);
+
   TetRest rest_;
   TetMaterial material_;
   double time_ = 0;

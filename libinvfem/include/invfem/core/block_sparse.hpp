@@ -1,0 +1,63 @@
+#pragma once
+// A symmetric sparse matrix of 3x3 blocks over the nodes of one body (BSR: compressed rows of
+// blocks, both triangles stored), the assembled system of the implicit integrator. Its pattern
+// comes once from the elements' node lists; afterwards assembly and products allocate nothing.
+//
+// Determinism: every loop runs over block rows, each row summed in its own fixed order (column
+// order for products, element order for assembly), so the result has the same bits whatever
+// the thread count.
+#include <vector>
+
+#include "invfem/core/element_matrices.hpp"
+#include "invfem/core/types.hpp"
+
+namespace invfem {
+
+class BlockSparseMatrix {
+ public:
+  BlockSparseMatrix() = default;
+  // The pattern of n nodes coupled by the given elements (each node coupled to itself always).
+  BlockSparseMatrix(Eigen::Index n, const std::vector<const ElementMatrices*>& elements);
+
+  Eigen::Index rows() const { return static_cast<Eigen::Index>(row_start_.size()) - 1; }
+  std::size_t block_count() const { return blocks_.size(); }
+  // Index of block (i, j) in blocks(), or -1 when (i, j) is outside the pattern.
+  int find(int i, int j) const;
+
+  void set_zero();
+  // y = A x (n x 3), parallel over block rows.
+  void multiply(const Points& x, Points& y) const;
+  // The diagonal block of node i.
+  const Mat3& diagonal(Eigen::Index i) const { return blocks_[static_cast<std::size_t>(diag_[i])]; }
+  // A += diag(d): one weight per node, added to its 3x3 diagonal block (a lumped mass).
+  void add_to_diagonal(const Eigen::VectorXd& d);
+
+  std::vector<Mat3>& blocks() { return blocks_; }
+  const std::vector<Mat3>& blocks() const { return blocks_; }
+  const std::vector<int>& row_start() const { return row_start_; }
+  const std::vector<int>& columns() const { return col_; }
+
+ private:
+  std::vector<int> row_start_{0};  // n + 1
+  std::vector<int> col_;           // block column of each block, ascending within a row
+  std::vector<int> diag_;          // per row, the index of its diagonal block
+  std::vector<Mat3> blocks_;
+};
+
+// Where each 3x3 block of a set of element matrices lands in a BlockSparseMatrix, ordered for a
+// gather: slot s of the matrix receives the element blocks source[first[s] .. first[s+1]) (each an
+// offset into ElementMatrices::values), in element order. Built once per pattern.
+class ElementScatter {
+ public:
+  ElementScatter() = default;
+  ElementScatter(const ElementMatrices& elements, const BlockSparseMatrix& A);
+  // A += w sum_e K_e, parallel over the matrix's blocks (each gathers in element order).
+  void add(const ElementMatrices& elements, double w, BlockSparseMatrix& A) const;
+
+ private:
+  std::vector<int> first_;    // block_count + 1
+  std::vector<std::size_t> source_;  // offset of the element block's (0, 0) entry in values
+  int stride_ = 0;                   // 3 arity: the column stride inside an element matrix
+};
+
+}  // namespace invfem

@@ -1,0 +1,72 @@
+#pragma once
+// Per-element matrices, the currency between a force and the implicit integrator's assembly
+// (implicit_step.hpp): a force writes one dense (3a x 3a) block per element, a nodes; the
+// integrator scatters them into its BlockSparseMatrix with one helper (block_sparse.hpp).
+//
+// Layout: element e's matrix is values[e * (3a)^2 ...], column-major, row/column 3 k + r is
+// coordinate r of the element's k-th node nodes(e, k). Every matrix is symmetric.
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "invfem/core/types.hpp"
+
+namespace invfem {
+
+struct ElementMatrices {
+  int arity = 0;  // nodes per element: 4 for tets and hinges, 3 for triangles and stitches
+  Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> nodes;  // m x arity
+  std::vector<double> values;                                                 // m (3 arity)^2
+
+  Eigen::Index count() const { return nodes.rows(); }
+  int size() const { return 3 * arity; }  // rows of one element matrix
+  // Sizes the arrays for m elements of `a` nodes (keeping the allocation when it fits).
+  void resize(Eigen::Index m, int a) {
+    arity = a;
+    nodes.resize(m, a);
+    values.resize(static_cast<std::size_t>(m) * static_cast<std::size_t>(9 * a * a));
+  }
+  // Element e's matrix as a fixed-size map, N = 3 arity.
+  template <int N> Eigen::Map<Eigen::Matrix<double, N, N>> matrix(Eigen::Index e) {
+    return Eigen::Map<Eigen::Matrix<double, N, N>>(values.data() + e * N * N);
+  }
+  template <int N> Eigen::Map<const Eigen::Matrix<double, N, N>> matrix(Eigen::Index e) const {
+    return Eigen::Map<const Eigen::Matrix<double, N, N>>(values.data() + e * N * N);
+  }
+};
+
+// K_e = scale G^T H G for an element whose deformation gradient is F = sum_k x_k beta_k^T
+// (F is 3 x D, beta_k the gradient of node k's shape function, D = 3 for a tet, 2 for a
+// triangle): H is dP/dF (3D x 3D on column-major vec(F), vec index r + 3 c), beta is D x (D+1)
+// (column k = beta_k), and block (a, b) of the result is
+//   K_ab(r, s) = scale sum_{c,d} beta_a(c) H(r + 3 c, s + 3 d) beta_b(d).
+template <int D>
+Eigen::Matrix<double, 3 * (D + 1), 3 * (D + 1)> element_matrix_from_dPdF(const Eigen::Matrix<double, 3 * D, 3 * D>& H,
+                                                                       const Eigen::Matrix<double, D, D + 1>& beta,
+                                                                       double scale) {
+  // Hb_b = H (beta_b kron I3): 3D x 3 per node b.
+  Eigen::Matrix<double, 3 * D, 3 * (D + 1)> Hb;
+  for (int b = 0; b <= D; ++b) {
+    Hb.template block<3 * D, 3>(0, 3 * b).setZero();
+    for (int d = 0; d < D; ++d) Hb.template block<3 * D, 3>(0, 3 * b) += beta(d, b) * H.template block<3 * D, 3>(0, 3 * d);
+  }
+  Eigen::Matrix<double, 3 * (D + 1), 3 * (D + 1)> out;
+  for (int a = 0; a <= D; ++a)
+    for (int b = 0; b <= D; ++b) {
+      Mat3 k = Mat3::Zero();
+      for (int c = 0; c < D; ++c) k += beta(c, a) * Hb.template block<3, 3>(3 * c, 3 * b);
+      out.template block<3, 3>(3 * a, 3 * b) = scale * k;
+    }
+  return out;
+}
+
+// The shape-function gradients of a tet (D = 3) or triangle (D = 2) from Dm^-1 (D x D): rows of
+// Dm^-1 are the gradients of nodes 1..D, node 0's is minus their sum.
+template <int D> Eigen::Matrix<double, D, D + 1> shape_gradients(const MatD<D>& Dm_inv) {
+  Eigen::Matrix<double, D, D + 1> beta;
+  beta.col(0) = -Dm_inv.colwise().sum().transpose();
+  beta.template rightCols<D>() = Dm_inv.transpose();
+  return beta;
+}
+
+}  // namespace invfem

@@ -1,0 +1,71 @@
+#pragma once
+// The large-step integrator beside the ITF04 step: backward Euler on positions, solved by
+// Newton's method with a backtracking line search on the incremental potential, its linear
+// systems by block-Jacobi preconditioned CG (reference time-stepping sheet; Baraff-Witkin 1998 for
+// the filtered constraints; Teran et al. 2005 for the definite stiffness).
+//
+// With h the step, x^ = x(n) + h v~(n) the inertial target (v~(n): the velocity after collision
+// processing) and C the damping matrix frozen at x(n), x(n+1) minimizes (all terms times h^2):
+//
+//   E(x) = 1/2 |x - x^|_M^2 + h^2 (Psi(x) - sum_i m_i g . x_i) + h/2 |x - x(n)|_C^2
+//   grad E = M (x - x^) - h^2 (f(x) + M g) + h C (x - x(n))
+//   hess E ~ M + h^2 K(x) + h C,   K = sum_e K_e, each K_e positive semidefinite (Force::stiffness_matrices)
+//
+// and v(n+1) = (x(n+1) - x(n)) / h. Inverted elements keep the restoring force of the ITF04
+// extended model (their K_e is the clamped derivative, never their force).
+//
+// Constraints (Baraff-Witkin filter S of projected_cg.hpp): pinned nodes (Kind::Full) sit at
+// x(n) + h v_pin from the first iterate on; colliding nodes (Kind::Normal, from the same rigid
+// collision processing as the ITF04 step, run on x(n) + h v(n)) start at their projected position
+// and move only tangentially. Their v(n+1) keeps the prescribed normal velocity, and Coulomb
+// friction takes mu times the normal impulse the constraint absorbed, J_N = (grad E . n) / h,
+// minus what collision processing already charged (contact_friction.hpp), as in the ITF04 step.
+//
+// Stopping rule: |S grad E| / h^2 <= tolerance * force_scale, with
+//   force_scale = |S M g| + |S f(x^0)| + |S M v~(n)| / h     [N]
+// (gravity, the elastic forces at the first iterate and the momentum per step), so the
+// tolerance is a fraction of the forces at play; an iteration cap that is hit is reported
+// (StepStats::newton_converged), never silent. The CG of each Newton step stops at an
+// Eisenstat-Walker-like relative tolerance min(0.1, |g_k| / |g_0|), floored by cg.relative_tolerance.
+//
+// The step leaves positions at its start and end and the velocity (x(n+1) - x(n)) / h, the
+// input of an after-step collision pass (world.hpp, stage 4).
+#include <vector>
+
+#include "invfem/core/block_sparse.hpp"
+#include "invfem/core/collision_processor.hpp"
+#include "invfem/core/element_matrices.hpp"
+#include "invfem/core/force.hpp"
+#include "invfem/core/newmark_step.hpp"
+#include "invfem/core/projected_cg.hpp"
+
+namespace invfem {
+
+struct ImplicitSettings {
+  int max_newton_iterations = 12;
+  double tolerance = 1e-4;   // relative residual of the stopping rule above
+  int max_line_search = 12;  // halvings of the Newton step before giving up on descent
+  CGSettings cg{1e-6, 1000}; // cg.relative_tolerance is the floor of the forcing term
+};
+
+// What one body keeps between implicit steps: the system's sparsity and buffers, built at the
+// first step from the forces' element lists, so later steps allocate nothing but small vectors.
+struct ImplicitWorkspace {
+  bool ready = false;
+  std::vector<ElementMatrices> stiffness, damping;  // per force
+  std::vector<ElementScatter> stiffness_scatter, damping_scatter;
+  BlockSparseMatrix A;  // M + h^2 K + h C
+  BlockSparseMatrix C;  // the damping matrix at x(n) (same pattern)
+  std::vector<Mat3> block_inverse;  // the block-Jacobi preconditioner
+  std::vector<char> sliding;        // per node: in sliding contact at the end of the last step
+  CGWorkspace cg;
+  Points x_hat, external, x_trial, grad, grad_trial, dir, rhs, scratch, product;
+};
+
+// Advance `body` from t to t + dt. Same precondition and constraint conventions as
+// newmark_step. Throws std::invalid_argument if a force gives no stiffness or damping matrices.
+StepStats implicit_step(Body& body, const std::vector<Force*>& forces, CollisionProcessor* collisions,
+                        const NodeConstraints& pinned, double t, double dt, const ImplicitSettings& settings,
+                        ImplicitWorkspace& workspace);
+
+}  // namespace invfem

@@ -1,0 +1,113 @@
+#include "invfem/core/block_sparse.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "invfem/core/parallel.hpp"
+
+namespace invfem {
+
+namespace {
+// Rows per TBB task in products and assembly: a row is ~10 blocks, ~200 flops.
+constexpr std::size_t kRowGrain = 1024;
+}  // namespace
+
+BlockSparseMatrix::BlockSparseMatrix(Eigen::Index n, const std::vector<const ElementMatrices*>& elements) {
+  // Neighbour lists per node, then sorted and deduplicated: the pattern is built once per body.
+  std::vector<std::vector<int>> adj(static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i) adj[static_cast<std::size_t>(i)].push_back(static_cast<int>(i));
+  for (const ElementMatrices* em : elements)
+    for (Eigen::Index e = 0; e < em->count(); ++e)
+      for (int a = 0; a < em->arity; ++a) {
+        const int i = em->nodes(e, a);
+        if (i < 0 || i >= n)
+          throw std::invalid_argument("block matrix: element " + std::to_string(e) + " names node " +
+                                      std::to_string(i) + " outside [0, " + std::to_string(n) + ")");
+        for (int b = 0; b < em->arity; ++b) adj[static_cast<std::size_t>(i)].push_back(em->nodes(e, b));
+      }
+  row_start_.assign(static_cast<std::size_t>(n) + 1, 0);
+  diag_.assign(static_cast<std::size_t>(n), -1);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    auto& a = adj[static_cast<std::size_t>(i)];
+    std::sort(a.begin(), a.end());
+    a.erase(std::unique(a.begin(), a.end()), a.end());
+    row_start_[static_cast<std::size_t>(i) + 1] = row_start_[static_cast<std::size_t>(i)] + static_cast<int>(a.size());
+  }
+  col_.reserve(static_cast<std::size_t>(row_start_.back()));
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int j : adj[static_cast<std::size_t>(i)]) {
+      if (j == i) diag_[static_cast<std::size_t>(i)] = static_cast<int>(col_.size());
+      col_.push_back(j);
+    }
+  blocks_.assign(col_.size(), Mat3::Zero());
+}
+
+int BlockSparseMatrix::find(int i, int j) const {
+  const auto begin = col_.begin() + row_start_[static_cast<std::size_t>(i)];
+  const auto end = col_.begin() + row_start_[static_cast<std::size_t>(i) + 1];
+  const auto it = std::lower_bound(begin, end, j);
+  return (it != end && *it == j) ? static_cast<int>(it - col_.begin()) : -1;
+}
+
+void BlockSparseMatrix::set_zero() {
+  parallel_for_each(blocks_.size(), 16 * kRowGrain, [&](std::size_t k) { blocks_[k].setZero(); });
+}
+
+void BlockSparseMatrix::multiply(const Points& x, Points& y) const {
+  const std::size_t n = diag_.size();
+  y.resize(static_cast<Eigen::Index>(n), 3);
+  parallel_for_each(n, kRowGrain, [&](std::size_t i) {
+    Vec3 s = Vec3::Zero();
+    for (int k = row_start_[i]; k < row_start_[i + 1]; ++k)
+      s.noalias() += blocks_[static_cast<std::size_t>(k)] * x.row(col_[static_cast<std::size_t>(k)]).transpose();
+    y.row(static_cast<Eigen::Index>(i)) = s.transpose();
+  });
+}
+
+void BlockSparseMatrix::add_to_diagonal(const Eigen::VectorXd& d) {
+  for (std::size_t i = 0; i < diag_.size(); ++i)
+    blocks_[static_cast<std::size_t>(diag_[i])].diagonal().array() += d(static_cast<Eigen::Index>(i));
+}
+
+ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatrix& A) : stride_(em.size()) {
+  const std::size_t nb = A.block_count();
+  std::vector<int> slot(static_cast<std::size_t>(em.count()) * static_cast<std::size_t>(em.arity * em.arity));
+  first_.assign(nb + 1, 0);
+  std::size_t q = 0;
+  for (Eigen::Index e = 0; e < em.count(); ++e)
+    for (int b = 0; b < em.arity; ++b)
+      for (int a = 0; a < em.arity; ++a, ++q) {
+        const int s = A.find(em.nodes(e, a), em.nodes(e, b));
+        if (s < 0) throw std::logic_error("element scatter: an element block lies outside the matrix pattern");
+        slot[q] = s;
+        ++first_[static_cast<std::size_t>(s) + 1];
+      }
+  for (std::size_t s = 0; s < nb; ++s) first_[s + 1] += first_[s];
+  source_.resize(slot.size());
+  std::vector<int> fill(first_.begin(), first_.end() - 1);
+  const std::size_t n2 = static_cast<std::size_t>(stride_) * static_cast<std::size_t>(stride_);
+  q = 0;
+  for (Eigen::Index e = 0; e < em.count(); ++e)
+    for (int b = 0; b < em.arity; ++b)
+      for (int a = 0; a < em.arity; ++a, ++q)  // block (a, b) starts at row 3a, column 3b
+        source_[static_cast<std::size_t>(fill[static_cast<std::size_t>(slot[q])]++)] =
+            static_cast<std::size_t>(e) * n2 + static_cast<std::size_t>(3 * b * stride_ + 3 * a);
+}
+
+void ElementScatter::add(const ElementMatrices& em, double w, BlockSparseMatrix& A) const {
+  std::vector<Mat3>& blocks = A.blocks();
+  const double* v = em.values.data();
+  const Eigen::Index stride = stride_;
+  parallel_for_each(blocks.size(), 16 * kRowGrain, [&](std::size_t s) {
+    const int begin = first_[s], end = first_[s + 1];
+    if (begin == end) return;
+    Mat3 sum = Mat3::Zero();
+    for (int k = begin; k < end; ++k)
+      sum += Eigen::Map<const Mat3, 0, Eigen::OuterStride<>>(v + source_[static_cast<std::size_t>(k)],
+                                                              Eigen::OuterStride<>(stride));
+    blocks[s] += w * sum;
+  });
+}
+
+}  // namespace invfem

@@ -1,0 +1,86 @@
+// The element matrices of TetSolidForce for the implicit integrator (core/implicit_step.hpp).
+//
+// Elasticity: the element energy is V0 det(Fp) Psi(Fe) with Fe = Ds Dm^-1 Fp^-1 (plasticity.hpp), so
+// it is an element of rest volume V0 det(Fp) and rest inverse Dm^-1 Fp^-1, and
+//   K_e = V0 det(Fp) G^T dP/dF(Fe) G,  G: vec(Fe) = G x_e  (element_matrices.hpp),
+// with dP/dF from the diagonal space with its 3x3 block and 2x2 pair blocks clamped at 0
+// (elasticity.hpp, Teran et al. 2005): positive semidefinite for every F, inverted or flat.
+// The fiber term lives on the total F (the original rest shape) and its dP_f/dF is already
+// positive semidefinite (fiber.hpp).
+// Damping: P_d is linear in Fe_dot = F_dot Fp^-1 with dP_d/dFe_dot symmetric PSD
+// (rotated_damping.hpp), mapped with the same G: C_e = V0 det(Fp) G^T dP_d/dF_dot G.
+#include <Eigen/LU>
+
+#include "invfem/core/elasticity.hpp"
+#include "invfem/core/element_matrices.hpp"
+#include "invfem/core/parallel.hpp"
+#include "invfem/core/rotated_damping.hpp"
+#include "invfem/solids/tet_solid_force.hpp"
+
+namespace invfem {
+
+namespace {
+constexpr std::size_t kGrain = 256;  // a tet's 12x12 matrix costs a few microseconds
+
+void set_nodes(const Tets& tets, ElementMatrices& out) {
+  if (out.arity == 4 && out.count() == tets.rows()) return;
+  out.resize(tets.rows(), 4);
+  out.nodes = tets;
+}
+}  // namespace
+
+bool TetSolidForce::stiffness_matrices(ElementMatrices& out) const {
+  set_nodes(rest_.tets, out);
+  const IsotropicModel model = with_strength(material_.model, strength_);
+  const FiberMaterial* fiber = material_.fiber ? &*material_.fiber : nullptr;
+  std::visit(
+      [&](const auto& mdl) {
+        parallel_for_each(diag_.size(), kGrain, [&](std::size_t e) {
+          const Mat9 H = energy_hessian(mdl, diag_[e], /*project_psd=*/true);
+          auto K = out.matrix<12>(static_cast<Eigen::Index>(e));
+          if (plastic_identity_) {
+            const auto beta = shape_gradients<3>(rest_.Dm_inv[e]);
+            if (!fiber) {
+              K = element_matrix_from_dPdF<3>(H, beta, rest_.volume[e]);
+            } else {
+              const Mat9 Hf = fiber_stress_derivative(*fiber, diag_[e], material_.fiber_directions[e], activation_);
+              K = element_matrix_from_dPdF<3>(Mat9(H + Hf), beta, rest_.volume[e]);
+            }
+            return;
+          }
+          const Mat3& Fp_inv = plastic_.Fp_inv[e];
+          K = element_matrix_from_dPdF<3>(H, shape_gradients<3>(Mat3(rest_.Dm_inv[e] * Fp_inv)),
+                                          rest_.volume[e] * plastic_volume_factor(Fp_inv));
+          if (fiber) {  // on the total F = Fe Fp
+            const Diagonalization3& d = diag_[e];
+            const Mat3 F = d.U * d.sigma.asDiagonal() * d.V.transpose() * Fp_inv.inverse();
+            const Mat9 Hf = fiber_stress_derivative(*fiber, F, material_.fiber_directions[e], activation_);
+            K += element_matrix_from_dPdF<3>(Hf, shape_gradients<3>(rest_.Dm_inv[e]), rest_.volume[e]);
+          }
+        });
+      },
+      model);
+  return true;
+}
+
+bool TetSolidForce::damping_matrices(ElementMatrices& out) const {
+  if (material_.damping <= 0 || strength_ <= 0) {
+    out.resize(0, 4);
+    return true;
+  }
+  set_nodes(rest_.tets, out);
+  const IsotropicModel model = with_strength(material_.model, strength_);
+  const auto [mu, lambda] = std::visit([](const auto& m) { return std::pair(m.mu, m.lambda); }, model);
+  const RotatedDamping damping{material_.damping * lambda, material_.damping * mu};
+  parallel_for_each(diag_.size(), kGrain, [&](std::size_t e) {
+    const Mat9 D = damping_stress_derivative(damping, diag_[e]);
+    const Mat3& Fp_inv = plastic_.Fp_inv[e];
+    out.matrix<12>(static_cast<Eigen::Index>(e)) =
+        plastic_identity_ ? element_matrix_from_dPdF<3>(D, shape_gradients<3>(rest_.Dm_inv[e]), rest_.volume[e])
+                          : element_matrix_from_dPdF<3>(D, shape_gradients<3>(Mat3(rest_.Dm_inv[e] * Fp_inv)),
+                                                        rest_.volume[e] * plastic_volume_factor(Fp_inv));
+  });
+  return true;
+}
+
+}  // namespace invfem

@@ -1,0 +1,233 @@
+// The element matrices every force gives the implicit integrator (Force::stiffness_matrices,
+// damping_matrices) and their assembly (BlockSparseMatrix, ElementScatter):
+//  - stiffness = -d f / d x by finite differences where the clamping of Teran et al. 2005 is
+//    inactive (moderate stretch), for tets, membranes, bending hinges at their rest angle, stitches;
+//  - positive semidefinite everywhere, inverted and flat elements included;
+//  - damping matrices reproduce add_damping_forces: C v = -f_d(v);
+//  - the assembled block matrix multiplies like the sum of the dense element matrices.
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <random>
+
+#include "fd_check.hpp"
+#include "force_checks.hpp"
+#include "invfem/core/block_sparse.hpp"
+#include "invfem/core/materials/neo_hookean.hpp"
+#include "invfem/shells/bending_force.hpp"
+#include "invfem/shells/membrane_force.hpp"
+#include "invfem/shells/shapes.hpp"
+#include "invfem/shells/stitch_force.hpp"
+#include "invfem/solids/tet_solid_force.hpp"
+#include "test_meshes.hpp"
+
+namespace {
+
+using namespace invfem;
+using namespace invfem::test;
+
+// The dense (3n x 3n) sum of a force's element matrices.
+Eigen::MatrixXd dense(const ElementMatrices& em, Eigen::Index n) {
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  const int N = em.size();
+  for (Eigen::Index e = 0; e < em.count(); ++e) {
+    const Eigen::Map<const Eigen::MatrixXd> Ke(em.values.data() + e * N * N, N, N);
+    for (int a = 0; a < em.arity; ++a)
+      for (int b = 0; b < em.arity; ++b)
+        K.block<3, 3>(3 * em.nodes(e, a), 3 * em.nodes(e, b)) += Ke.block<3, 3>(3 * a, 3 * b);
+  }
+  return K;
+}
+
+Eigen::MatrixXd stiffness_at(Force& f, const Points& x) {
+  f.update_positions(x, 0);
+  ElementMatrices em;
+  EXPECT_TRUE(f.stiffness_matrices(em));
+  return dense(em, x.rows());
+}
+
+// K(x) == -d f / d x by the shared FD helper (a Jacobian check of -f).
+void expect_stiffness_is_minus_force_jacobian(Force& f, const Points& x, double tolerance = 1e-6) {
+  auto minus_force = [&](const Eigen::VectorXd& y) -> Eigen::VectorXd { return -flat(elastic_forces_at(f, unflat(y))); };
+  auto jacobian = [&](const Eigen::VectorXd& y) -> Eigen::MatrixXd { return stiffness_at(f, unflat(y)); };
+  fd::Options o;
+  o.tolerance = tolerance;
+  o.step_scale = 1e-2;
+  o.value_scale = 1e-6 * stiffness_at(f, x).norm();
+  const fd::Result r = fd::check_jacobian(minus_force, jacobian, flat(x), o);
+  EXPECT_TRUE(r.pass) << r.report;
+}
+
+// Every element matrix is symmetric positive semidefinite (to roundoff).
+void expect_element_matrices_psd(const ElementMatrices& em) {
+  const int N = em.size();
+  for (Eigen::Index e = 0; e < em.count(); ++e) {
+    const Eigen::Map<const Eigen::MatrixXd> Ke(em.values.data() + e * N * N, N, N);
+    const double scale = std::max(Ke.norm(), 1e-300);
+    EXPECT_LT((Ke - Ke.transpose()).norm(), 1e-12 * scale) << "element " << e;
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Ke);
+    EXPECT_GT(eig.eigenvalues().minCoeff(), -1e-10 * scale) << "element " << e;
+  }
+}
+
+// C v == -f_d(v) for random v at the force's current state.
+void expect_damping_matrix_matches_force(const Force& f, Eigen::Index n, std::mt19937& rng) {
+  ElementMatrices em;
+  ASSERT_TRUE(f.damping_matrices(em));
+  const Eigen::MatrixXd C = dense(em, n);
+  for (int trial = 0; trial < 3; ++trial) {
+    const Points v = random_points(n, 1.0, rng);
+    const Eigen::VectorXd fd_v = flat(damping_of(f, v));
+    EXPECT_LT((C * flat(v) + fd_v).norm(), 1e-10 * std::max(fd_v.norm(), 1e-300)) << "trial " << trial;
+  }
+  expect_element_matrices_psd(em);
+}
+
+TetMaterial neo_hookean_material(double damping) {
+  TetMaterial m{NeoHookean{4e5, 6e5}};
+  m.damping = damping;
+  return m;
+}
+
+// A 2x1x1 bar of 12 tets, stretched 10%, 5% and 2% along x, y, z with a small random
+// perturbation: every element in tension, where no eigenvalue of dP/dF needs clamping.
+struct Bar {
+  TetMesh mesh = cube_cells_mesh({2, 1, 1}, 0.1);
+  Points x;
+  explicit Bar(std::mt19937& rng) {
+    x = mesh.X * Vec3(1.1, 1.05, 1.02).asDiagonal();
+    x += random_points(x.rows(), 5e-4, rng);
+  }
+};
+
+TEST(ElementMatrices, TetStiffnessIsMinusForceJacobian) {
+  std::mt19937 rng(1);
+  const Bar bar(rng);
+  TetSolidForce f(make_tet_rest(bar.mesh.X, bar.mesh.T), neo_hookean_material(0));
+  expect_stiffness_is_minus_force_jacobian(f, bar.x);
+}
+
+TEST(ElementMatrices, TetStiffnessIsSemidefiniteForInvertedAndFlatElements) {
+  std::mt19937 rng(2);
+  const Bar bar(rng);
+  TetSolidForce f(make_tet_rest(bar.mesh.X, bar.mesh.T), neo_hookean_material(0.01));
+  Points mirrored = bar.mesh.X;
+  mirrored.col(1) *= -1;  // every tet inverted
+  Points flat_bar = bar.mesh.X;
+  flat_bar.col(2).setZero();  // every tet flat
+  for (const Points* x : {&mirrored, &flat_bar}) {
+    f.update_positions(*x, 0);
+    ElementMatrices em;
+    ASSERT_TRUE(f.stiffness_matrices(em));
+    expect_element_matrices_psd(em);
+    // The inverted element keeps its restoring force (ITF04): the forces are not all zero.
+    EXPECT_GT(elastic_forces_at(f, *x).norm(), 1.0);
+  }
+}
+
+TEST(ElementMatrices, TetDampingMatrixMatchesDampingForce) {
+  std::mt19937 rng(3);
+  const Bar bar(rng);
+  TetSolidForce f(make_tet_rest(bar.mesh.X, bar.mesh.T), neo_hookean_material(0.01));
+  f.update_positions(bar.x, 0);
+  expect_damping_matrix_matches_force(f, bar.x.rows(), rng);
+}
+
+TEST(ElementMatrices, PlasticTetStiffnessUsesThePlasticRestShape) {
+  std::mt19937 rng(4);
+  const Bar bar(rng);
+  TetSolidForce f(make_tet_rest(bar.mesh.X, bar.mesh.T), neo_hookean_material(0.01));
+  PlasticState s = make_plastic_state(static_cast<int>(bar.mesh.T.rows()));
+  for (Mat3& A : s.Fp_inv) A = Vec3(0.95, 1.05, 1.0).asDiagonal();  // held fixed: plasticity is off
+  f.set_plastic_state(s);
+  expect_stiffness_is_minus_force_jacobian(f, bar.x);
+  f.update_positions(bar.x, 0);
+  expect_damping_matrix_matches_force(f, bar.x.rows(), rng);
+}
+
+MembraneParams membrane_params(double rayleigh) {
+  MembraneParams p{NeoHookean{1e5, 2e5}};
+  p.thickness = 1e-3;
+  p.rayleigh = rayleigh;
+  return p;
+}
+
+TEST(ElementMatrices, MembraneStiffnessIsMinusForceJacobian) {
+  std::mt19937 rng(5);
+  const TriangleSurface grid = make_grid(0.2, 0.2, 3, 3);
+  MembraneForce f(grid.x, grid.tris, membrane_params(0));
+  Points x = grid.x;
+  x.col(0) *= 1.1;
+  x.col(1) *= 1.05;
+  x += random_points(x.rows(), 1e-3, rng);
+  expect_stiffness_is_minus_force_jacobian(f, x);
+}
+
+TEST(ElementMatrices, MembraneMatricesAreSemidefiniteWhenCompressedAndDampingMatches) {
+  std::mt19937 rng(6);
+  const TriangleSurface grid = make_grid(0.2, 0.2, 3, 3);
+  MembraneForce f(grid.x, grid.tris, membrane_params(0.01));
+  Points x = grid.x;
+  x.col(0) *= 0.5;  // crumpled: compressed along x, lifted at random
+  x += random_points(x.rows(), 2e-2, rng);
+  f.update_positions(x, 0);
+  ElementMatrices em;
+  ASSERT_TRUE(f.stiffness_matrices(em));
+  expect_element_matrices_psd(em);
+  expect_damping_matrix_matches_force(f, x.rows(), rng);
+}
+
+TEST(ElementMatrices, BendingStiffnessIsExactAtTheRestAngle) {
+  std::mt19937 rng(7);
+  const TriangleSurface grid = make_grid(0.2, 0.2, 2, 2);
+  Points X = grid.x;
+  X.col(2) += 0.05 * random_points(X.rows(), 1.0, rng).col(2);  // a bent rest shape (the grid lies in z = 0)
+  BendingParams p;
+  p.stiffness = 1e-2;
+  p.damping = 1e-3;
+  BendingForce f(X, grid.tris, p);
+  // At theta = theta0 the force's other terms carry (sin(theta/2) - sin(theta0/2)) = 0.
+  expect_stiffness_is_minus_force_jacobian(f, X, 1e-5);
+  f.update_positions(X + random_points(X.rows(), 1e-2, rng), 0);
+  ElementMatrices em;
+  ASSERT_TRUE(f.stiffness_matrices(em));
+  expect_element_matrices_psd(em);
+  expect_damping_matrix_matches_force(f, X.rows(), rng);
+}
+
+TEST(ElementMatrices, StitchStiffnessIsMinusForceJacobian) {
+  std::mt19937 rng(8);
+  const Points x = random_points(5, 0.1, rng);
+  StitchForce f({{0, 1, 2, 0.3}, {3, 4, 1, 0.0}}, {0.05, 0.1}, 5, StitchParams{5e3, 10});
+  expect_stiffness_is_minus_force_jacobian(f, x);
+  f.update_positions(x, 0);
+  expect_damping_matrix_matches_force(f, 5, rng);
+}
+
+TEST(BlockSparseMatrix, AssembledProductEqualsDenseSum) {
+  std::mt19937 rng(9);
+  const Bar bar(rng);
+  TetSolidForce f(make_tet_rest(bar.mesh.X, bar.mesh.T), neo_hookean_material(0.01));
+  f.update_positions(bar.x, 0);
+  ElementMatrices K, C;
+  f.stiffness_matrices(K);
+  f.damping_matrices(C);
+  const Eigen::Index n = bar.x.rows();
+  BlockSparseMatrix A(n, {&K, &C});
+  const ElementScatter sk(K, A), sc(C, A);
+  const Eigen::VectorXd mass = Eigen::VectorXd::LinSpaced(n, 1.0, 2.0);
+  A.add_to_diagonal(mass);
+  sk.add(K, 0.25, A);
+  sc.add(C, 0.5, A);
+  Eigen::MatrixXd expected = 0.25 * dense(K, n) + 0.5 * dense(C, n);
+  for (Eigen::Index i = 0; i < n; ++i) expected.block<3, 3>(3 * i, 3 * i).diagonal().array() += mass(i);
+  const Points p = random_points(n, 1.0, rng);
+  Points Ap;
+  A.multiply(p, Ap);
+  EXPECT_LT((flat(Ap) - expected * flat(p)).norm(), 1e-12 * expected.norm() * flat(p).norm());
+  EXPECT_EQ(A.find(0, 0) >= 0, true);
+  EXPECT_EQ(A.find(0, static_cast<int>(n) - 1), -1);  // the bar's far corner is not coupled to node 0
+}
+
+}  // namespace

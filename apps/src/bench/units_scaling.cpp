@@ -2,6 +2,7 @@
 // a ground plane, stepped as a scene. The figure is seconds per step; the note gives the time per
 // tet and step (flat when the cost is linear in size) and the peak memory per tet.
 #include <malloc.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <fstream>
@@ -87,8 +88,8 @@ UnitResult scaling(const RunOptions& o, const std::string& name, int cells) {
     std::vector<double> sorted = r.samples;
     std::sort(sorted.begin(), sorted.end());
     r.note = count_text(tets) + " tets, " + count_text(world.objects().at(0).body.x.rows()) + " nodes; " +
-             strf("median %.3g us per tet and step; %.0f B/tet peak RSS growth (scene build + steps)",
-                  1e6 * sorted[sorted.size() / 2] / tets, bytes_per_tet) + r.note;
+             strf("median %.3g us per tet and step, %d threads; %.0f B/tet peak RSS growth (scene build + steps)",
+                  1e6 * sorted[sorted.size() / 2] / tets, tbb::this_task_arena::max_concurrency(), bytes_per_tet) + r.note;
   }
   return r;
 }

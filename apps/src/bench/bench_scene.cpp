@@ -1,0 +1,16 @@
+#include "bench/bench_scene.hpp"
+
+#include "scene.hpp"
+#include "world_builder.hpp"
+
+namespace invfem::app::bench {
+
+World world_from_json(const nlohmann::json& scene, const std::filesystem::path& dir, const std::string& name) {
+  return build_world(parse_scene(scene, dir / (name + ".json")));
+}
+
+void set_integrator(nlohmann::json& scene, const char* integrator) {
+  if (integrator) scene["solver"]["integrator"] = integrator;
+}
+
+}  // namespace invfem::app::bench

@@ -1,0 +1,20 @@
+#pragma once
+// Scene units build their scene as JSON in code (so the bench needs no file outside the clone)
+// and run it through the same parser and builder as `invfem run`.
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+
+#include "invfem/core/world.hpp"
+
+namespace invfem::app::bench {
+
+// parse_scene + build_world, as if the JSON were the file `dir`/`name`.json: relative mesh paths
+// resolve against `dir`, and errors name that file.
+World world_from_json(const nlohmann::json& scene, const std::filesystem::path& dir, const std::string& name);
+
+// Sets solver.integrator when `integrator` is not null; null leaves the scene's default step.
+void set_integrator(nlohmann::json& scene, const char* integrator);
+
+}  // namespace invfem::app::bench

@@ -1,0 +1,176 @@
+// The element-work units: the tet force pass on a deformed cube (1 and 2 threads), the same with
+// stiffness matrices (waiting for their API), and the invertible 3x3 SVD alone.
+#include <tbb/global_control.h>
+
+#include <Eigen/Geometry>
+#include <random>
+#include <stdexcept>
+
+#include "bench/bench_unit.hpp"
+#include "bench/tet_cube.hpp"
+#include "invfem/core/diagonalize.hpp"
+#include "invfem/core/tet_kernel.hpp"
+#include "invfem/solids/tet_solid_force.hpp"
+#include "material_factory.hpp"
+
+namespace invfem::app::bench {
+
+namespace {
+
+// The cube: 27^3 cells of 6 tets (118,098 tets) over a 1 m cube, twisted by 90 degrees
+// top to bottom, squashed to 60% of its height and jittered by up to 0.4 grid spacings per
+// coordinate, which inverts about 9% of the tets (the count is in the note).
+constexpr int kCubeCells = 27;
+constexpr double kCubeSize = 1.0;
+constexpr double kTwist = 1.5707963267948966, kSquash = 0.6, kJitter = 0.4;
+constexpr std::uint64_t kCubeSeed = 20040101;
+
+// Neo-Hookean, E = 1e6 Pa, nu = 0.45, inversion threshold (compression_limit) 0.1; no damping, as
+// the pass times elastic forces only.
+MaterialSpec cube_material() {
+  MaterialSpec m;
+  m.model = "neo_hookean";
+  m.young = 1e6;
+  m.poisson = 0.45;
+  m.compression_limit = 0.1;
+  return m;
+}
+
+struct DeformedCube {
+  TetSolidForce force;
+  Points x;
+  long long tets = 0;
+};
+
+DeformedCube make_deformed_cube() {
+  const TetMesh cube = make_tet_cube(kCubeCells, kCubeSize);
+  Points x = deform_cube(cube, kCubeCells, kCubeSize, kTwist, kSquash, kJitter, kCubeSeed);
+  const long long tets = cube.tets.rows();
+  return {TetSolidForce(make_tet_rest(cube.X, cube.tets), make_tet_material(cube_material(), 0.5)), std::move(x),
+          tets};
+}
+
+std::string cube_note(const DeformedCube& c) {
+  const int inverted = c.force.inverted_count();
+  return count_text(c.tets) + " tets, " + count_text(inverted) + " inverted (" +
+         strf("%.1f%%", 100.0 * inverted / c.tets) + "), neo-Hookean E = 1e6, nu = 0.45, c = 0.1";
+}
+
+// update_positions (F, its diagonalization, P^, G per element) + add_elastic_forces (the
+// scatter), `passes` times a repetition; the figure is tets per second.
+UnitResult force_pass(const RunOptions& o, int threads) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  DeformedCube c = make_deformed_cube();
+  Points f(c.x.rows(), 3);
+  auto pass = [&] {
+    f.setZero();
+    c.force.update_positions(c.x, 0.0);
+    c.force.add_elastic_forces(f);
+  };
+  pass();  // warm-up: first touch of the per-element arrays
+  if (!f.allFinite()) throw std::runtime_error("the force pass gave non-finite forces");
+  const int runs = o.quick ? kMinRuns : 9, passes = o.quick ? 3 : 20;
+  UnitResult r;
+  for (int run = 0; run < runs; ++run) {
+    const auto t0 = Clock::now();
+    for (int p = 0; p < passes; ++p) pass();
+    const double s = seconds_since(t0);
+    r.samples.push_back(c.tets * passes / s);
+    o.progress(strf("run %d/%d: %.2f M tets/s", run + 1, runs, r.samples.back() / 1e6));
+  }
+  r.note = cube_note(c) + strf("; %d thread%s, %d passes a run", threads, threads > 1 ? "s" : "", passes);
+  return r;
+}
+
+// PLACEHOLDER, reports nothing: the stiffness matrix assembly of the implicit integrator does not
+// exist yet. When it does, replace the body by the call that builds the cube's stiffness matrix at
+// the state of the last update_positions, and clear force_stiffness_1t's `unavailable`.
+[[noreturn]] void stiffness_matrix_placeholder(const TetSolidForce&) {
+  throw std::logic_error("force_stiffness_1t: stiffness_matrix_placeholder was called; the stiffness API is not in yet");
+}
+
+// Forces + stiffness: the same pass as force_pass_1t plus the stiffness matrix; tets per second.
+UnitResult force_stiffness_pass(const RunOptions& o) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+  DeformedCube c = make_deformed_cube();
+  Points f(c.x.rows(), 3);
+  auto pass = [&] {
+    f.setZero();
+    c.force.update_positions(c.x, 0.0);
+    c.force.add_elastic_forces(f);
+    stiffness_matrix_placeholder(c.force);
+  };
+  pass();
+  const int runs = o.quick ? kMinRuns : 9, passes = o.quick ? 2 : 10;
+  UnitResult r;
+  for (int run = 0; run < runs; ++run) {
+    const auto t0 = Clock::now();
+    for (int p = 0; p < passes; ++p) pass();
+    r.samples.push_back(c.tets * passes / seconds_since(t0));
+    o.progress(strf("run %d/%d: %.2f M tets/s", run + 1, runs, r.samples.back() / 1e6));
+  }
+  r.note = cube_note(c) + strf("; 1 thread, %d passes a run", passes);
+  return r;
+}
+
+// 1M random F = R1 diag(s) R2^T with rotations from normalized Gaussian quaternions and s_i
+// uniform in [0.05, 3]; one F in four has s3 negated, so det F < 0 (inverted).
+std::vector<Mat3> random_F(int count) {
+  std::mt19937_64 rng(739340);
+  std::normal_distribution<double> gauss(0, 1);
+  std::uniform_real_distribution<double> stretch(0.05, 3.0);
+  auto rotation = [&] { return Eigen::Quaterniond(gauss(rng), gauss(rng), gauss(rng), gauss(rng)).normalized().toRotationMatrix(); };
+  std::vector<Mat3> F(count);
+  for (int i = 0; i < count; ++i) {
+    Vec3 s(stretch(rng), stretch(rng), stretch(rng));
+    if (i % 4 == 0) s(2) = -s(2);
+    const Mat3 R1 = rotation(), R2 = rotation();
+    F[i] = R1 * s.asDiagonal() * R2.transpose();
+  }
+  return F;
+}
+
+// Nanoseconds per F of one pass of `diag` over F, on the calling thread. The sum of the smallest
+// singular values keeps the calls from being optimized away and is checked to be finite.
+template <class Diag> double ns_per_F(const std::vector<Mat3>& F, Diag diag) {
+  double sum = 0;
+  const auto t0 = Clock::now();
+  for (const Mat3& f : F) sum += diag(f).sigma(2);
+  const double s = seconds_since(t0);
+  if (!std::isfinite(sum)) throw std::runtime_error("diagonalize gave a non-finite singular value");
+  return 1e9 * s / F.size();
+}
+
+UnitResult svd(const RunOptions& o) {
+  constexpr int kCount = 1000000;
+  const std::vector<Mat3> F = random_F(kCount);
+  auto fast = [](const Mat3& f) { return diagonalize(f); };
+  ns_per_F(F, fast);  // warm-up
+  const int runs = o.quick ? kMinRuns : 9;
+  UnitResult r;
+  for (int run = 0; run < runs; ++run) {
+    r.samples.push_back(ns_per_F(F, fast));
+    o.progress(strf("run %d/%d: %.1f ns per F", run + 1, runs, r.samples.back()));
+  }
+  const double jacobi = ns_per_F(F, [](const Mat3& f) { return diagonalize_jacobi(f); });
+  r.note = "invfem::diagonalize, 1 thread, 1M random F (1 in 4 inverted, s_i in [0.05, 3]); " +
+           strf("the JacobiSVD reference path (diagonalize_jacobi) here: %.0f ns", jacobi);
+  return r;
+}
+
+}  // namespace
+
+std::vector<Unit> force_units() {
+  std::vector<Unit> u;
+  u.push_back({"force_pass_1t", "tets/s", true, 2.06e6, "VegaFEM 4.0, 1 thread", ">= 10 M tets/s", "",
+               [](const RunOptions& o) { return force_pass(o, 1); }});
+  u.push_back({"force_pass_2t", "tets/s", true, 2.06e6, "VegaFEM 4.0, 1 thread", ">= 18 M tets/s", "",
+               [](const RunOptions& o) { return force_pass(o, 2); }});
+  u.push_back({"force_stiffness_1t", "tets/s", true, 0.68e6, "VegaFEM 4.0, 1 thread", ">= 3 M tets/s",
+               "stiffness matrices arrive with the implicit integrator", force_stiffness_pass});
+  u.push_back({"svd", "ns/F", false, 340.0, "scalar McAdams 2011 port (Eigen JacobiSVD: 739)", "<= 50 ns/F per core", "",
+               svd});
+  return u;
+}
+
+}  // namespace invfem::app::bench

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# `invfem bench` rejects bad arguments before running any unit: each case must give its message
+# and exit code 2. It never runs a benchmark (every case fails during argument checking, and
+# --list only prints the units).
+#   bench_args.sh INVFEM WORKDIR
+set -uo pipefail
+invfem="$1" work="$2"
+rm -rf "$work" && mkdir -p "$work"
+fail=0
+
+# expect CODE PATTERN -- ARGS...: run invfem with ARGS, want exit CODE and PATTERN in stderr.
+expect() {
+  local code="$1" pattern="$2"
+  shift 3
+  local err
+  err=$(timeout 60 "$invfem" "$@" 2>&1 >/dev/null)
+  local got=$?
+  if [ "$got" -ne "$code" ] || ! grep -qF -- "$pattern" <<<"$err"; then
+    echo "FAIL: invfem $*: exit $got (want $code), stderr: $err (want: $pattern)"
+    fail=1
+  fi
+}
+
+expect 2 "--units: unknown unit \"bogus\"" -- bench --units bogus
+expect 2 "the units: force_pass_1t," -- bench --units svd,bogus
+expect 2 "--units: expected unit names separated by commas" -- bench --units svd,,torus_115k
+expect 2 "--json: cannot write \"$work/missing/out.json\": no folder" -- bench --units svd --json "$work/missing/out.json"
+expect 2 "--json: cannot write \"$work\": it is a folder" -- bench --units svd --json "$work"
+expect 2 "bench: unknown option \"--bogus\"" -- bench --bogus
+expect 2 "bench: option --units needs a value" -- bench --units
+expect 2 "bench: unexpected argument \"svd\"" -- bench svd
+# Nothing was written by the failed runs.
+if [ -n "$(ls -A "$work")" ]; then
+  echo "FAIL: a rejected bench left files in $work: $(ls -A "$work")"
+  fail=1
+fi
+# --list names every unit of the issue, the n/a ones with their reason.
+list=$("$invfem" bench --list) || { echo "FAIL: invfem bench --list exited $?"; fail=1; }
+for unit in force_pass_1t force_pass_2t force_stiffness_1t svd torus_115k cloth_drape_50 cloth_drape_100 \
+            dress_dance scaling_10k scaling_100k scaling_1m; do
+  grep -q "^$unit " <<<"$list" || { echo "FAIL: bench --list does not name $unit"; fail=1; }
+done
+grep -q "^dress_dance .*n/a: filled by the bodies issue" <<<"$list" || { echo "FAIL: dress_dance is not n/a in --list"; fail=1; }
+if [ "$fail" -ne 0 ]; then exit 1; fi
+echo "invfem bench rejects bad arguments with exit code 2 and a clear message"

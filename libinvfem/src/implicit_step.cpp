@@ -222,6 +222,7 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   std::vector<char> constrained(static_cast<std::size_t>(x.rows()), 0);
   for (const NodeConstraint& c : constraints) constrained[static_cast<std::size_t>(c.node)] = 1;
   std::vector<char> sticking(constraints.size(), 0);
+  const std::size_t first_contact = constraints.size();  // constraints before it are pins
   ws.sliding.resize(static_cast<std::size_t>(x.rows()), 0);
 
   // Contact with Coulomb friction as an active set (stick / slide). A contact that friction can
@@ -262,10 +263,11 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
     }
     return added;
   };
-  // A sticking contact whose force leaves the friction cone slips: pulled off (f_N <= 0), it is
-  // let go; pushed sideways beyond mu f_N, it holds only its normal velocity and feels kinetic
-  // friction mu f_N along the force that held it, as a constant force in the solve (f_N lagged
-  // from the sticking solve). The constraint's force is the gradient's row at the node over h^2.
+  // A contact whose force pulls it off the body (f_N < 0) lets go: the prediction's h^2 g puts
+  // every resting node inside, and only this lets an element lying on the ground lift. A sticking
+  // contact pushed sideways beyond mu f_N slips: it holds only its normal velocity and feels
+  // kinetic friction mu f_N along the force that held it, as a constant force in the solve (f_N
+  // lagged from the sticking solve). The constraint's force is the gradient's row over h^2.
   auto release_slipping = [&](const Points& f) {
     potential_gradient(body, x, x_start, f, h, ws, ws.grad_trial);
     bool released = false;
@@ -273,6 +275,17 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
     for (std::size_t k = 0; k < constraints.size(); ++k) {
       NodeConstraint c = constraints[k];
       bool stick = sticking[k], keep = true;
+      if (k >= first_contact && !stick) {  // a sliding contact pulled off the body lets go
+        const double f_N = ws.grad_trial.row(c.node).dot(c.normal.transpose()) / (h * h);
+        if (f_N < 0) {
+          released = true;
+          keep = false;
+          constrained[static_cast<std::size_t>(c.node)] = 0;
+          ws.external.row(c.node).setZero();
+          v_tilde.row(c.node) = body.v.row(c.node);
+          ws.x_hat.row(c.node) = x_start.row(c.node) + h * v_tilde.row(c.node);
+        }
+      }
       if (stick) {
         const Vec3 force = ws.grad_trial.row(c.node).transpose() / (h * h);
         const double f_N = force.dot(c.normal);

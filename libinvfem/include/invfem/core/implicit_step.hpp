@@ -7,19 +7,21 @@
 // With h the step, x^ = x(n) + h v~(n) the inertial target (v~(n): the velocity after collision
 // processing) and C the damping matrix frozen at x(n), x(n+1) minimizes (all terms times h^2):
 //
-//   E(x) = 1/2 |x - x^|_M^2 + h^2 (Psi(x) - sum_i m_i g . x_i) + h/2 |x - x(n)|_C^2
-//   grad E = M (x - x^) - h^2 (f(x) + M g) + h C (x - x(n))
-//   hess E ~ M + h^2 K(x) + h C,   K = sum_e K_e, each K_e positive semidefinite (Force::stiffness_matrices)
+//   E(x) = 1/2 |x - x^|_M^2 + h^2 (Psi(x) - sum_i m_i g . x_i + D(x)) + h/2 |x - x(n)|_C^2
+//   grad E = M (x - x^) - h^2 (f(x) + M g - grad D) + h C (x - x(n))
+//   hess E ~ M + h^2 (K(x) + hess D) + h C,   K = sum_e K_e, each K_e positive semidefinite (Force::stiffness_matrices)
 //
 // and v(n+1) = (x(n+1) - x(n)) / h. Inverted elements keep the restoring force of the ITF04
 // extended model (their K_e is the clamped derivative, never their force).
 //
 // Constraints (Baraff-Witkin filter S of projected_cg.hpp): pinned nodes (Kind::Full) sit at
 // x(n) + h v_pin from the first iterate on; colliding nodes (Kind::Normal, from the same rigid
-// collision processing as the ITF04 step, run on x(n) + h v(n)) start at their projected position
-// and move only tangentially. Their v(n+1) keeps the prescribed normal velocity, and Coulomb
-// friction takes mu times the normal impulse the constraint absorbed, J_N = (grad E . n) / h,
-// minus what collision processing already charged (contact_friction.hpp), as in the ITF04 step.
+// collision processing as the ITF04 step, run on x(n) + h v(n) + h^2 g) start at their projected
+// position and move only tangentially, and let go when their constraint force pulls them off.
+// Coulomb friction is a smoothed potential of the tangential slip with the normal force lagged
+// one step (IPC, Li et al. 2020; see kStickSpeed in the .cpp): stick and slide in one Newton solve.
+// Nodes the solution pushes into a body are constrained and the step solved again (up to three
+// rounds); what is still inside after them is projected out.
 //
 // Stopping rule: |S grad E| / h^2 <= tolerance * force_scale, with
 //   force_scale = |S M g| + |S f(x^0)| + |S M v~(n)| / h     [N]
@@ -57,9 +59,9 @@ struct ImplicitWorkspace {
   BlockSparseMatrix A;  // M + h^2 K + h C
   BlockSparseMatrix C;  // the damping matrix at x(n) (same pattern)
   std::vector<Mat3> block_inverse;  // the block-Jacobi preconditioner
-  std::vector<char> sliding;        // per node: in sliding contact at the end of the last step
+  Eigen::VectorXd normal_force;     // per node: its contact force at the end of the last step [N]
   CGWorkspace cg;
-  Points x_hat, external, x_trial, grad, grad_trial, dir, rhs, scratch, product;
+  Points x_hat, x_trial, grad, grad_trial, dir, rhs, scratch, product;
 };
 
 // Advance `body` from t to t + dt. Same precondition and constraint conventions as

@@ -26,11 +26,19 @@
 
 namespace invfem {
 
+// Damping stress model (both use the Rayleigh-like coefficients of TetMaterial::damping):
+//  Rotated   ITF04 6.2 (core/rotated_damping.hpp): damps some rigid spin of unequally stretched
+//            and inverted elements, so angular momentum is not conserved while they are.
+//  SpinFree  core/spin_free_damping.hpp: equal to Rotated wherever F^ is a uniform scaling (rest),
+//            never damps rigid spin, so it conserves angular momentum for every F.
+enum class DampingModel { Rotated, SpinFree };
+
 struct TetMaterial {
   IsotropicModel model;            // full-strength model
   ScalarTrack strength = ScalarTrack::constant(1.0);  // multiplies mu and lambda over time
   double density = 1000;           // [kg/m^3]
   double damping = 0;              // Rayleigh-like coefficient k [s]: alpha = k lambda, beta = k mu
+  DampingModel damping_model = DampingModel::Rotated;
   double cfl = 0.5;                // fraction of the elastic wave crossing time used as dt bound
 
   std::optional<PlasticParams> plasticity{};          // ITF04 6.3, off when empty

@@ -7,9 +7,12 @@
 // every tet with det F > 0.
 //
 //   scramble_stress [--count K] [--integrator itf04] [--damping-model rotated|spin_free]
+//                   [--max-minutes M]
 //
-// Prints one line per failed run and a summary (runs, passed, failures by kind, the largest
-// deviation and spin left, wall time); exits 1 on a failure, 2 on bad arguments.
+// Prints one line per failed run (as batches of 10 scrambles finish) and a summary (runs, passed,
+// failures by kind and model, the largest deviation and spin left, wall time); exits 1 on a
+// failure, 2 on bad arguments. With --max-minutes no batch starts after M minutes and the summary
+// says how many scrambles ran.
 //
 // The solid: the shipped unit sphere apps/scenes/data/sphere1K_cipc.obj (diameter 1 m), BCC-meshed
 // at resolution 4 without boundary compression: 402 congruent tets, 135 nodes. E = 100 kPa,
@@ -53,6 +56,7 @@ struct Options {
   std::string integrator = "itf04";
   DampingModel damping = DampingModel::Rotated;
   std::string damping_name = "rotated";
+  double max_minutes = 0;  // 0: no limit
 };
 
 // The ITF04 section 9 step is the World's only integrator until WorldSettings::integrator
@@ -83,6 +87,16 @@ Options parse_options(int argc, char** argv) {
         used = 0;
       }
       if (used != v.size() || o.count < 1) throw std::invalid_argument("--count: expected a whole number >= 1, got \"" + v + "\"");
+    } else if (a == "--max-minutes") {
+      const std::string v = value();
+      std::size_t used = 0;
+      try {
+        o.max_minutes = std::stod(v, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != v.size() || !(o.max_minutes > 0))
+        throw std::invalid_argument("--max-minutes: expected a number > 0, got \"" + v + "\"");
     } else if (a == "--integrator") {
       o.integrator = value();
     } else if (a == "--damping-model") {
@@ -93,7 +107,7 @@ Options parse_options(int argc, char** argv) {
     } else {
       throw std::invalid_argument("unknown argument \"" + a +
                                   "\"; usage: scramble_stress [--count K] [--integrator itf04] "
-                                  "[--damping-model rotated|spin_free]");
+                                  "[--damping-model rotated|spin_free] [--max-minutes M]");
     }
   }
   WorldSettings probe;
@@ -223,29 +237,41 @@ int main(int argc, char** argv) {
               opt.damping_name.c_str());
   std::fflush(stdout);
   // Runs are independent worlds: one per task (each small enough that its own element loops stay
-  // on one thread), reported in run order afterwards.
-  parallel_for_each(runs.size(), 1, [&](std::size_t i) { simulate(mesh, size, opt, runs[i]); });
-
+  // on one thread), in batches of 10 scrambles whose failures are printed in run order.
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  constexpr std::size_t kBatch = 20;
+  std::size_t done = 0;
   int passed = 0;
-  std::array<int, 5> failed_by_kind{};
+  std::array<std::array<int, 2>, 5> failed{};  // [kind][model]
   double worst_deviation = 0, worst_spin = 0;
-  for (const Run& r : runs) {
-    if (r.passed) {
-      ++passed;
-    } else {
-      ++failed_by_kind[static_cast<int>(r.kind)];
+  while (done < runs.size() && !(opt.max_minutes > 0 && elapsed() > 60 * opt.max_minutes)) {
+    const std::size_t n = std::min(kBatch, runs.size() - done);
+    parallel_for_each(n, 1, [&](std::size_t i) { simulate(mesh, size, opt, runs[done + i]); });
+    for (std::size_t i = done; i < done + n; ++i) {
+      const Run& r = runs[i];
+      worst_deviation = std::max(worst_deviation, r.deviation);
+      worst_spin = std::max(worst_spin, r.spin);
+      if (r.passed) {
+        ++passed;
+        continue;
+      }
+      ++failed[static_cast<int>(r.kind)][r.model == "neo_hookean" ? 0 : 1];
       std::printf("FAIL %s seed %d %s: %s\n", std::string(scramble_kind_name(r.kind)).c_str(), r.seed,
                   r.model.c_str(), r.failure.c_str());
     }
-    worst_deviation = std::max(worst_deviation, r.deviation);
-    worst_spin = std::max(worst_spin, r.spin);
+    std::fflush(stdout);
+    done += n;
   }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const int failures = static_cast<int>(runs.size()) - passed;
-  std::printf("summary: %zu runs, %d passed, %d failures (", runs.size(), passed, failures);
+  const double wall = elapsed();
+  const int failures = static_cast<int>(done) - passed;
+  if (done < runs.size())
+    std::printf("time limit: %zu of %d scrambles ran in %.1f minutes\n", done / 2, opt.count, wall / 60);
+  std::printf("summary: %zu runs (%zu scrambles x 2 models), %d passed, %d failures (neo_hookean/rotated_linear:",
+              done, done / 2, passed, failures);
   for (std::size_t k = 0; k < kinds.size(); ++k)
-    std::printf("%s%s %d", k ? ", " : "", std::string(scramble_kind_name(kinds[k])).c_str(), failed_by_kind[k]);
+    std::printf("%s %s %d/%d", k ? "," : "", std::string(scramble_kind_name(kinds[k])).c_str(), failed[k][0],
+                failed[k][1]);
   std::printf("); largest deviation %.3g%% of the size, largest spin left %.3g rad/s; wall %.1f s (%.2f s a run)\n",
-              100 * worst_deviation, worst_spin, wall, wall / runs.size());
+              100 * worst_deviation, worst_spin, wall, wall / std::max<std::size_t>(done, 1));
   return failures ? 1 : 0;
 }

@@ -6,7 +6,7 @@
 // covariance, the Kabsch fit), every node within 1% of the solid's size of its rest place, and
 // every tet with det F > 0.
 //
-//   scramble_stress [--count K] [--integrator itf04] [--damping-model rotated|spin_free]
+//   scramble_stress [--count K] [--integrator itf04|implicit] [--damping-model rotated|spin_free]
 //                   [--model neo_hookean|rotated_linear] [--max-minutes M]
 //
 // --model runs one elastic model only (default: both).
@@ -62,15 +62,19 @@ struct Options {
   std::vector<std::string> models{"neo_hookean", "rotated_linear"};
 };
 
-// The ITF04 section 9 step is the World's only integrator until WorldSettings::integrator
-// ("itf04" | "implicit") lands; then this body becomes the one line
-//   settings.integrator = name;
-// (the World then rejects the names it does not know).
+// itf04: the ITF04 section 9 step, CFL-limited (max_dt 5 ms on top). implicit: backward Euler by
+// Newton (core/implicit_step.hpp) in steps of kImplicitStep, as a scene at 50 fps would take.
+constexpr double kImplicitStep = 0.01;  // [s]
+
 void set_integrator(WorldSettings& settings, const std::string& name) {
-  if (name != "itf04")
-    throw std::invalid_argument("--integrator: \"" + name +
-                                "\" is not in this World yet: only \"itf04\" (the ITF04 section 9 step) is; "
-                                "\"implicit\" comes with WorldSettings::integrator");
+  if (name == "itf04") {
+    settings.integrator = Integrator::ITF04;
+  } else if (name == "implicit") {
+    settings.integrator = Integrator::Implicit;
+    settings.max_dt = kImplicitStep;
+  } else {
+    throw std::invalid_argument("--integrator: expected itf04 or implicit, got \"" + name + "\"");
+  }
 }
 
 Options parse_options(int argc, char** argv) {
@@ -114,7 +118,7 @@ Options parse_options(int argc, char** argv) {
       else throw std::invalid_argument("--damping-model: expected rotated or spin_free, got \"" + o.damping_name + "\"");
     } else {
       throw std::invalid_argument("unknown argument \"" + a +
-                                  "\"; usage: scramble_stress [--count K] [--integrator itf04] "
+                                  "\"; usage: scramble_stress [--count K] [--integrator itf04|implicit] "
                                   "[--damping-model rotated|spin_free] [--model neo_hookean|rotated_linear] "
                                   "[--max-minutes M]");
     }

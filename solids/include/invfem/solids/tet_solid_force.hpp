@@ -63,7 +63,7 @@ class TetSolidForce final : public Force {
   void add_elastic_forces(Points& f) const override;
   void add_damping_forces(const Points& v, Points& f) const override;
   // 12x12 per tet (tet_solid_stiffness.cpp): K_e from the clamped diagonal-space dP/dF on the
-  // plastic rest shape, plus the fiber's; C_e of the rotated damping. Zero elements without damping.
+  // plastic rest shape, plus the fiber's; C_e of the damping model. Zero elements without damping.
   bool stiffness_matrices(ElementMatrices& out) const override;
   bool damping_matrices(ElementMatrices& out) const override;
   // sum_e V0 (det(Fp) Psi(Fe) + Psi_f(|F a|)) at the last update.

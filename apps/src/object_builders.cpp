@@ -12,6 +12,8 @@
 #include "invfem/shells/garment.hpp"
 #include "invfem/shells/shapes.hpp"
 #include "invfem/solids/bcc_mesher.hpp"
+#include "invfem/solids/initial_shape.hpp"
+#include "invfem/solids/scramble.hpp"
 #include "invfem/solids/solid_object.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
@@ -33,6 +35,23 @@ std::vector<PinGroup> pins_in_boxes(const Points& X, const std::vector<PinBox>& 
     pins.push_back(make_pin_group(X, std::move(nodes), std::nullopt, what));
   }
   return pins;
+}
+
+// The solid's starting positions (a file in the mesh's node order, or a scramble of the
+// transformed rest positions). Reading errors name the solid and the file.
+Points initial_positions(const SolidInitialShapeSpec& spec, const TetMesh& mesh, const Transform& transform,
+                         const std::string& solid) {
+  try {
+    if (spec.file.empty()) {
+      const Scramble s{*scramble_kind_from_name(spec.scramble), static_cast<std::uint64_t>(spec.seed), spec.size};
+      return scramble_positions(mesh.X, s);
+    }
+    Points x = read_initial_positions(spec.file.string(), mesh);
+    apply_transform(spec.transform.value_or(transform), x);
+    return x;
+  } catch (const std::exception& e) {
+    throw InputError("solid \"" + solid + "\": initial_shape: " + e.what());
+  }
 }
 
 bool is_tet_mesh_file(const std::filesystem::path& p) {
@@ -91,8 +110,10 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
   params.velocity = to_vec(spec.velocity);
   params.gravity = to_vec(scene.gravity);
   params.pins = pins_in_boxes(mesh.X, spec.pin_boxes, what);
+  if (spec.initial_shape) params.initial_positions = initial_positions(*spec.initial_shape, mesh, spec.transform, spec.name);
   try {
     TetMaterial material = make_tet_material(spec.material, scene.solver.cfl);
+    if (spec.material.damping_model == "spin_free") material.damping_model = DampingModel::SpinFree;
     if (spec.plasticity) material.plasticity = make_plastic_params(*spec.plasticity);
     if (spec.plastic_goal) {
       const Points goal = axis_scaled_goal(mesh.X, to_vec(spec.plastic_goal->center), to_vec(spec.plastic_goal->scale));

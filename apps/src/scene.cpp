@@ -4,6 +4,7 @@
 #include <fstream>
 #include <set>
 
+#include "invfem/solids/scramble.hpp"
 #include "json_fields.hpp"
 #include "scene_parts.hpp"
 
@@ -34,7 +35,7 @@ ScalarTrack parse_track(const Fields& f, const std::string& key, double fallback
 }
 
 MaterialSpec parse_material(const Fields& f) {
-  f.reject_unknown({"model", "young", "poisson", "density", "damping", "compression_limit",
+  f.reject_unknown({"model", "young", "poisson", "density", "damping", "damping_model", "compression_limit",
                     "hardening_deformation", "hardening_strength", "strength"});
   MaterialSpec m;
   parse_model_choice(f, m.model, m.compression_limit, m.hardening_deformation, m.hardening_strength);
@@ -45,6 +46,9 @@ MaterialSpec parse_material(const Fields& f) {
   m.density = f.number("density", m.density);
   if (!(m.density > 0)) f.fail("density", "a density > 0 [kg/m^3]");
   m.damping = f.number_in("damping", m.damping, 0, 10);
+  m.damping_model = f.string("damping_model", m.damping_model);
+  if (m.damping_model != "rotated" && m.damping_model != "spin_free")
+    f.fail("damping_model", "\"rotated\" or \"spin_free\"");
   m.strength = parse_track(f, "strength", 1.0);
   return m;
 }
@@ -134,6 +138,34 @@ FiberSpec parse_fiber(const Fields& f) {
   for (const auto& [t, a] : fb.activation.keys)
     if (a > 1) f.fail("activation", "activation levels in [0, 1]");
   return fb;
+}
+
+SolidInitialShapeSpec parse_solid_initial_shape(const Fields& f, const std::filesystem::path& dir, bool check_files) {
+  f.reject_unknown({"file", "transform", "scramble", "seed", "size"});
+  SolidInitialShapeSpec s;
+  if (f.has("file") == f.has("scramble"))
+    f.fail("file", "either a \"file\" or a \"scramble\"", f.has("file") ? "both" : "neither");
+  if (f.has("file")) {
+    for (const char* k : {"seed", "size"})
+      if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" with a file (it belongs to a scramble)");
+    s.file = parse_mesh_path(f, "file", dir, check_files);
+    if (f.has("transform")) s.transform = parse_transform(f.object("transform"));
+    return s;
+  }
+  if (f.has("transform"))
+    f.fail("transform", "no transform with a scramble (it scrambles the solid's transformed rest shape)");
+  s.scramble = f.string("scramble");
+  const auto kind = scramble_kind_from_name(s.scramble);
+  if (!kind) f.fail("scramble", "one of " + scramble_kind_names());
+  s.seed = f.integer("seed", s.seed, 0, 2147483647);
+  if (*kind == ScrambleKind::Box) {
+    if (!f.has("size")) f.fail("size", "the box's edge [m] (a box scramble needs a size)");
+    s.size = f.number("size");
+    if (!(s.size > 0)) f.fail("size", "a box edge > 0 [m]");
+  } else if (f.has("size")) {
+    f.fail("size", "no \"size\" on a " + s.scramble + " scramble (only a box has one)");
+  }
+  return s;
 }
 
 MotionSpec parse_motion(const Fields& f) {
@@ -348,7 +380,7 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
     for (std::size_t i = 0; i < j["solids"].size(); ++i) {
       Fields f(j["solids"][i], fname, "$.solids[" + std::to_string(i) + "]");
       f.reject_unknown({"name", "mesh", "mesh_resolution", "transform", "velocity", "material", "pin_boxes",
-                        "plasticity", "plastic_goal", "fiber"});
+                        "plasticity", "plastic_goal", "fiber", "initial_shape"});
       SolidSpec solid;
       solid.name = f.string("name");
       unique_name(f, solid.name);
@@ -366,6 +398,8 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
         solid.plastic_goal = parse_plastic_goal(f.object("plastic_goal"));
       }
       if (f.has("fiber")) solid.fiber = parse_fiber(f.object("fiber"));
+      if (f.has("initial_shape"))
+        solid.initial_shape = parse_solid_initial_shape(f.object("initial_shape"), dir, check_files);
       s.solids.push_back(std::move(solid));
     }
   }
@@ -457,6 +491,17 @@ nlohmann::json plasticity_json(const PlasticitySpec& p) {
           {"max_stretch", p.max_stretch}};
 }
 
+nlohmann::json solid_initial_shape_json(const SolidInitialShapeSpec& s) {
+  if (!s.file.empty()) {
+    nlohmann::json j{{"file", s.file.string()}};
+    if (s.transform) j["transform"] = transform_json(*s.transform);
+    return j;
+  }
+  nlohmann::json j{{"scramble", s.scramble}, {"seed", s.seed}};
+  if (s.scramble == "box") j["size"] = s.size;
+  return j;
+}
+
 nlohmann::json solid_json(const SolidSpec& o) {
   const auto& m = o.material;
   nlohmann::json j{
@@ -466,7 +511,8 @@ nlohmann::json solid_json(const SolidSpec& o) {
       {"transform", transform_json(o.transform)},
       {"velocity", o.velocity},
       {"material", {{"model", m.model}, {"young", m.young}, {"poisson", m.poisson}, {"density", m.density},
-                    {"damping", m.damping}, {"compression_limit", m.compression_limit},
+                    {"damping", m.damping}, {"damping_model", m.damping_model},
+                    {"compression_limit", m.compression_limit},
                     {"hardening_deformation", m.hardening_deformation},
                     {"hardening_strength", m.hardening_strength}, {"strength", track_json(m.strength)}}},
       {"pin_boxes", pin_boxes_json(o.pin_boxes)}};
@@ -476,6 +522,7 @@ nlohmann::json solid_json(const SolidSpec& o) {
     j["fiber"] = {{"direction", o.fiber->direction}, {"k_passive", o.fiber->k_passive},
                   {"k_active", o.fiber->k_active}, {"max_contraction", o.fiber->max_contraction},
                   {"activation", track_json(o.fiber->activation)}};
+  if (o.initial_shape) j["initial_shape"] = solid_initial_shape_json(*o.initial_shape);
   return j;
 }
 

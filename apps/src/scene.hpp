@@ -20,6 +20,7 @@ struct MaterialSpec {
   double poisson = 0.3;
   double density = 1000;                  // [kg/m^3]
   double damping = 0.0;                   // k [s]: alpha = k lambda, beta = k mu
+  std::string damping_model = "rotated";  // rotated (ITF04 6.2) | spin_free (tet_solid_force.hpp)
   double compression_limit = 0.3;         // neo_hookean, stvk: extension threshold on s_i
   double hardening_deformation = 0.5;     // spline: t
   double hardening_strength = 7;          // spline: r
@@ -56,6 +57,16 @@ struct FiberSpec {            // ITF04 6.1: transversely isotropic muscle fibers
   ScalarTrack activation = ScalarTrack::constant(0.0);
 };
 
+// Where a solid starts: node positions from a file (same nodes, same order as its mesh) or a
+// scramble of its rest positions (solids/scramble.hpp). The rest shape stays the mesh's.
+struct SolidInitialShapeSpec {
+  std::filesystem::path file;          // a tet mesh or OBJ; empty: a scramble
+  std::optional<Transform> transform;  // for file; default: the solid's transform
+  std::string scramble;                // point | line | plane | mirror | box
+  int seed = 0;
+  double size = 0;                     // box: edge of the cube about the centroid [m]
+};
+
 struct SolidSpec {
   std::string name;
   std::filesystem::path mesh;  // absolute, resolved against the scene file's folder
@@ -67,6 +78,7 @@ struct SolidSpec {
   std::optional<PlasticitySpec> plasticity;
   std::optional<PlasticGoalSpec> plastic_goal;
   std::optional<FiberSpec> fiber;
+  std::optional<SolidInitialShapeSpec> initial_shape;
 };
 
 // How a rigid collider moves: fixed at its transform, at constant linear and angular

@@ -1,5 +1,8 @@
 #include "invfem/solids/solid_object.hpp"
 
+#include <stdexcept>
+#include <string>
+
 #include "invfem/core/pins.hpp"
 #include "invfem/solids/boundary.hpp"
 #include "invfem/solids/mass.hpp"
@@ -14,6 +17,16 @@ SimObject make_solid_object(const std::string& name, const TetMesh& mesh, SolidO
   o.surface.source = "boundary of " + mesh.source;
   o.tets = mesh.tets;
   o.body.x = mesh.X;
+  if (params.initial_positions) {
+    const Points& x0 = *params.initial_positions;
+    if (x0.rows() != mesh.X.rows() || x0.cols() != 3)
+      throw std::invalid_argument("initial positions: " + std::to_string(x0.rows()) + " x " +
+                                  std::to_string(x0.cols()) + " for a mesh of " + std::to_string(mesh.X.rows()) +
+                                  " nodes");
+    if (!x0.allFinite()) throw std::invalid_argument("initial positions: not all finite");
+    o.body.x = x0;
+    o.refresh_surface();
+  }
   o.body.v = Points(mesh.X.rows(), 3);
   o.body.v.rowwise() = params.velocity.transpose();
   o.body.mass = lumped_masses(mesh.X, mesh.tets, params.material.density);

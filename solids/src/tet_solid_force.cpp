@@ -15,6 +15,7 @@
 #include "invfem/core/parallel.hpp"
 #include "invfem/core/plasticity_control.hpp"
 #include "invfem/core/rotated_damping.hpp"
+#include "invfem/core/spin_free_damping.hpp"
 
 namespace invfem {
 
@@ -204,16 +205,19 @@ void TetSolidForce::add_damping_forces(const Points& v, Points& f) const {
   const RotatedDamping damping{material_.damping * lambda, material_.damping * mu};
   const int m = static_cast<int>(diag_.size());
   const bool plain = plastic_identity_;
+  const bool spin_free = material_.damping_model == DampingModel::SpinFree;
+  auto stress = [&](const Diagonalization3& d, const Mat3& Fe_dot) {
+    return spin_free ? spin_free_damping_stress(damping, d, Fe_dot) : damping_stress(damping, d, Fe_dot);
+  };
   parallel_for_each(static_cast<std::size_t>(m), kGrain, [&](std::size_t i) {
     const int e = static_cast<int>(i);
     const Mat3 F_dot = deformation_gradient(rest_, e, v);  // velocity gradient, same formula
     if (plain) {
-      G_scratch_[e] = damping_stress(damping, diag_[e], F_dot) * rest_.Bm[e];
+      G_scratch_[e] = stress(diag_[e], F_dot) * rest_.Bm[e];
     } else {
       // Rate of Fe = F Fp^-1 with Fp frozen over the step, stress mapped back like the elastic one.
       const Mat3& Fp_inv = plastic_.Fp_inv[e];
-      G_scratch_[e] =
-          plastic_stress(damping_stress(damping, diag_[e], Mat3(F_dot * Fp_inv)), Fp_inv) * rest_.Bm[e];
+      G_scratch_[e] = plastic_stress(stress(diag_[e], Mat3(F_dot * Fp_inv)), Fp_inv) * rest_.Bm[e];
     }
   });
   scatter_tet_forces(rest_.tets, G_scratch_, f);

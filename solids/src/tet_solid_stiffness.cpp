@@ -8,13 +8,14 @@
 // The fiber term lives on the total F (the original rest shape) and its dP_f/dF is already
 // positive semidefinite (fiber.hpp).
 // Damping: P_d is linear in Fe_dot = F_dot Fp^-1 with dP_d/dFe_dot symmetric PSD
-// (rotated_damping.hpp), mapped with the same G: C_e = V0 det(Fp) G^T dP_d/dF_dot G.
+// (rotated_damping.hpp or spin_free_damping.hpp), mapped with the same G: C_e = V0 det(Fp) G^T dP_d/dF_dot G.
 #include <Eigen/LU>
 
 #include "invfem/core/elasticity.hpp"
 #include "invfem/core/element_matrices.hpp"
 #include "invfem/core/parallel.hpp"
 #include "invfem/core/rotated_damping.hpp"
+#include "invfem/core/spin_free_damping.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 
 namespace invfem {
@@ -73,7 +74,8 @@ bool TetSolidForce::damping_matrices(ElementMatrices& out) const {
   const auto [mu, lambda] = std::visit([](const auto& m) { return std::pair(m.mu, m.lambda); }, model);
   const RotatedDamping damping{material_.damping * lambda, material_.damping * mu};
   parallel_for_each(diag_.size(), kGrain, [&](std::size_t e) {
-    const Mat9 D = damping_stress_derivative(damping, diag_[e]);
+    const Mat9 D = material_.damping_model == DampingModel::SpinFree ? spin_free_damping_derivative(damping, diag_[e])
+                                                                      : damping_stress_derivative(damping, diag_[e]);
     const Mat3& Fp_inv = plastic_.Fp_inv[e];
     out.matrix<12>(static_cast<Eigen::Index>(e)) =
         plastic_identity_ ? element_matrix_from_dPdF<3>(D, shape_gradients<3>(rest_.Dm_inv[e]), rest_.volume[e])

@@ -12,7 +12,8 @@
 //
 // Angular momentum (ITF04 6.2): P_d vanishes for a rigid rotation rate Fdot = W F (W skew) only
 // when F^ is a uniform scaling (F = c R); otherwise sym(U^T W U F^) has entries W^_ij (s_j - s_i)/2
-// and the model damps some rigid spin. ITF04 accepts this; so do we.
+// and the model damps some rigid spin. ITF04 accepts this, and it is the default here; the
+// spin-free damping (spin_free_damping.hpp) does not damp rigid spin for any F.
 #include <cmath>
 #include <stdexcept>
 #include <string>

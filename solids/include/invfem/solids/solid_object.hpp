@@ -1,6 +1,7 @@
 #pragma once
 // A tetrahedral solid as a simulated object of the World (core/world.hpp): its nodes with lumped
 // masses, the ITF04 volumetric force, its boundary surface (with the map to its nodes) and pins.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,11 +16,15 @@ struct SolidObjectParams {
   Vec3 velocity = Vec3::Zero();          // initial velocity of every free node [m/s]
   Vec3 gravity = Vec3(0, -9.81, 0);      // [m/s^2]
   std::vector<PinGroup> pins;            // over the mesh's nodes
+  // Starting positions (n x 3, the mesh's node order; scramble.hpp, initial_shape.hpp); empty:
+  // the rest positions. The rest shape stays the mesh's either way.
+  std::optional<Points> initial_positions;
 };
 
-// `mesh` must be validated and positively oriented (validate_and_orient). The object is at rest
-// shape, its force updated at t = 0, pinned nodes moving with their pins. Throws
-// std::invalid_argument (material, masses) naming the problem.
+// `mesh` must be validated and positively oriented (validate_and_orient). The object starts at
+// params.initial_positions (else at its rest shape), its force and surface updated there at t = 0,
+// pinned nodes moving with their pins. Throws std::invalid_argument (material, masses, initial
+// positions of the wrong size or not finite) naming the problem.
 SimObject make_solid_object(const std::string& name, const TetMesh& mesh, SolidObjectParams params);
 
 }  // namespace invfem

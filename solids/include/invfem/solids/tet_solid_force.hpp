@@ -26,11 +26,19 @@
 
 namespace invfem {
 
+// Damping stress model (both use the Rayleigh-like coefficients of TetMaterial::damping):
+//  Rotated   ITF04 6.2 (core/rotated_damping.hpp): damps some rigid spin of unequally stretched
+//            and inverted elements, so angular momentum is not conserved while they are.
+//  SpinFree  core/spin_free_damping.hpp: equal to Rotated wherever F^ is a uniform scaling (rest),
+//            never damps rigid spin, so it conserves angular momentum for every F.
+enum class DampingModel { Rotated, SpinFree };
+
 struct TetMaterial {
   IsotropicModel model;            // full-strength model
   ScalarTrack strength = ScalarTrack::constant(1.0);  // multiplies mu and lambda over time
   double density = 1000;           // [kg/m^3]
   double damping = 0;              // Rayleigh-like coefficient k [s]: alpha = k lambda, beta = k mu
+  DampingModel damping_model = DampingModel::Rotated;
   double cfl = 0.5;                // fraction of the elastic wave crossing time used as dt bound
 
   std::optional<PlasticParams> plasticity{};          // ITF04 6.3, off when empty
@@ -55,7 +63,7 @@ class TetSolidForce final : public Force {
   void add_elastic_forces(Points& f) const override;
   void add_damping_forces(const Points& v, Points& f) const override;
   // 12x12 per tet (tet_solid_stiffness.cpp): K_e from the clamped diagonal-space dP/dF on the
-  // plastic rest shape, plus the fiber's; C_e of the rotated damping. Zero elements without damping.
+  // plastic rest shape, plus the fiber's; C_e of the damping model. Zero elements without damping.
   bool stiffness_matrices(ElementMatrices& out) const override;
   bool damping_matrices(ElementMatrices& out) const override;
   // sum_e V0 (det(Fp) Psi(Fe) + Psi_f(|F a|)) at the last update.

@@ -67,8 +67,8 @@ TEST(HalfTorusShell, PreviewsMatchGolden) {
                               std::filesystem::path(INVFEM_GOLDEN_DIR) / "images/half_torus_shell" / frame_file(f, "png"));
 }
 
-// The implicit integrator against the ITF04 step (measured: gravity 8.4% of the drop, shape 1.0%
-// of the size).
+// The implicit integrator against the ITF04 step (measured: gravity 0.1% of the drop at the end,
+// 19% at the worst frame while the press moves; shape 1.3% of the size).
 TEST(HalfTorusShell, ImplicitRunAgreesWithTheItf04Step) {
   expect_close_to_itf04_reference(kOut, INVFEM_REFERENCE_DIR, "shell", kLastFrame, 0.12, 0.03);
 }

@@ -14,27 +14,16 @@
 #include "invfem/core/spin_free_damping.hpp"
 #include "invfem/solids/mass.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
+#include "random_matrices.hpp"
 
 namespace {
 
 using namespace invfem;
 
-Mat3 random_rotation(std::mt19937& rng) {
-  std::normal_distribution<double> n;
-  return Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
-}
-Mat3 random_matrix(std::mt19937& rng) {
-  std::normal_distribution<double> n;
-  Mat3 A;
-  for (int i = 0; i < 9; ++i) A.data()[i] = n(rng);
-  return A;
-}
-Mat3 skew(const Vec3& w) {
-  Mat3 W;
-  W << 0, -w(2), w(1), w(2), 0, -w(0), -w(1), w(0), 0;
-  return W;
-}
-double inner(const Mat3& A, const Mat3& B) { return A.cwiseProduct(B).sum(); }
+using test::inner;
+using test::random_matrix;
+using test::random_rotation;
+using test::skew;
 Eigen::VectorXd vec(const Mat3& A) { return Eigen::Map<const Eigen::Matrix<double, 9, 1>>(A.data()); }
 
 const RotatedDamping kDamp{0.7, 0.4};

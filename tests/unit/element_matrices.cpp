@@ -84,6 +84,16 @@ void expect_damping_matrix_matches_force(const Force& f, Eigen::Index n, std::mt
   expect_element_matrices_psd(em);
 }
 
+// At positions x (any state, compressed or bent): stiffness matrices PSD, damping matrices
+// reproducing the damping force.
+void expect_matrices_sound_at(Force& f, const Points& x, std::mt19937& rng) {
+  f.update_positions(x, 0);
+  ElementMatrices em;
+  ASSERT_TRUE(f.stiffness_matrices(em));
+  expect_element_matrices_psd(em);
+  expect_damping_matrix_matches_force(f, x.rows(), rng);
+}
+
 TetMaterial neo_hookean_material(double damping) {
   TetMaterial m{NeoHookean{4e5, 6e5}};
   m.damping = damping;
@@ -185,11 +195,7 @@ TEST(ElementMatrices, MembraneMatricesAreSemidefiniteWhenCompressedAndDampingMat
   Points x = grid.x;
   x.col(0) *= 0.5;  // crumpled: compressed along x, lifted at random
   x += random_points(x.rows(), 2e-2, rng);
-  f.update_positions(x, 0);
-  ElementMatrices em;
-  ASSERT_TRUE(f.stiffness_matrices(em));
-  expect_element_matrices_psd(em);
-  expect_damping_matrix_matches_force(f, x.rows(), rng);
+  expect_matrices_sound_at(f, x, rng);
 }
 
 TEST(ElementMatrices, BendingStiffnessIsExactAtTheRestAngle) {
@@ -203,11 +209,7 @@ TEST(ElementMatrices, BendingStiffnessIsExactAtTheRestAngle) {
   BendingForce f(X, grid.tris, p);
   // At theta = theta0 the force's other terms carry (sin(theta/2) - sin(theta0/2)) = 0.
   expect_stiffness_is_minus_force_jacobian(f, X, 1e-5);
-  f.update_positions(X + random_points(X.rows(), 1e-2, rng), 0);
-  ElementMatrices em;
-  ASSERT_TRUE(f.stiffness_matrices(em));
-  expect_element_matrices_psd(em);
-  expect_damping_matrix_matches_force(f, X.rows(), rng);
+  expect_matrices_sound_at(f, X + random_points(X.rows(), 1e-2, rng), rng);
 }
 
 TEST(ElementMatrices, StitchStiffnessIsMinusForceJacobian) {

@@ -167,6 +167,14 @@ int run_command(const std::vector<std::string>& raw) {
                       r.newton_capped, r.newton_worst_residual);
         newton += capped;
       }
+      const FrameReport::Collisions& sc = r.collisions;
+      if (sc.candidates > 0) {
+        char self[200];
+        std::snprintf(self, sizeof self, "  self-collision %.2fs: %lld repulsions, %lld CCD hits, %d zones (largest %d)%s",
+                      sc.seconds, sc.proximity_impulses, sc.ccd_hits, sc.impact_zones, sc.largest_zone,
+                      sc.unresolved_steps > 0 ? " FAIL-SAFE UNRESOLVED" : "");
+        newton += self;
+      }
       std::printf("frame %d/%d  t=%.3fs  %.2fs/frame  ETA %s  inverted %d (%.1f%%)  collisions %d  substeps %d%s  cg %d%s\n",
                   frame, last, world.time(), wall, format_duration(eta).c_str(), r.elements.inverted,
                   100.0 * r.elements.inverted / std::max(1, r.elements.elements), r.colliding_nodes, r.substeps,

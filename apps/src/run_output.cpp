@@ -129,16 +129,21 @@ void RunOutput::write_frame(int frame, const World& world, const FrameReport& r)
 
 void RunOutput::write_stats(int frame, const World& world, const FrameReport& r, const FrameTimings& t) {
   // Field order is fixed (frame first: a resumed run filters lines by it).
-  char line[768];
+  char line[1024];
   std::snprintf(line, sizeof line,
                 "{\"frame\":%d,\"time\":%.6f,\"substeps\":%d,\"cg_iterations\":%d,\"cg_converged\":%s,"
                 "\"colliding_nodes\":%d,\"inverted\":%d,\"elements\":%d,\"min_det_F\":%.9g,"
                 "\"yielded\":%d,\"yielded_hinges\":%d,\"newton_iterations\":%d,\"newton_capped\":%d,"
                 "\"newton_worst_residual\":%.3g,"
-                "\"seconds\":{\"simulate\":%.6f,\"measure\":%.6f,\"write\":%.6f,\"render\":%.6f}}\n",
+                "\"self_collision\":{\"candidates\":%lld,\"proximity_impulses\":%lld,\"ccd_hits\":%lld,"
+                "\"impact_zones\":%d,\"largest_zone\":%d,\"unresolved_steps\":%d},"
+                "\"seconds\":{\"simulate\":%.6f,\"self_collision\":%.6f,\"measure\":%.6f,\"write\":%.6f,\"render\":%.6f}}\n",
                 frame, world.time(), r.substeps, r.cg_iterations, r.cg_all_converged ? "true" : "false",
                 r.colliding_nodes, r.elements.inverted, r.elements.elements, r.elements.min_det_F, r.elements.yielded,
-                r.elements.yielded_hinges, r.newton_iterations, r.newton_capped, r.newton_worst_residual, t.simulate, t.measure, t.write, t.render);
+                r.elements.yielded_hinges, r.newton_iterations, r.newton_capped, r.newton_worst_residual, r.collisions.candidates,
+                r.collisions.proximity_impulses, r.collisions.ccd_hits, r.collisions.impact_zones,
+                r.collisions.largest_zone, r.collisions.unresolved_steps, t.simulate, r.collisions.seconds, t.measure,
+                t.write, t.render);
   stats_ += line;
   atomic_write(dir_ / "stats.jsonl", stats_);
 }

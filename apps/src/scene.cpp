@@ -345,7 +345,8 @@ using namespace scene_detail;
 Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bool check_files) {
   const std::string fname = file.string();
   Fields root(j, fname, "$");
-  root.reject_unknown({"name", "fps", "frames", "gravity", "solver", "solids", "cloths", "colliders", "render", "quick"});
+  root.reject_unknown({"name", "fps", "frames", "gravity", "solver", "self_collision", "solids", "cloths", "colliders",
+                      "render", "quick"});
   Scene s;
   s.file = file;
   s.name = root.string("name", file.stem().string());
@@ -367,6 +368,20 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   s.solver.newton_tolerance = solver.number_in("newton_tolerance", s.solver.newton_tolerance, 1e-12, 1);
   s.solver.newton_max_iterations = solver.integer("newton_max_iterations", s.solver.newton_max_iterations, 1, 1000);
 
+  const Fields sc = root.object_or_empty("self_collision");
+  sc.reject_unknown({"enabled", "thickness", "ccd_distance", "friction", "impulse_passes", "max_zone_iterations",
+                     "colliders"});
+  s.self_collision.enabled = sc.boolean("enabled", s.self_collision.enabled);
+  s.self_collision.thickness = sc.number_in("thickness", s.self_collision.thickness, 1e-9, 1);
+  s.self_collision.ccd_distance = sc.number_in("ccd_distance", s.self_collision.ccd_distance, 0, 1);
+  if (!(s.self_collision.ccd_distance < s.self_collision.thickness))
+    sc.fail("ccd_distance", "a distance below the thickness");
+  s.self_collision.friction = sc.number_in("friction", s.self_collision.friction, 0, 10);
+  s.self_collision.impulse_passes = sc.integer("impulse_passes", s.self_collision.impulse_passes, 0, 1000);
+  s.self_collision.max_zone_iterations =
+      sc.integer("max_zone_iterations", s.self_collision.max_zone_iterations, 1, 100000);
+  s.self_collision.colliders = sc.boolean("colliders", s.self_collision.colliders);
+
   const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
   std::set<std::string> names;
   auto unique_name = [&](const Fields& f, const std::string& name) {
@@ -380,9 +395,10 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
     for (std::size_t i = 0; i < j["solids"].size(); ++i) {
       Fields f(j["solids"][i], fname, "$.solids[" + std::to_string(i) + "]");
       f.reject_unknown({"name", "mesh", "mesh_resolution", "transform", "velocity", "material", "pin_boxes",
-                        "plasticity", "plastic_goal", "fiber", "initial_shape"});
+                        "plasticity", "plastic_goal", "fiber", "initial_shape", "self_collision"});
       SolidSpec solid;
       solid.name = f.string("name");
+      solid.self_collision = f.boolean("self_collision", solid.self_collision);
       unique_name(f, solid.name);
       solid.mesh = parse_mesh_path(f, "mesh", dir, check_files);
       solid.transform = parse_transform(f.object_or_empty("transform"));
@@ -506,6 +522,7 @@ nlohmann::json solid_json(const SolidSpec& o) {
   const auto& m = o.material;
   nlohmann::json j{
       {"name", o.name},
+      {"self_collision", o.self_collision},
       {"mesh", o.mesh.string()},
       {"mesh_resolution", o.mesh_resolution},
       {"transform", transform_json(o.transform)},
@@ -572,6 +589,13 @@ nlohmann::json to_json(const Scene& s) {
                  {"cg_max_iterations", s.solver.cg_max_iterations},
                  {"newton_tolerance", s.solver.newton_tolerance},
                  {"newton_max_iterations", s.solver.newton_max_iterations}};
+  j["self_collision"] = {{"enabled", s.self_collision.enabled},
+                         {"thickness", s.self_collision.thickness},
+                         {"ccd_distance", s.self_collision.ccd_distance},
+                         {"friction", s.self_collision.friction},
+                         {"impulse_passes", s.self_collision.impulse_passes},
+                         {"max_zone_iterations", s.self_collision.max_zone_iterations},
+                         {"colliders", s.self_collision.colliders}};
   j["solids"] = nlohmann::json::array();
   for (const auto& o : s.solids) j["solids"].push_back(solid_json(o));
   j["cloths"] = nlohmann::json::array();

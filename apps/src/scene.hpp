@@ -69,6 +69,7 @@ struct SolidInitialShapeSpec {
 
 struct SolidSpec {
   std::string name;
+  bool self_collision = true;  // its boundary surface takes part in the self-collision layer
   std::filesystem::path mesh;  // absolute, resolved against the scene file's folder
   int mesh_resolution = 24;    // BCC cells along the longest side, when `mesh` is a surface
   Transform transform;
@@ -148,6 +149,7 @@ struct PinSpec {
 
 struct ClothSpec {
   std::string name;
+  bool self_collision = true;     // takes part in the self-collision layer
   std::filesystem::path mesh;     // empty: a grid or a shape
   GridSpec grid;
   std::optional<HalfTorusSpec> half_torus;
@@ -208,6 +210,18 @@ struct SolverSpec {
   int newton_max_iterations = 12;   // implicit: a step that hits it is reported
 };
 
+// The self-collision layer (collisions/self_collision_pass.hpp), run after every step on every
+// object that takes part, and on the colliders' triangles.
+struct SelfCollisionSpec {
+  bool enabled = true;
+  double thickness = 1e-3;      // repulsion thickness [m]
+  double ccd_distance = 1e-5;   // separation the CCD keeps [m]
+  double friction = 0.3;
+  int impulse_passes = 3;
+  int max_zone_iterations = 100;
+  bool colliders = true;        // mesh colliders' triangles take part (infinite mass)
+};
+
 struct Scene {
   std::filesystem::path file;
   std::string name;
@@ -215,6 +229,7 @@ struct Scene {
   int frames = 60;  // frames after frame 0
   std::array<double, 3> gravity{0, -9.81, 0};
   SolverSpec solver;
+  SelfCollisionSpec self_collision;
   std::vector<SolidSpec> solids;
   std::vector<ClothSpec> cloths;
   std::vector<ColliderSpec> colliders;

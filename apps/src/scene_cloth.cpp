@@ -92,9 +92,10 @@ StitchSpec parse_stitches(const Fields& f) {
 ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool check_files) {
   f.reject_unknown({"name", "mesh", "grid", "half_torus", "rest_shape", "initial_shape", "transform", "velocity",
                     "material", "plasticity", "bending_plasticity", "inversion_test", "stitches", "pin_vertices",
-                    "pin_boxes", "pins"});
+                    "pin_boxes", "pins", "self_collision"});
   ClothSpec c;
   c.name = f.string("name");
+  c.self_collision = f.boolean("self_collision", c.self_collision);
   const int shapes = int(f.has("mesh")) + int(f.has("grid")) + int(f.has("half_torus"));
   if (shapes > 1) f.fail("mesh", "one of \"mesh\", \"grid\" or \"half_torus\", not several");
   if (f.has("mesh")) {
@@ -168,6 +169,7 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
 nlohmann::json cloth_json(const ClothSpec& c) {
   const auto& m = c.material;
   nlohmann::json j{{"name", c.name},
+                   {"self_collision", c.self_collision},
                    {"rest_shape", c.rest_shape},
                    {"transform", transform_json(c.transform)},
                    {"velocity", c.velocity},

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "collider_builders.hpp"
+#include "invfem/collisions/self_collision_pass.hpp"
 #include "json_fields.hpp"
 #include "object_builders.hpp"
 
@@ -22,7 +23,23 @@ World build_world(const Scene& scene) {
   settings.implicit.max_newton_iterations = scene.solver.newton_max_iterations;
   settings.implicit.cg = CGSettings{std::max(scene.solver.cg_tolerance, 1e-6), scene.solver.cg_max_iterations};
   try {
-    return World(settings, std::move(objects), std::move(kinematic), make_rigid_collisions(bodies));
+    World world(settings, std::move(objects), std::move(kinematic), make_rigid_collisions(bodies));
+    const SelfCollisionSpec& sc = scene.self_collision;
+    if (sc.enabled) {
+      collisions::SelfCollisionSettings s;
+      s.thickness = sc.thickness;
+      s.ccd_distance = sc.ccd_distance;
+      s.friction = sc.friction;
+      s.impulse_passes = sc.impulse_passes;
+      s.max_zone_iterations = sc.max_zone_iterations;
+      s.kinematic_bodies = sc.colliders;
+      for (const auto& o : scene.solids)
+        if (!o.self_collision) s.excluded.push_back(o.name);
+      for (const auto& c : scene.cloths)
+        if (!c.self_collision) s.excluded.push_back(c.name);
+      world.add_pass(std::make_unique<collisions::SelfCollisionPass>(s));
+    }
+    return world;
   } catch (const std::invalid_argument& e) {
     throw InputError(scene.file.string() + ": " + e.what());
   }

@@ -76,7 +76,7 @@ World::World(WorldSettings settings, std::vector<SimObject> objects,
 
 void World::advance_to(double t_end, FrameReport& report) {
   const std::vector<ObjectKind> stage_order = {ObjectKind::Solid, ObjectKind::Cloth};
-  std::vector<Points> x_start;
+  std::vector<Points> x_start, kinematic_start;
   // Land exactly on t_end: the steps of a frame are equal, each within every object's stable
   // step (ITF04's scheme takes a variable dt).
   while (time_ < t_end - 1e-12 * std::max(1.0, t_end)) {
@@ -86,12 +86,14 @@ void World::advance_to(double t_end, FrameReport& report) {
     const double left = t_end - time_;
     dt = left / std::ceil(left / dt - 1e-9);
     report.colliding_nodes = 0;
-    // 1. Kinematic bodies.
-    for (const auto& k : kinematic_) k->move_to(time_ + dt);
     if (!passes_.empty()) {
       x_start.clear();
       for (const auto& o : objects_) x_start.push_back(o.body.x);
+      kinematic_start.clear();
+      for (const auto& k : kinematic_) kinematic_start.push_back(k->surface() ? k->surface()->x : Points());
     }
+    // 1. Kinematic bodies.
+    for (const auto& k : kinematic_) k->move_to(time_ + dt);
     // 2, 3. Solids, then cloths.
     for (ObjectKind kind : stage_order)
       for (std::size_t k = 0; k < objects_.size(); ++k) {
@@ -116,7 +118,8 @@ void World::advance_to(double t_end, FrameReport& report) {
     // until the frame is done: they are refreshed once, below).
     if (!passes_.empty()) {
       for (auto& o : objects_) o.refresh_surface();
-      for (const auto& p : passes_) p->after_step(objects_, x_start, time_, dt);
+      const StepPassInput input{x_start, kinematic_, kinematic_start, time_, dt};
+      for (const auto& p : passes_) p->after_step(objects_, input, report);
     }
     time_ += dt;
     ++report.substeps;

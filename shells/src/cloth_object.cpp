@@ -47,6 +47,8 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   std::vector<Stitch> stitches = garment.stitches;
   stitches.insert(stitches.end(), p.extra_stitches.begin(), p.extra_stitches.end());
   std::unique_ptr<StitchForce> stitch;
+  std::vector<std::pair<int, int>> welds;  // node pairs; surface vertices once the surface exists
+  for (const Stitch& st : stitches) welds.insert(welds.end(), {{st.i, st.j}, {st.i, st.k}});
   if (!stitches.empty()) {
     std::vector<double> lengths = seam_lengths(stitches, membrane->rest());
     stitch = std::make_unique<StitchForce>(std::move(stitches), std::move(lengths), x0.rows(), p.stitch, what);
@@ -59,6 +61,12 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   set_pinned_velocities(o, 0.0);
   o.surface = extract_surface(o.body.x, surface.tris, o.surface_nodes);
   o.surface.source = surface.source;
+  std::vector<int> vertex_of(static_cast<std::size_t>(o.body.x.rows()), -1);
+  for (std::size_t s = 0; s < o.surface_nodes.size(); ++s) vertex_of[static_cast<std::size_t>(o.surface_nodes[s])] = static_cast<int>(s);
+  for (const auto& [a, b] : welds) {
+    const int sa = vertex_of[static_cast<std::size_t>(a)], sb = vertex_of[static_cast<std::size_t>(b)];
+    if (sa >= 0 && sb >= 0) o.welds.emplace_back(sa, sb);  // a stitch on a vertex no triangle uses joins nothing
+  }
   return o;
 }
 

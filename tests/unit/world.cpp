@@ -58,9 +58,10 @@ class LoggingBody final : public KinematicBody {
 
 class LoggingPass final : public StepPass {
  public:
-  void after_step(std::vector<SimObject>& objects, const std::vector<Points>& x_start, double, double) override {
+  void after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport&) override {
     g_log.push_back("pass");
-    ASSERT_EQ(x_start.size(), objects.size());
+    ASSERT_EQ(step.x_start.size(), objects.size());
+    ASSERT_EQ(step.kinematic_start.size(), step.kinematic.size());
     // Surfaces are refreshed before the passes run.
     for (const auto& o : objects) EXPECT_EQ(o.surface.x.row(0), o.body.x.row(o.surface_nodes[0]));
   }

@@ -16,6 +16,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "invfem/core/collision_processor.hpp"
@@ -52,6 +53,10 @@ struct SimObject {
   // end of every advance_to (refresh_surface).
   TriangleSurface surface;
   std::vector<int> surface_nodes;
+  // Pairs of surface vertices a seam joins (a garment's stitches: vertex i with both ends of the
+  // edge it is sewn onto). The self-collision layer and `invfem check` treat primitives holding
+  // two welded vertices as adjacent: the seam makes them touch.
+  std::vector<std::pair<int, int>> welds;
   Tets tets;  // solids: the tet mesh, for volumetric output; empty otherwise
 
   std::vector<Force*> force_pointers() const;
@@ -72,13 +77,24 @@ class KinematicBody {
   virtual const TriangleSurface* surface() const = 0;
 };
 
-// A pass run after every step (stage 4). x_start[k] holds object k's positions at the start of
-// the step; the objects hold the end-of-step state, which the pass may change.
+struct FrameReport;
+
+// What an after-step pass sees of the step (stage 4): per object, its node positions at the
+// step's start (the objects hold the end-of-step state); per kinematic body, its surface's vertex
+// positions at the step's start (empty when it has no surface), the bodies being at t + dt.
+struct StepPassInput {
+  const std::vector<Points>& x_start;
+  const std::vector<std::shared_ptr<KinematicBody>>& kinematic;
+  const std::vector<Points>& kinematic_start;
+  double t, dt;
+};
+
+// A pass run after every step (stage 4), such as the self-collision layer (collisions/); it may
+// change the objects' end-of-step positions and velocities, and adds its figures to the report.
 class StepPass {
  public:
   virtual ~StepPass() = default;
-  virtual void after_step(std::vector<SimObject>& objects, const std::vector<Points>& x_start, double t,
-                          double dt) = 0;
+  virtual void after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport& report) = 0;
 };
 
 // itf04: ITF04 section 9 (explicit elasticity, implicit damping; CFL-limited), the reference.
@@ -102,6 +118,14 @@ struct FrameReport {
   // iteration cap (or without descent) above the tolerance, with the worst final residual.
   int newton_iterations = 0, newton_capped = 0;
   double newton_worst_residual = 0;
+  // After-step self-collision pass (collisions/self_collision_pass.hpp), summed over the frame's
+  // steps: candidate pairs, repulsion impulses, CCD hits, impact zones (count and largest in
+  // vertices), steps that ended with a collision the fail-safe could not resolve, and seconds.
+  struct Collisions {
+    long long candidates = 0, proximity_impulses = 0, ccd_hits = 0;
+    int impact_zones = 0, largest_zone = 0, unresolved_steps = 0;
+    double seconds = 0;
+  } collisions;
 };
 
 class World {

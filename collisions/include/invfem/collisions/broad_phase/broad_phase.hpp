@@ -1,0 +1,42 @@
+#pragma once
+// Broad phase of the self-collision layer: bounding volume hierarchies (Embree 3 user geometry
+// and rtcCollide) over the swept boxes of a CollisionMesh's vertices, triangles and edges, the
+// box of a primitive's positions at the step's start x0 and end x0 + dt v, inflated by a margin.
+// rtcCollide(vertices, triangles) gives vertex-face pairs and rtcCollide(edges, edges) edge-edge
+// pairs; each is re-checked on exact double boxes, filtered (candidates.hpp) and sorted.
+//
+// The hierarchies are kept between calls: while the primitive counts stay the same they are
+// refit (Embree's RTC_BUILD_QUALITY_REFIT), and rebuilt when the summed surface area of the leaf
+// boxes has grown by more than `rebuild_growth` since the last build (refit boxes grow loose as
+// the mesh moves away from the shape it was built on). Embree works in float: boxes are rounded
+// outward, so the float boxes always contain the double ones.
+#include <memory>
+
+#include "invfem/collisions/candidates/candidates.hpp"
+#include "invfem/collisions/collision_mesh.hpp"
+
+namespace invfem::collisions {
+
+class BroadPhase {
+ public:
+  BroadPhase();
+  ~BroadPhase();
+  BroadPhase(const BroadPhase&) = delete;
+  BroadPhase& operator=(const BroadPhase&) = delete;
+
+  // Candidates of the step of length dt whose inflated swept boxes overlap (positions x0 to
+  // x0 + dt v, v #V x 3: the mesh's own velocities, or changed ones); replaces `out`.
+  // Throws std::runtime_error if Embree fails.
+  void find(const CollisionMesh& mesh, const Points& v, double dt, double margin, Candidates& out);
+  void find(const CollisionMesh& mesh, double dt, double margin, Candidates& out) { find(mesh, mesh.v, dt, margin, out); }
+
+  double rebuild_growth = 0.5;
+  int builds() const { return builds_; }  // full builds so far (the rest were refits)
+
+ private:
+  struct Embree;
+  std::unique_ptr<Embree> embree_;
+  int builds_ = 0;
+};
+
+}  // namespace invfem::collisions

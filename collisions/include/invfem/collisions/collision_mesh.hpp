@@ -1,0 +1,71 @@
+#pragma once
+// The one mesh the self-collision layer works on (BFA02, collisions-BFA02.md): every surface
+// taking part in a step, simulated or kinematic, concatenated. Vertex and triangle indices are
+// global; each surface keeps a contiguous range. Array shapes:
+//   x0, v       #V x 3   positions at the step's start [m] and the step's average velocity
+//                        v = (x(n+1) - x(n)) / dt [m/s] (BFA02's v^{n+1/2})
+//   inv_mass    #V       1 / m [1/kg]; 0 for kinematic vertices (colliders, animated bodies,
+//                        pinned nodes): they take part with infinite mass
+//   tris        #F x 3   global vertex indices, counter-clockwise from outside
+//   edges       #E x 2   global vertex indices (surface_edges of each surface, offset)
+//   weld_offsets, weld_partners   per vertex i, the vertices a seam joins it to (stitches):
+//                        weld_partners[weld_offsets[i] .. weld_offsets[i+1]), ascending. Two
+//                        primitives are adjacent (never a candidate) when they share a vertex or
+//                        hold two welded vertices. Not transitive: the vertices along a seam are
+//                        not all joined to one another
+//   surface_of  #V       which surface (index into `surfaces`) a vertex belongs to
+#include <string>
+#include <vector>
+
+#include "invfem/core/surface.hpp"
+#include "invfem/core/types.hpp"
+
+namespace invfem::collisions {
+
+struct CollisionMesh {
+  struct Range {
+    std::string name;
+    int first_vertex = 0, num_vertices = 0;
+    int first_triangle = 0, num_triangles = 0;
+    int first_edge = 0, num_edges = 0;
+    bool kinematic = false;
+  };
+  std::vector<Range> surfaces;
+  Points x0, v;
+  Eigen::VectorXd inv_mass;
+  Tris tris;
+  Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> edges;
+  std::vector<int> weld_offsets{0}, weld_partners;
+  std::vector<int> surface_of;
+
+  Eigen::Index num_vertices() const { return x0.rows(); }
+  // Position at normalized time s in [0, 1] of the step: x0 + s dt v.
+  Vec3 position(int i, double s, double dt) const { return x0.row(i).transpose() + (s * dt) * v.row(i).transpose(); }
+  bool movable(int i) const { return inv_mass(i) > 0; }
+};
+
+// Appends a surface. x0, v: its #V x 3 start positions and average velocities; inv_mass its #V
+// inverse masses (ignored and set to 0 when kinematic); welds: pairs of its vertex indices that a
+// seam joins. Throws std::invalid_argument naming the surface for mismatched sizes or indices.
+void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tris, const Points& x0, const Points& v,
+                    const Eigen::VectorXd& inv_mass, bool kinematic,
+                    const std::vector<std::pair<int, int>>& welds = {});
+
+// True when vertices a and b are one vertex or welded.
+inline bool joined(const CollisionMesh& m, int a, int b) {
+  if (a == b) return true;
+  for (int k = m.weld_offsets[static_cast<std::size_t>(a)]; k < m.weld_offsets[static_cast<std::size_t>(a) + 1]; ++k)
+    if (m.weld_partners[static_cast<std::size_t>(k)] == b) return true;
+  return false;
+}
+
+// True when the two primitives (vertex lists) are adjacent: some vertex of one is joined to
+// some vertex of the other.
+inline bool adjacent(const CollisionMesh& m, const int* a, int na, const int* b, int nb) {
+  for (int i = 0; i < na; ++i)
+    for (int j = 0; j < nb; ++j)
+      if (joined(m, a[i], b[j])) return true;
+  return false;
+}
+
+}  // namespace invfem::collisions

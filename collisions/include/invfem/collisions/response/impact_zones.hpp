@@ -1,0 +1,36 @@
+#pragma once
+// Rigid impact zones, the fail-safe (BFA02 section 6 after Provot 1997; collisions-BFA02.md
+// section 6). While the CCD still finds a pair that may come within settings.min_distance, the
+// pair's four vertices are merged into one zone (union-find; zones only grow), and every zone
+// moves rigidly over the step with the motion that conserves its linear and angular momentum:
+//   M = sum m_i, x_cm = sum m_i x0_i / M, v_cm = sum m_i v_i / M, r_i = x0_i - x_cm,
+//   L = sum m_i r_i x (v_i - v_cm), I = sum m_i (|r_i|^2 Id - r_i r_i^T), omega = I^+ L,
+//   x_i(n+1) = x_cm + dt v_cm + R(omega dt) r_i,  v_i = (x_i(n+1) - x0_i) / dt
+// (I^+: the pseudo-inverse, for collinear zones). A zone that holds kinematic vertices (infinite
+// mass: colliders, animated bodies, pins) follows their motion instead: the same formulas over
+// its kinematic vertices alone, with equal weights, then applied to its movable vertices.
+// Pairs within one zone of movable vertices move rigidly from an intersection-free start and
+// are not tested again. Each round re-detects its candidates with the broad phase on the
+// current velocities (a zone's motion can carry a vertex out of its first swept box).
+#include "invfem/collisions/broad_phase/broad_phase.hpp"
+#include "invfem/collisions/candidates/candidates.hpp"
+#include "invfem/collisions/ccd/ccd.hpp"
+#include "invfem/collisions/collision_mesh.hpp"
+
+namespace invfem::collisions {
+
+struct ImpactZoneReport {
+  int zones = 0;          // zones of more than one vertex at the end
+  int largest = 0;        // vertices in the largest
+  int iterations = 0;     // detect-merge-move rounds
+  bool resolved = true;   // false: max_iterations were not enough
+};
+
+ImpactZoneReport resolve_impact_zones(const CollisionMesh& mesh, BroadPhase& broad_phase, double margin, double dt,
+                                      const CcdSettings& settings, int max_iterations, Points& v);
+
+// The rigid velocities of one zone (vertex ids, all movable or some kinematic, as above),
+// written into v. Exposed for the tests.
+void rigidify_zone(const CollisionMesh& mesh, const std::vector<int>& zone, double dt, Points& v);
+
+}  // namespace invfem::collisions

@@ -1,0 +1,60 @@
+#pragma once
+// The self-collision layer (BFA02; ITF04 section 9: "For self-collisions we extract the boundary
+// surface and apply the cloth collision algorithm of [BFA02]"), run after every step of either
+// integrator (world.hpp, stage 4) on every taking-part object's surface (a cloth, a solid's
+// boundary) and on the kinematic bodies' triangles (rigid mesh colliders, animated bodies), which
+// take part with infinite mass, as do pinned nodes.
+//
+// Per step, with x0 the surfaces at the step's start and v = (x(n+1) - x0) / dt the step's
+// average velocity (collisions-BFA02.md section 1):
+//   1. broad phase on the swept boxes (broad_phase/), giving candidates (candidates/)
+//   2. repulsion at x0 (response/repulsion.hpp): pairs closer than the thickness
+//   3. up to `impulse_passes` passes of CCD impulses (response/ccd_impulses.hpp)
+//   4. rigid impact zones until no pair may come within ccd_distance (response/impact_zones.hpp)
+//   5. x(n+1) = x0 + dt v for every surface node; each node's end-of-step velocity gets the same
+//      change as its average velocity (for the implicit step the two are one).
+// Nodes off the surface (a solid's interior) are not touched. The start state must be free of
+// intersections; then the end state is too (up to the fail-safe's iteration cap, reported).
+#include <string>
+#include <vector>
+
+#include "invfem/collisions/broad_phase/broad_phase.hpp"
+#include "invfem/collisions/collision_mesh.hpp"
+#include "invfem/core/world.hpp"
+
+namespace invfem::collisions {
+
+struct SelfCollisionSettings {
+  double thickness = 1e-3;      // repulsion thickness h [m]: below the rest distance of non-neighbours
+  double ccd_distance = 1e-5;   // separation the CCD and the zones keep [m], about 1e-2 h
+  double friction = 0.3;        // Coulomb coefficient between surfaces
+  int impulse_passes = 3;       // CCD impulse passes before the zones (PhysBAM's default)
+  int max_zone_iterations = 100;
+  std::vector<std::string> excluded;  // names of objects that do not take part
+  bool kinematic_bodies = true;       // kinematic bodies' triangles take part
+};
+
+// Throws std::invalid_argument naming the field for a bad setting (non-positive thickness, a ccd
+// distance not below the thickness, negative friction, non-positive counts).
+void validate(const SelfCollisionSettings& settings);
+
+class SelfCollisionPass final : public StepPass {
+ public:
+  explicit SelfCollisionPass(SelfCollisionSettings settings);
+  void after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport& report) override;
+  const SelfCollisionSettings& settings() const { return settings_; }
+
+ private:
+  // Gathers the taking-part surfaces into mesh_ (topology built once, positions every step).
+  void gather(const std::vector<SimObject>& objects, const StepPassInput& step);
+
+  SelfCollisionSettings settings_;
+  BroadPhase broad_phase_;
+  CollisionMesh mesh_;
+  bool built_ = false;
+  // Per mesh surface: the object it comes from (or -1 - k for kinematic body k).
+  std::vector<int> source_;
+  Candidates candidates_;
+};
+
+}  // namespace invfem::collisions

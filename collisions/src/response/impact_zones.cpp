@@ -1,0 +1,142 @@
+#include "invfem/collisions/response/impact_zones.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <map>
+
+#include "invfem/collisions/ccd/candidate_ccd.hpp"
+#include "invfem/core/parallel.hpp"
+
+namespace invfem::collisions {
+
+namespace {
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(std::size_t n) : parent(n) {
+    for (std::size_t i = 0; i < n; ++i) parent[i] = static_cast<int>(i);
+  }
+  int find(int i) {
+    while (parent[static_cast<std::size_t>(i)] != i) {
+      parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+      i = parent[static_cast<std::size_t>(i)];
+    }
+    return i;
+  }
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+  }
+};
+
+// omega = I^+ L, eigenvalues below 1e-12 of the largest treated as zero.
+Vec3 pseudo_solve(const Mat3& I, const Vec3& L) {
+  const Eigen::SelfAdjointEigenSolver<Mat3> es(I);
+  const Vec3 lambda = es.eigenvalues();
+  const double cut = 1e-12 * std::max(std::abs(lambda(2)), 1e-300);
+  Vec3 y = es.eigenvectors().transpose() * L;
+  for (int k = 0; k < 3; ++k) y(k) = lambda(k) > cut ? y(k) / lambda(k) : 0.0;
+  return es.eigenvectors() * y;
+}
+
+}  // namespace
+
+void rigidify_zone(const CollisionMesh& m, const std::vector<int>& zone, double dt, Points& v) {
+  bool kinematic = false;
+  for (int i : zone) kinematic = kinematic || !m.movable(i);
+  // The vertices that define the motion, and their weights.
+  auto weight = [&](int i) { return kinematic ? (m.movable(i) ? 0.0 : 1.0) : 1.0 / m.inv_mass(i); };
+  double M = 0;
+  Vec3 x_cm = Vec3::Zero(), v_cm = Vec3::Zero();
+  for (int i : zone) {
+    const double w = weight(i);
+    M += w;
+    x_cm += w * m.x0.row(i).transpose();
+    v_cm += w * v.row(i).transpose();
+  }
+  x_cm /= M;
+  v_cm /= M;
+  Vec3 L = Vec3::Zero();
+  Mat3 I = Mat3::Zero();
+  for (int i : zone) {
+    const double w = weight(i);
+    const Vec3 r = m.x0.row(i).transpose() - x_cm;
+    L += w * r.cross(v.row(i).transpose() - v_cm);
+    I += w * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+  }
+  const Vec3 omega = pseudo_solve(I, L);
+  const double angle = omega.norm() * dt;
+  const Mat3 R = angle > 0 ? Mat3(Eigen::AngleAxisd(angle, omega.normalized())) : Mat3::Identity();
+  for (int i : zone) {
+    if (!m.movable(i)) continue;
+    const Vec3 r = m.x0.row(i).transpose() - x_cm;
+    const Vec3 x1 = x_cm + dt * v_cm + R * r;
+    v.row(i) = ((x1 - m.x0.row(i).transpose()) / dt).transpose();
+  }
+}
+
+ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_phase, double margin, double dt,
+                                      const CcdSettings& s, int max_iterations, Points& v) {
+  ImpactZoneReport report;
+  Candidates c;
+  const auto n = static_cast<std::size_t>(m.num_vertices());
+  UnionFind zones(n);
+  std::vector<char> in_zone(n, 0);
+  // A pair needs no test when its four vertices are one zone of movable vertices (it moves
+  // rigidly).
+  for (report.iterations = 0; report.iterations < max_iterations; ++report.iterations) {
+    broad_phase.find(m, v, dt, margin, c);
+    // Detect on the current velocities, in parallel (roots read from a frozen copy).
+    UnionFind frozen = zones;
+    for (std::size_t i = 0; i < n; ++i) frozen.find(static_cast<int>(i));  // compress fully: find is then read-only
+    std::vector<char> vf_hit(c.vf.size(), 0), ee_hit(c.ee.size(), 0);
+    auto test = [&](const auto& list, std::vector<char>& hit) {
+      parallel_for_each(list.size(), 512, [&](std::size_t k) {
+        const auto ids = candidate_vertices(m, list[k]);
+        bool inside = true;
+        const int root = frozen.parent[static_cast<std::size_t>(ids[0])];
+        for (int i : ids)
+          inside = inside && m.movable(i) && in_zone[static_cast<std::size_t>(i)] &&
+                   frozen.parent[static_cast<std::size_t>(i)] == root;
+        double toi = 0;
+        hit[k] = !inside && candidate_ccd(m, list[k], v, dt, s, toi) ? 1 : 0;
+      });
+    };
+    test(c.vf, vf_hit);
+    test(c.ee, ee_hit);
+    bool any = false;
+    auto merge = [&](const auto& list, const std::vector<char>& hit) {
+      for (std::size_t k = 0; k < list.size(); ++k) {
+        if (!hit[k]) continue;
+        any = true;
+        const auto ids = candidate_vertices(m, list[k]);
+        for (int i : ids) in_zone[static_cast<std::size_t>(i)] = 1;
+        for (int j = 1; j < 4; ++j) zones.unite(ids[0], ids[static_cast<std::size_t>(j)]);
+      }
+    };
+    merge(c.vf, vf_hit);
+    merge(c.ee, ee_hit);
+    if (!any) break;
+    // Every zone moves rigidly (zones in ascending order of their smallest vertex).
+    std::map<int, std::vector<int>> members;
+    for (std::size_t i = 0; i < n; ++i)
+      if (in_zone[i]) members[zones.find(static_cast<int>(i))].push_back(static_cast<int>(i));
+    std::vector<const std::vector<int>*> list;
+    for (const auto& [root, zone] : members) list.push_back(&zone);
+    parallel_for_each(list.size(), 16, [&](std::size_t z) { rigidify_zone(m, *list[z], dt, v); });
+  }
+  report.resolved = report.iterations < max_iterations;
+  std::map<int, int> sizes;
+  for (std::size_t i = 0; i < n; ++i)
+    if (in_zone[i]) ++sizes[zones.find(static_cast<int>(i))];
+  for (const auto& [root, size] : sizes) {
+    ++report.zones;
+    report.largest = std::max(report.largest, size);
+  }
+  return report;
+}
+
+}  // namespace invfem::collisions

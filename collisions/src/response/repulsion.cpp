@@ -1,0 +1,60 @@
+#include "invfem/collisions/response/repulsion.hpp"
+
+#include <algorithm>
+#include <optional>
+
+#include "invfem/collisions/distance/edge_edge.hpp"
+#include "invfem/collisions/distance/point_triangle.hpp"
+#include "invfem/collisions/response/pair_impulse.hpp"
+#include "invfem/core/parallel.hpp"
+
+namespace invfem::collisions {
+
+namespace {
+
+struct Proximity {
+  PairStencil stencil;
+  double overlap = 0;  // h - distance > 0
+};
+
+Vec3 x0_of(const CollisionMesh& m, int i) { return m.x0.row(i).transpose(); }
+
+std::optional<Proximity> vertex_face_proximity(const CollisionMesh& m, const VertexFaceCandidate& c, double h) {
+  const auto p = point_triangle_proximity(x0_of(m, c.vertex), x0_of(m, m.tris(c.face, 0)), x0_of(m, m.tris(c.face, 1)),
+                                          x0_of(m, m.tris(c.face, 2)));
+  if (!(p.distance < h)) return std::nullopt;
+  return Proximity{vertex_face_stencil(m, c.vertex, c.face, p.weights, p.normal), h - p.distance};
+}
+
+std::optional<Proximity> edge_edge_proximity_of(const CollisionMesh& m, const EdgeEdgeCandidate& c, double h) {
+  const auto p = edge_edge_proximity(x0_of(m, m.edges(c.edge_a, 0)), x0_of(m, m.edges(c.edge_a, 1)),
+                                     x0_of(m, m.edges(c.edge_b, 0)), x0_of(m, m.edges(c.edge_b, 1)));
+  if (!(p.distance < h)) return std::nullopt;
+  return Proximity{edge_edge_stencil(m, c.edge_a, c.edge_b, p.s, p.t, p.normal), h - p.distance};
+}
+
+// BFA02 section 4 on one pair: inelastic part, then the spring at its limiter, then friction for
+// the whole normal change.
+bool repel(const CollisionMesh& m, const Proximity& p, double dt, double mu, Points& v) {
+  const double v_N = relative_velocity(p.stencil, v).dot(p.stencil.n);
+  const double target = 0.1 * p.overlap / dt;
+  if (v_N >= target) return false;
+  return apply_pair_impulse(m, p.stencil, target - v_N, mu, v);
+}
+
+}  // namespace
+
+long long apply_repulsion(const CollisionMesh& m, const Candidates& c, double dt, const RepulsionSettings& s,
+                          Points& v) {
+  std::vector<std::optional<Proximity>> vf(c.vf.size()), ee(c.ee.size());
+  parallel_for_each(vf.size(), 1024, [&](std::size_t k) { vf[k] = vertex_face_proximity(m, c.vf[k], s.thickness); });
+  parallel_for_each(ee.size(), 1024, [&](std::size_t k) { ee[k] = edge_edge_proximity_of(m, c.ee[k], s.thickness); });
+  long long count = 0;
+  for (const auto& p : vf)
+    if (p && repel(m, *p, dt, s.friction, v)) ++count;
+  for (const auto& p : ee)
+    if (p && repel(m, *p, dt, s.friction, v)) ++count;
+  return count;
+}
+
+}  // namespace invfem::collisions

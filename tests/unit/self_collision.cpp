@@ -1,0 +1,430 @@
+// The self-collision layer's own stages (collisions/: collision_mesh, broad_phase, response) and
+// the whole after-step pass on small constructed cases. The distance and CCD stages have their
+// own tests (collision_distance.cpp, ccd.cpp).
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <random>
+#include <set>
+
+#include "invfem/collisions/broad_phase/broad_phase.hpp"
+#include "invfem/collisions/ccd/candidate_ccd.hpp"
+#include "invfem/collisions/collision_mesh.hpp"
+#include "invfem/collisions/response/impact_zones.hpp"
+#include "invfem/collisions/response/pair_impulse.hpp"
+#include "invfem/collisions/response/repulsion.hpp"
+#include "invfem/collisions/self_collision_pass.hpp"
+
+using namespace invfem;
+using namespace invfem::collisions;
+
+namespace {
+
+// A random soup of small triangles in the unit cube with random velocities.
+CollisionMesh random_soup(int triangles, unsigned seed, double size = 0.08) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1), d(-size, size);
+  Points x(3 * triangles, 3), v(3 * triangles, 3);
+  Tris t(triangles, 3);
+  for (int f = 0; f < triangles; ++f) {
+    const Vec3 c(u(rng), u(rng), u(rng));
+    for (int k = 0; k < 3; ++k) {
+      x.row(3 * f + k) = (c + Vec3(d(rng), d(rng), d(rng))).transpose();
+      v.row(3 * f + k) = Vec3(d(rng), d(rng), d(rng)).transpose();
+      t(f, k) = 3 * f + k;
+    }
+  }
+  CollisionMesh m;
+  append_surface(m, "soup", t, x, v, Eigen::VectorXd::Ones(3 * triangles), false);
+  return m;
+}
+
+struct BoxD {
+  Vec3 lo, hi;
+};
+BoxD swept(const CollisionMesh& m, std::initializer_list<int> ids, double dt, double r) {
+  BoxD b{Vec3::Constant(1e300), Vec3::Constant(-1e300)};
+  for (int i : ids) {
+    const Vec3 p0 = m.x0.row(i).transpose(), p1 = p0 + dt * m.v.row(i).transpose();
+    b.lo = b.lo.cwiseMin(p0).cwiseMin(p1);
+    b.hi = b.hi.cwiseMax(p0).cwiseMax(p1);
+  }
+  b.lo.array() -= r;
+  b.hi.array() += r;
+  return b;
+}
+bool overlap(const BoxD& a, const BoxD& b) {
+  return (a.lo.array() <= b.hi.array()).all() && (b.lo.array() <= a.hi.array()).all();
+}
+
+// A flat n x n grid of unit masses in the plane y = height, side `width`, centred on the y axis.
+void append_grid(CollisionMesh& m, const std::string& name, int n, double width, double height, const Vec3& velocity,
+                 bool kinematic = false) {
+  Points x((n + 1) * (n + 1), 3);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      x.row(j * (n + 1) + i) << width * (double(i) / n - 0.5), height, width * (double(j) / n - 0.5);
+  Tris t(2 * n * n, 3);
+  for (int j = 0, f = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i;
+      t.row(f++) << a, a + n + 1, a + 1;
+      t.row(f++) << a + 1, a + n + 1, a + n + 2;
+    }
+  Points v(x.rows(), 3);
+  v.rowwise() = velocity.transpose();
+  append_surface(m, name, t, x, v, Eigen::VectorXd::Ones(x.rows()), kinematic);
+}
+
+// Every candidate pair of the mesh that the CCD says may come within `distance` in the step.
+int colliding_pairs(const CollisionMesh& m, const Points& v, double dt, double distance) {
+  BroadPhase bp;
+  CollisionMesh moved = m;
+  moved.v = v;
+  Candidates c;
+  bp.find(moved, dt, 1e-9, c);
+  CcdSettings s;
+  s.min_distance = distance;
+  int count = 0;
+  double toi = 0;
+  for (const auto& p : c.vf) count += candidate_ccd(m, p, v, dt, s, toi) ? 1 : 0;
+  for (const auto& p : c.ee) count += candidate_ccd(m, p, v, dt, s, toi) ? 1 : 0;
+  return count;
+}
+
+}  // namespace
+
+TEST(CollisionMesh, WeldsMakePrimitivesAdjacentWithoutChainingTheSeam) {
+  CollisionMesh m;
+  Points x = Points::Random(6, 3);
+  Tris t(2, 3);
+  t << 0, 1, 2, 3, 4, 5;
+  append_surface(m, "a", t, x, Points::Zero(6, 3), Eigen::VectorXd::Ones(6), false, {{0, 3}, {3, 4}});
+  EXPECT_TRUE(joined(m, 0, 3));
+  EXPECT_TRUE(joined(m, 4, 3));
+  EXPECT_FALSE(joined(m, 0, 4));  // not transitive
+  const int a[] = {1, 2, 0}, b[] = {5};
+  EXPECT_TRUE(adjacent(m, a, 3, &t(1, 0), 3));
+  EXPECT_FALSE(adjacent(m, a, 2, b, 1));
+  EXPECT_THROW(append_surface(m, "b", t, x, Points::Zero(6, 3), Eigen::VectorXd::Ones(6), false, {{0, 6}}),
+               std::invalid_argument);
+  // A second surface's vertices and triangles are offset; kinematic ones have infinite mass.
+  append_surface(m, "k", t, x, Points::Zero(6, 3), Eigen::VectorXd(), true);
+  EXPECT_EQ(m.tris(2, 0), 6);
+  EXPECT_FALSE(m.movable(7));
+  EXPECT_EQ(m.surfaces[1].first_vertex, 6);
+}
+
+TEST(BroadPhase, FindsExactlyTheOverlappingSweptBoxesOfNonAdjacentPairs) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    CollisionMesh m = random_soup(300, seed);
+    // Some shared vertices: chain triangles 2k and 2k+1 by one vertex.
+    for (int f = 0; f + 1 < 300; f += 2) m.tris(f + 1, 0) = m.tris(f, 0);
+    const double dt = 0.5, margin = 0.01;
+    BroadPhase bp;
+    Candidates c;
+    bp.find(m, dt, margin, c);
+    std::set<std::pair<int, int>> vf, ee;
+    for (const auto& p : c.vf) vf.insert({p.vertex, p.face});
+    for (const auto& p : c.ee) ee.insert({p.edge_a, p.edge_b});
+    EXPECT_EQ(vf.size(), c.vf.size()) << "no repeats";
+    std::set<std::pair<int, int>> vf_ref, ee_ref;
+    std::vector<char> used(static_cast<std::size_t>(m.num_vertices()), 0);
+    for (int f = 0; f < m.tris.rows(); ++f)
+      for (int k = 0; k < 3; ++k) used[static_cast<std::size_t>(m.tris(f, k))] = 1;
+    for (int i = 0; i < m.num_vertices(); ++i) {
+      if (!used[static_cast<std::size_t>(i)]) continue;  // a vertex no triangle holds still counts
+      for (int f = 0; f < m.tris.rows(); ++f) {
+        if (adjacent(m, &i, 1, &m.tris(f, 0), 3)) continue;
+        if (overlap(swept(m, {i}, dt, margin / 2), swept(m, {m.tris(f, 0), m.tris(f, 1), m.tris(f, 2)}, dt, margin / 2)))
+          vf_ref.insert({i, f});
+      }
+    }
+    for (int a = 0; a < m.edges.rows(); ++a)
+      for (int b = a + 1; b < m.edges.rows(); ++b) {
+        if (adjacent(m, &m.edges(a, 0), 2, &m.edges(b, 0), 2)) continue;
+        if (overlap(swept(m, {m.edges(a, 0), m.edges(a, 1)}, dt, margin / 2),
+                    swept(m, {m.edges(b, 0), m.edges(b, 1)}, dt, margin / 2)))
+          ee_ref.insert({a, b});
+      }
+    // Vertices not on any triangle are still vertices of the mesh: compare on used ones only.
+    std::set<std::pair<int, int>> vf_used;
+    for (const auto& p : vf)
+      if (used[static_cast<std::size_t>(p.first)]) vf_used.insert(p);
+    EXPECT_EQ(vf_used, vf_ref) << "seed " << seed;
+    EXPECT_EQ(ee, ee_ref) << "seed " << seed;
+    EXPECT_GT(vf_ref.size(), 100u);
+    EXPECT_GT(ee_ref.size(), 100u);
+    // Moving the soup refits (or rebuilds) and still finds the same pairs as brute force.
+    m.x0 += 0.01 * m.v;
+    Candidates again;
+    bp.find(m, dt, margin, again);
+    std::size_t expected_ee = 0;
+    for (int a = 0; a < m.edges.rows(); ++a)
+      for (int b = a + 1; b < m.edges.rows(); ++b)
+        if (!adjacent(m, &m.edges(a, 0), 2, &m.edges(b, 0), 2) &&
+            overlap(swept(m, {m.edges(a, 0), m.edges(a, 1)}, dt, margin / 2),
+                    swept(m, {m.edges(b, 0), m.edges(b, 1)}, dt, margin / 2)))
+          ++expected_ee;
+    EXPECT_EQ(again.ee.size(), expected_ee);
+  }
+}
+
+TEST(BroadPhase, SkipsPairsWithoutAMovableVertex) {
+  CollisionMesh m;
+  append_grid(m, "body", 4, 1.0, 0.0, Vec3::Zero(), true);
+  append_grid(m, "body2", 4, 1.0, 0.001, Vec3::Zero(), true);
+  BroadPhase bp;
+  Candidates c;
+  bp.find(m, 0.01, 0.01, c);
+  EXPECT_EQ(c.size(), 0u);
+  append_grid(m, "cloth", 4, 1.0, 0.002, Vec3::Zero());
+  bp.find(m, 0.01, 0.01, c);
+  EXPECT_GT(c.size(), 0u);
+}
+
+TEST(PairImpulse, ChangesTheNormalVelocityByDeltaAndConservesMomentum) {
+  CollisionMesh m;
+  Points x(4, 3), v(4, 3);
+  x << 0, 0, 0, 1, 0, 0, 0, 0, 1, 0.2, 0.01, 0.3;
+  v << 0, 0, 0, 0, 0, 0, 0, 0, 0, 0.5, -1, 0;
+  Tris t(1, 3);
+  t << 0, 2, 1;  // normal +y
+  Eigen::VectorXd inv_mass(4);
+  inv_mass << 1, 0.5, 2, 1;
+  append_surface(m, "a", t, x, v, inv_mass, false);
+  const Vec3 w(0.5, 0.3, 0.2);
+  const PairStencil p = vertex_face_stencil(m, 3, 0, w, Vec3::UnitY());
+  Points vel = m.v;
+  const double v_N = relative_velocity(p, vel).dot(p.n);
+  EXPECT_DOUBLE_EQ(v_N, -1.0);
+  ASSERT_TRUE(apply_pair_impulse(m, p, 1.0, 0.0, vel));
+  EXPECT_NEAR(relative_velocity(p, vel).dot(p.n), 0.0, 1e-14);
+  Vec3 momentum = Vec3::Zero(), before = Vec3::Zero();
+  for (int i = 0; i < 4; ++i) {
+    momentum += vel.row(i).transpose() / inv_mass(i);
+    before += m.v.row(i).transpose() / inv_mass(i);
+  }
+  EXPECT_LT((momentum - before).norm(), 1e-14);
+  // Friction: mu delta larger than the slip stops it; smaller reduces it by mu delta.
+  vel = m.v;
+  ASSERT_TRUE(apply_pair_impulse(m, p, 1.0, 10.0, vel));
+  Vec3 vr = relative_velocity(p, vel);
+  EXPECT_NEAR((vr - vr.dot(p.n) * p.n).norm(), 0.0, 1e-14);
+  vel = m.v;
+  ASSERT_TRUE(apply_pair_impulse(m, p, 1.0, 0.2, vel));
+  vr = relative_velocity(p, vel);
+  EXPECT_NEAR((vr - vr.dot(p.n) * p.n).norm(), 0.5 - 0.2, 1e-14);
+}
+
+TEST(ImpactZones, RigidZoneConservesLinearAndAngularMomentum) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1), pm(0.5, 2);
+  CollisionMesh m;
+  const int n = 12;
+  Points x(n, 3), v(n, 3);
+  Eigen::VectorXd inv_mass(n);
+  for (int i = 0; i < n; ++i) {
+    x.row(i) << u(rng), u(rng), u(rng);
+    v.row(i) << u(rng), u(rng), u(rng);
+    inv_mass(i) = 1 / pm(rng);
+  }
+  Tris t(4, 3);
+  t << 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11;
+  append_surface(m, "z", t, x, v, inv_mass, false);
+  std::vector<int> zone(n);
+  for (int i = 0; i < n; ++i) zone[static_cast<std::size_t>(i)] = i;
+  for (double dt : {1e-3, 1e-2}) {
+    Points vel = m.v;
+    rigidify_zone(m, zone, dt, vel);
+    Vec3 p0 = Vec3::Zero(), p1 = Vec3::Zero(), cm = Vec3::Zero();
+    double M = 0;
+    for (int i = 0; i < n; ++i) {
+      const double mi = 1 / inv_mass(i);
+      p0 += mi * m.v.row(i).transpose();
+      p1 += mi * vel.row(i).transpose();
+      cm += mi * m.x0.row(i).transpose();
+      M += mi;
+    }
+    cm /= M;
+    EXPECT_LT((p1 - p0).norm(), 1e-12 * p0.norm()) << "linear momentum, dt " << dt;
+    // Angular momentum about the centre of mass: the zone's velocities are the chords of a
+    // rotation by omega dt, whose momentum is I omega to first order in |omega| dt (BFA02 moves the
+    // zone by the rotation, not by its tangent).
+    Vec3 L0 = Vec3::Zero(), L1 = Vec3::Zero();
+    Mat3 I = Mat3::Zero();
+    for (int i = 0; i < n; ++i) {
+      const double mi = 1 / inv_mass(i);
+      const Vec3 r = m.x0.row(i).transpose() - cm;
+      L0 += mi * r.cross(m.v.row(i).transpose());
+      L1 += mi * r.cross(vel.row(i).transpose());
+      I += mi * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+    }
+    const double omega_dt = (I.inverse() * L0).norm() * dt;
+    EXPECT_LT((L1 - L0).norm(), omega_dt * L0.norm()) << "angular momentum, dt " << dt;
+    EXPECT_GT((L1 - L0).norm(), 1e-3 * omega_dt * L0.norm()) << "the check can tell (first-order error)";
+    // The motion is rigid: distances between end positions equal those at the start.
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j) {
+        const Vec3 a0 = m.x0.row(i) - m.x0.row(j);
+        const Vec3 a1 = (m.x0.row(i) + dt * vel.row(i)) - (m.x0.row(j) + dt * vel.row(j));
+        EXPECT_NEAR(a1.norm(), a0.norm(), 1e-12);
+      }
+  }
+}
+
+TEST(ImpactZones, ZoneWithKinematicVerticesFollowsThem) {
+  CollisionMesh m;
+  append_grid(m, "collider", 1, 1.0, 0.0, Vec3(0, 2.0, 0), true);  // translating rigidly upward
+  append_grid(m, "cloth", 1, 0.5, 0.01, Vec3(0, -1.0, 0));
+  std::vector<int> zone(8);
+  for (int i = 0; i < 8; ++i) zone[static_cast<std::size_t>(i)] = i;
+  Points v = m.v;
+  rigidify_zone(m, zone, 0.01, v);
+  for (int i = 4; i < 8; ++i) EXPECT_LT((v.row(i) - Eigen::RowVector3d(0, 2.0, 0)).norm(), 1e-12);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(v.row(i), m.v.row(i));  // kinematic: unchanged
+}
+
+TEST(Repulsion, PushesCloseApproachingPairsApartAndLeavesFarOnesAlone) {
+  CollisionMesh m;
+  append_grid(m, "lower", 2, 1.0, 0.0, Vec3::Zero());
+  append_grid(m, "upper", 2, 0.6, 0.0005, Vec3(0, -0.1, 0));  // 0.5 mm above, falling
+  append_grid(m, "far", 2, 0.6, 0.5, Vec3(0, -0.1, 0));
+  const double dt = 0.01, h = 1e-3;
+  BroadPhase bp;
+  Candidates c;
+  bp.find(m, dt, h, c);
+  Points v = m.v;
+  const long long n = apply_repulsion(m, c, dt, {h, 0.0}, v);
+  EXPECT_GT(n, 0);
+  // Upper sheet's vertices: no longer approaching the lower sheet faster than... they now move
+  // apart (relative normal velocity >= 0) and the far sheet is untouched.
+  for (int i = 9; i < 18; ++i) EXPECT_GE(v(i, 1) - v(4, 1), -1e-12) << i;
+  for (int i = 18; i < 27; ++i) EXPECT_EQ(v.row(i), m.v.row(i));
+  Vec3 p0 = Vec3::Zero(), p1 = Vec3::Zero();
+  for (int i = 0; i < 27; ++i) {
+    p0 += m.v.row(i).transpose();
+    p1 += v.row(i).transpose();
+  }
+  EXPECT_LT((p1 - p0).norm(), 1e-12);
+}
+
+TEST(ImpactZones, ResolveEveryCollisionOfAFastCrossing) {
+  // The upper sheet falls through the lower one within one step; the zones must leave no pair
+  // within the separation.
+  CollisionMesh m;
+  append_grid(m, "lower", 3, 1.0, 0.0, Vec3(0, 0.5, 0));
+  append_grid(m, "upper", 3, 0.7, 0.05, Vec3(0, -9.0, 0.3));
+  const double dt = 0.02;
+  BroadPhase bp;
+  Candidates c;
+  bp.find(m, dt, 1e-3, c);
+  CcdSettings s;
+  s.min_distance = 1e-5;
+  ASSERT_GT(colliding_pairs(m, m.v, dt, 1e-5), 0);
+  Points v = m.v;
+  const ImpactZoneReport r = resolve_impact_zones(m, bp, 1e-3, dt, s, 100, v);
+  EXPECT_TRUE(r.resolved);
+  EXPECT_GE(r.zones, 1);
+  EXPECT_EQ(colliding_pairs(m, v, dt, 1e-5), 0);
+}
+
+namespace {
+// A SimObject that is a flat sheet (surface vertex i = node i) with unit masses.
+SimObject sheet_object(const std::string& name, int n, double width, double height) {
+  CollisionMesh tmp;
+  append_grid(tmp, name, n, width, height, Vec3::Zero());
+  SimObject o;
+  o.name = name;
+  o.kind = ObjectKind::Cloth;
+  o.body.x = tmp.x0;
+  o.body.v = Points::Zero(tmp.x0.rows(), 3);
+  o.body.mass = Eigen::VectorXd::Ones(tmp.x0.rows());
+  o.surface.x = tmp.x0;
+  o.surface.tris = tmp.tris;
+  for (int i = 0; i < tmp.x0.rows(); ++i) o.surface_nodes.push_back(i);
+  return o;
+}
+}  // namespace
+
+TEST(SelfCollisionPass, StopsASheetTunnellingThroughAnotherAndConservesMomentum) {
+  std::vector<SimObject> objects;
+  objects.push_back(sheet_object("lower", 4, 1.0, 0.0));
+  objects.push_back(sheet_object("upper", 4, 0.6, 0.02));
+  const std::vector<Points> x_start = {objects[0].body.x, objects[1].body.x};
+  const double dt = 0.02;
+  // The upper sheet's step carried it to 3 cm below the lower one (a tunnelling step).
+  objects[1].body.x.col(1).array() -= 0.05;
+  objects[1].body.v.col(1).array() = -0.05 / dt;
+  for (auto& o : objects) o.refresh_surface();
+  std::vector<std::shared_ptr<KinematicBody>> none;
+  std::vector<Points> none_start;
+  SelfCollisionPass pass({});
+  FrameReport report;
+  pass.after_step(objects, StepPassInput{x_start, none, none_start, 0.0, dt}, report);
+  // No pair of the two sheets crosses (or touches) along the step's final trajectories.
+  CollisionMesh after;
+  for (std::size_t k = 0; k < 2; ++k)
+    append_surface(after, objects[k].name, objects[k].surface.tris, x_start[k],
+                   (objects[k].body.x - x_start[k]) / dt, Eigen::VectorXd::Ones(25), false);
+  EXPECT_EQ(colliding_pairs(after, after.v, dt, 0.0), 0)
+      << report.collisions.candidates << " candidates, " << report.collisions.proximity_impulses << " repulsions, "
+      << report.collisions.ccd_hits << " hits, " << report.collisions.impact_zones << " zones";
+  // Without the pass, the same step crosses.
+  CollisionMesh before;
+  Points v_fall = Points::Zero(25, 3);
+  v_fall.col(1).array() = -0.05 / dt;
+  append_surface(before, "lower", objects[0].surface.tris, x_start[0], Points::Zero(25, 3), Eigen::VectorXd::Ones(25), false);
+  append_surface(before, "upper", objects[1].surface.tris, x_start[1], v_fall, Eigen::VectorXd::Ones(25), false);
+  EXPECT_GT(colliding_pairs(before, before.v, dt, 0.0), 0);
+  EXPECT_GT(report.collisions.candidates, 0);
+  EXPECT_GT(report.collisions.ccd_hits + report.collisions.impact_zones, 0);
+  EXPECT_EQ(report.collisions.unresolved_steps, 0);
+  Vec3 p = Vec3::Zero();
+  for (const auto& o : objects) p += o.body.v.colwise().sum().transpose();
+  EXPECT_NEAR(p.y(), 25 * (-0.05 / dt), 1e-9);  // momentum of the falling sheet, now shared
+}
+
+TEST(SelfCollisionPass, KinematicSheetPushesClothInsteadOfPassingThroughIt) {
+  // A rigid collider plate sweeps up through a resting cloth sheet within one step.
+  struct Plate final : KinematicBody {
+    TriangleSurface s;
+    std::string n = "plate";
+    const std::string& name() const override { return n; }
+    void move_to(double) override {}
+    const TriangleSurface* surface() const override { return &s; }
+  };
+  auto plate = std::make_shared<Plate>();
+  SimObject cloth = sheet_object("cloth", 4, 0.5, 0.01);
+  SimObject tmp = sheet_object("plate", 2, 1.0, 0.0);
+  plate->s = tmp.surface;
+  const Points plate_start = plate->s.x;
+  plate->s.x.col(1).array() += 0.03;  // the plate ends 2 cm above the cloth
+  std::vector<SimObject> objects;
+  objects.push_back(std::move(cloth));
+  const std::vector<Points> x_start = {objects[0].body.x};
+  std::vector<std::shared_ptr<KinematicBody>> kinematic = {plate};
+  const std::vector<Points> kinematic_start = {plate_start};
+  SelfCollisionPass pass({});
+  FrameReport report;
+  pass.after_step(objects, StepPassInput{x_start, kinematic, kinematic_start, 0.0, 0.01}, report);
+  EXPECT_GT(objects[0].body.x.col(1).minCoeff(), 0.03);  // carried up with the plate
+  EXPECT_EQ(report.collisions.unresolved_steps, 0);
+}
+
+TEST(SelfCollisionSettings, RejectsBadValues) {
+  SelfCollisionSettings s;
+  EXPECT_NO_THROW(validate(s));
+  s.thickness = 0;
+  EXPECT_THROW(validate(s), std::invalid_argument);
+  s = {};
+  s.ccd_distance = s.thickness;
+  EXPECT_THROW(validate(s), std::invalid_argument);
+  s = {};
+  s.friction = -1;
+  EXPECT_THROW(validate(s), std::invalid_argument);
+  s = {};
+  s.max_zone_iterations = 0;
+  EXPECT_THROW(validate(s), std::invalid_argument);
+}

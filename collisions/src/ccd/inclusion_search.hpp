@@ -212,8 +212,8 @@ bool inclusion_ccd(const Vec3* const x0, const Vec3* const x1, const CcdSettings
       toi = b.t0;  // every box alive starts at b.t0 or later
       return true;
     }
-    // Split where it pays: try each direction still too wide and keep the one that excludes the
-    // most of b; on a tie, the first in the order t, u, v. Time first keeps u and v coarse while
+    // Split where it pays: try the directions still too wide in the order t, u, v and keep the
+    // first whose split excludes a half (or else the first). Time first keeps u and v coarse while
     // the search closes in on the first contact time, which matters when the contacts at that
     // time form a continuum (parallel edges, a collapsed triangle): boxes are taken in order of
     // their start time, so every box along the continuum is advanced level by level, and their
@@ -240,7 +240,7 @@ bool inclusion_ccd(const Vec3* const x0, const Vec3* const x1, const CcdSettings
         best_dim = dim;
         best_kept = kept_count[dim];
       }
-      if (best_kept == 0) break;  // nothing left of b
+      if (best_kept <= 1) break;  // a later direction could only win by excluding all of b
     }
     for (int j = 0; j < kept_count[best_dim]; ++j) {
       heap.push_back(kept[best_dim][j]);

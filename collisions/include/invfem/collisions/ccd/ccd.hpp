@@ -37,9 +37,10 @@
 //
 // Acceptance (a hit): a box that survives is accepted when its time width is <= time_tolerance
 // and the change of F across it along u and along v is <= the distance tolerance
-// max(time_tolerance x L, 16 e), L = the largest side of the bounding box of the 8 input points.
-// Otherwise it is split in two along t, u or v: the direction (among those still too wide) whose
-// halves are excluded most, t first on a tie. False positives are thus limited to configurations
+// max(time_tolerance x L, 16 e, d / 4), L = the largest side of the bounding box of the 8 input
+// points (d / 4: resolving u and v finer than the distance sought only costs time).
+// Otherwise it is split in two along t, u or v: among the directions still too wide, taken in
+// that order, the first whose split excludes a half, or else t (u, v) when none does. False positives are thus limited to configurations
 // within about that tolerance (plus d) of contact.
 //
 // Directional exclusion: besides the three axes, a box is dropped when n.F is bounded away from

@@ -10,6 +10,7 @@
 #include "json_fields.hpp"
 #include "batch_command.hpp"
 #include "bench_command.hpp"
+#include "ccd_command.hpp"
 #include "render_command.hpp"
 #include "run_command.hpp"
 #include "tool_commands.hpp"
@@ -28,6 +29,7 @@ const char* const kHelp =
     "  check-scene SCENE.json     validate a scene and its meshes without simulating\n"
     "  mesh SURFACE --out MESH    tet-mesh a closed triangle surface (BCC lattice)\n"
     "  bench [--quick] [--json F] time the benchmark work units against the peers' figures\n"
+    "  ccd QUERIES.txt            continuous collision detection queries (vertex-face, edge-edge)\n"
     "  help [COMMAND]             this text, or a command's options\n"
     "\n"
     "Exit codes: 0 ok, 1 simulation failure, 2 bad input (scene, mesh or option).\n";
@@ -65,6 +67,7 @@ int main(int argc, char** argv) {
     if (cmd == "render") return invfem::app::render_command(rest);
     if (cmd == "check-scene") return invfem::app::check_scene_command(rest);
     if (cmd == "mesh") return invfem::app::mesh_command(rest);
+    if (cmd == "ccd") return invfem::app::ccd_command(rest);
     if (cmd == "bench") return invfem::app::bench_command(rest);
     if (cmd == "batch") return invfem::app::batch_command(rest, self_executable(argv[0]));
     std::cerr << "error: unknown command \"" << cmd << "\"\n\n" << kHelp;

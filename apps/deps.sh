@@ -3,7 +3,8 @@
 # Sourced by apps/quickstart.sh and tests/run.sh.
 set -euo pipefail
 INVFEM_PACKAGES=(build-essential cmake pkg-config libeigen3-dev libassimp-dev libembree-dev
-                 libosmesa6-dev libtbb-dev libpng-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev)
+                 libosmesa6-dev libtbb-dev libpng-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev
+                 libgmp-dev)
 missing=()
 for p in "${INVFEM_PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -11,6 +11,7 @@
 #include "batch_command.hpp"
 #include "bench_command.hpp"
 #include "ccd_command.hpp"
+#include "check_command.hpp"
 #include "render_command.hpp"
 #include "run_command.hpp"
 #include "tool_commands.hpp"
@@ -27,12 +28,14 @@ const char* const kHelp =
     "  render OUTDIR              render a run's frames to OUTDIR/png/NNNN.png (offscreen)\n"
     "  batch SCENE... --out DIR   run and render many scenes; a contact sheet of their last frames\n"
     "  check-scene SCENE.json     validate a scene and its meshes without simulating\n"
+    "  check OUT | MESH...        count intersecting triangle pairs, exactly, in every frame\n"
     "  mesh SURFACE --out MESH    tet-mesh a closed triangle surface (BCC lattice)\n"
     "  bench [--quick] [--json F] time the benchmark work units against the peers' figures\n"
     "  ccd QUERIES.txt            continuous collision detection queries (vertex-face, edge-edge)\n"
     "  help [COMMAND]             this text, or a command's options\n"
     "\n"
-    "Exit codes: 0 ok, 1 simulation failure, 2 bad input (scene, mesh or option).\n";
+    "Exit codes: 0 ok, 1 simulation failure, 2 bad input (scene, mesh or option); `check`: 1 when it\n"
+    "finds intersections.\n";
 
 // The running binary, for the batch command's child processes.
 std::string self_executable(const char* argv0) {
@@ -66,6 +69,7 @@ int main(int argc, char** argv) {
     if (cmd == "run") return invfem::app::run_command(rest);
     if (cmd == "render") return invfem::app::render_command(rest);
     if (cmd == "check-scene") return invfem::app::check_scene_command(rest);
+    if (cmd == "check") return invfem::app::check_command(rest);
     if (cmd == "mesh") return invfem::app::mesh_command(rest);
     if (cmd == "ccd") return invfem::app::ccd_command(rest);
     if (cmd == "bench") return invfem::app::bench_command(rest);

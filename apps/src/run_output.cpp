@@ -11,6 +11,7 @@
 #include "invfem/core/vtu_writer.hpp"
 #include "invfem/core/obj_file.hpp"
 #include "json_fields.hpp"
+#include "welds_file.hpp"
 
 namespace invfem::app {
 
@@ -70,6 +71,12 @@ RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World&
   for (const auto& k : world.kinematic_bodies())
     if (k->surface()) std::filesystem::create_directories(dir_ / "frames" / k->name());
   atomic_write(dir_ / "scene.json", to_json(scene).dump(2) + "\n");
+  // A garment's seams, once per object with stitches, for `invfem check` (welds_file.hpp).
+  for (const auto& o : world.objects())
+    for (const auto& f : o.forces)
+      if (const auto* stitches = dynamic_cast<const StitchForce*>(f.get()); stitches && !stitches->stitches().empty())
+        atomic_write(dir_ / "frames" / o.name / "welds.txt",
+                     welds_text(o.name, welds_from_stitches(stitches->stitches())));
   const double fps = scene.fps;
   csv_ = first_frame > 0 ? keep_rows_before(resume_csv, first_frame, true, false) : kCsvHeader;
   if (first_frame > 0) stats_ = keep_rows_before(read_file(dir_ / "stats.jsonl"), first_frame, false, true);

@@ -3,6 +3,7 @@
 //   OUT/scene.json                 the scene as run
 //   OUT/frames/<object>/NNNN.obj   each object's surface and each kinematic body's (and/or .ply;
 //                                  .vtu + <object>.pvd for solids; <object>.usda)
+//   OUT/frames/<object>/welds.txt  a garment's seams, for `invfem check` (welds_file.hpp)
 //   OUT/energies.csv               one row per frame
 //   OUT/stats.jsonl                one JSON record per frame: timings per phase, counts
 // Every file is written atomically (temporary name + rename) as frames are made.

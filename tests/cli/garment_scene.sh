@@ -67,4 +67,8 @@ awk -v fail=0 '
     g1 = sqrt((x[5]-x[4])^2 + (y[5]-y[4])^2 + (z[5]-z[4])^2); g2 = sqrt((x[6]-x[3])^2 + (y[6]-y[3])^2 + (z[6]-z[3])^2)
     if (g1 > 1e-3 || g2 > 1e-3) { print "FAIL: a seam opened: " g1 ", " g2; fail = 1 }
     exit fail }' "$work/out/frames/dress/0000.obj" "$last"
+# The seams for `invfem check`: stitch 4 3 2 0 sews 4 onto 3, the scene's [5, 3, 2, 1] 5 onto 2.
+welds=$(grep -v '^#' "$work/out/frames/dress/welds.txt" 2>/dev/null | sort | tr '\n' ';')
+[ "$welds" = "4 3;5 2;" ] || { echo "FAIL: frames/dress/welds.txt holds \"$welds\" (want 4 3;5 2;)"; exit 1; }
+"$invfem" check "$work/out" > "$work/check.txt" || { echo "FAIL: invfem check finds intersections:"; cat "$work/check.txt"; exit 1; }
 echo "garment scene: pattern rest, initial shape, stitches from file and scene, pins by group with keyframes"

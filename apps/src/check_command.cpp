@@ -22,6 +22,7 @@
 #include "invfem/core/mesh_error.hpp"
 #include "invfem/core/obj_file.hpp"
 #include "invfem/core/surface_io.hpp"
+#include "invfem/core/text_file.hpp"
 #include "json_fields.hpp"
 #include "run_output.hpp"
 #include "welds_file.hpp"
@@ -39,10 +40,12 @@ const char* const kCheckHelp =
     "adjacent and never counted; welds (a garment's seams) make stitched vertices shared.\n"
     "\n"
     "OUT: a run's output folder. Every OUT/frames/<object>/NNNN.obj frame of every object\n"
-    "(simulated objects and colliders alike) is checked, frame by frame; an object's welds.txt,\n"
-    "written by the run for objects with stitches, gives its seams.\n"
+    "(simulated objects and mesh colliders) is checked, frame by frame; an object's welds.txt,\n"
+    "written by the run for objects with stitches, gives its seams. Analytic colliders (plane,\n"
+    "sphere, box, cylinder, gears in OUT/scene.json) are skipped: the run collides with their exact\n"
+    "shape, and their files are only its tessellation for the previews.\n"
     "  --frames A-B     only frames A to B (or one frame: --frames A)\n"
-    "  --objects a,b    only these objects\n"
+    "  --objects a,b    only these objects (an analytic collider named here is checked too)\n"
     "MESH...: each file one surface, checked as one frame. An .obj keeps its vertex order and its\n"
     "C-IPC `stitch i j k r` lines become welds; other formats (PLY, OFF, STL, ...) are read with\n"
     "assimp, which welds equal positions and drops degenerate triangles.\n"
@@ -145,6 +148,39 @@ std::vector<Source> run_sources(const fs::path& out, const ParsedArgs& args) {
     }
     if (fs::exists(d / "welds.txt")) s.welds_file = d / "welds.txt";
     if (!s.frames.empty()) sources.push_back(std::move(s));
+  }
+  // Analytic colliders' drawings, from the scene the run wrote (absent: nothing is skipped).
+  std::set<std::string> drawings;
+  if (fs::exists(out / "scene.json") && !args.has("--objects")) {
+    nlohmann::json scene;
+    try {
+      scene = nlohmann::json::parse(read_text_file((out / "scene.json").string(), 1u << 26, "invfem check"));
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError((out / "scene.json").string() + ": not JSON (" + e.what() + ")");
+    } catch (const MeshError& e) {
+      throw InputError(e.what());
+    }
+    if (scene.contains("colliders") && scene["colliders"].is_array())
+      for (const auto& c : scene["colliders"]) {
+        if (!c.is_object() || !c.contains("name") || !c["name"].is_string() || !c.contains("type") ||
+            !c["type"].is_string() || c["type"] == "mesh")
+          continue;
+        const std::string name = c["name"];
+        if (c["type"] == "gears") {
+          drawings.insert(name + "_1");
+          drawings.insert(name + "_2");
+        } else {
+          drawings.insert(name);
+        }
+      }
+  }
+  if (!drawings.empty()) {
+    std::string skipped;
+    for (const auto& s : sources)
+      if (drawings.count(s.name)) skipped += (skipped.empty() ? "" : ", ") + s.name;
+    if (!skipped.empty()) std::printf("skipped (analytic colliders, collided on their exact shape): %s\n", skipped.c_str());
+    sources.erase(std::remove_if(sources.begin(), sources.end(), [&](const Source& s) { return drawings.count(s.name) > 0; }),
+                  sources.end());
   }
   if (args.has("--objects")) {
     std::set<std::string> wanted;

@@ -86,7 +86,7 @@ std::vector<std::shared_ptr<RigidBody>> build_colliders(const Scene& scene) {
         MeshSurfaceOptions options;
         options.query_radius = c.query_radius;
         auto surface = std::make_shared<MeshSurface>(mesh, options);
-        out.push_back(std::make_shared<RigidBody>(c.name, surface, c.friction, std::move(mesh), Motion{}));
+        out.push_back(std::make_shared<RigidBody>(c.name, surface, c.friction, std::move(mesh), Motion{}, true));
       } else {
         std::shared_ptr<const ImplicitSurface> shape;
         TriangleSurface mesh;

@@ -7,12 +7,13 @@
 namespace invfem {
 
 RigidBody::RigidBody(std::string name, std::shared_ptr<const ImplicitSurface> implicit, double friction,
-                     TriangleSurface body_surface, Motion motion)
+                     TriangleSurface body_surface, Motion motion, bool surface_is_shape)
     : name_(std::move(name)),
       implicit_(std::move(implicit)),
       friction_(friction),
       body_(std::move(body_surface)),
       motion_(std::move(motion)),
+      surface_is_shape_(surface_is_shape),
       world_(body_) {
   if (!implicit_) throw std::invalid_argument("rigid body \"" + name_ + "\": no implicit surface");
   if (!(friction_ >= 0)) throw std::invalid_argument("rigid body \"" + name_ + "\": friction must be >= 0");

@@ -60,7 +60,8 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
     if (settings_.kinematic_bodies)
       for (std::size_t b = 0; b < step.kinematic.size(); ++b) {
         const TriangleSurface* s = step.kinematic[b]->surface();
-        if (!s || s->tris.rows() == 0 || excluded(step.kinematic[b]->name())) continue;
+        if (!s || s->tris.rows() == 0 || !step.kinematic[b]->surface_is_shape() || excluded(step.kinematic[b]->name()))
+          continue;
         const Points v = (s->x - step.kinematic_start[b]) / dt;
         append_surface(mesh_, step.kinematic[b]->name(), s->tris, step.kinematic_start[b], v, Eigen::VectorXd(), true);
         source_.push_back(-1 - static_cast<int>(b));
@@ -100,8 +101,13 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   FrameReport::Collisions& r = report.collisions;
   r.candidates += static_cast<long long>(candidates_.size());
   r.proximity_impulses += apply_repulsion(mesh_, candidates_, dt, {settings_.thickness, settings_.friction}, v);
+  // The impulses need the time of contact only roughly (it sets where the normal is taken), and a
+  // query that runs out of boxes is answered as a conservative hit (an extra impulse or zone
+  // merge, never a miss): loose tolerances buy speed without costing safety.
   CcdSettings ccd;
   ccd.min_distance = settings_.ccd_distance;
+  ccd.time_tolerance = 1e-4;
+  ccd.max_iterations = 10'000;
   // Each pass re-detects on the velocities the last one left (BFA02 section 5).
   const double margin = 2 * settings_.ccd_distance;
   for (int pass = 0; pass < settings_.impulse_passes; ++pass) {

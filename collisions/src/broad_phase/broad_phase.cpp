@@ -1,11 +1,11 @@
 #include "invfem/collisions/broad_phase/broad_phase.hpp"
 
 #include <embree3/rtcore.h>
+#include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -148,15 +148,22 @@ BroadPhase::BroadPhase() : embree_(std::make_unique<Embree>()) {}
 BroadPhase::~BroadPhase() = default;
 
 namespace {
+// rtcCollide calls back on several threads: each keeps its own list (no lock), merged after.
 struct Collected {
-  std::mutex mutex;
+  bool same_scene = false;  // a scene against itself reports (a, b) and (b, a): keep a < b
+  tbb::enumerable_thread_specific<std::vector<std::pair<int, int>>> local;
   std::vector<std::pair<int, int>> pairs;
+  void merge() {
+    for (auto& l : local) pairs.insert(pairs.end(), l.begin(), l.end());
+  }
 };
 void collect(void* user, RTCCollision* c, unsigned n) {
   auto* out = static_cast<Collected*>(user);
-  std::lock_guard<std::mutex> lock(out->mutex);
-  for (unsigned i = 0; i < n; ++i)
-    out->pairs.emplace_back(static_cast<int>(c[i].primID0), static_cast<int>(c[i].primID1));
+  auto& pairs = out->local.local();
+  for (unsigned i = 0; i < n; ++i) {
+    const auto a = static_cast<int>(c[i].primID0), b = static_cast<int>(c[i].primID1);
+    if (!out->same_scene || a < b) pairs.emplace_back(a, b);
+  }
 }
 }  // namespace
 
@@ -188,6 +195,7 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
   Collected vf;
   rtcCollide(e.vertices.scene, e.triangles.scene, collect, &vf);
   check(e.device, "rtcCollide (vertices, triangles)");
+  vf.merge();
   for (const auto& [i, f] : vf.pairs) {
     const int* tri = &m.tris(f, 0);
     if (adjacent(m, &i, 1, tri, 3)) continue;
@@ -197,10 +205,11 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
     out.vf.push_back({i, f});
   }
   Collected ee;
+  ee.same_scene = true;
   rtcCollide(e.edges.scene, e.edges.scene, collect, &ee);
   check(e.device, "rtcCollide (edges, edges)");
+  ee.merge();
   for (const auto& [a, b] : ee.pairs) {
-    if (a >= b) continue;  // rtcCollide of a scene with itself reports (a, b) and (b, a)
     const int* ea = &m.edges(a, 0);
     const int* eb = &m.edges(b, 0);
     if (adjacent(m, ea, 2, eb, 2)) continue;

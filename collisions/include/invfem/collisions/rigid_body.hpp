@@ -20,14 +20,17 @@ class RigidBody final : public KinematicBody {
   // `implicit` answers world-space queries at time t (it already carries the motion, e.g. a
   // MovingSurface); `body_surface` is the same shape in the body frame, placed in the world by
   // `motion` (empty for a shape with nothing to draw, such as a plane). Throws
-  // std::invalid_argument for a null implicit surface or a negative friction.
+  // std::invalid_argument for a null implicit surface or a negative friction. surface_is_shape:
+  // body_surface is exactly the implicit surface's zero set (a mesh collider), not a drawing of
+  // an analytic shape (KinematicBody::surface_is_shape).
   RigidBody(std::string name, std::shared_ptr<const ImplicitSurface> implicit, double friction,
-            TriangleSurface body_surface, Motion motion);
+            TriangleSurface body_surface, Motion motion, bool surface_is_shape = false);
 
   const std::string& name() const override { return name_; }
   void move_to(double t) override;
   // Not thread-safe on the first read after a move_to (it poses the cached surface then).
   const TriangleSurface* surface() const override;
+  bool surface_is_shape() const override { return surface_is_shape_; }
 
   const std::shared_ptr<const ImplicitSurface>& implicit() const { return implicit_; }
   double friction() const { return friction_; }
@@ -39,6 +42,7 @@ class RigidBody final : public KinematicBody {
   double friction_;
   TriangleSurface body_;           // body frame
   Motion motion_;
+  bool surface_is_shape_;
   double time_ = 0;                // of the last move_to
   mutable TriangleSurface world_;  // body_ posed at time_ once `posed_`
   mutable bool posed_ = false;

@@ -2,8 +2,10 @@
 // The self-collision layer (BFA02; ITF04 section 9: "For self-collisions we extract the boundary
 // surface and apply the cloth collision algorithm of [BFA02]"), run after every step of either
 // integrator (world.hpp, stage 4) on every taking-part object's surface (a cloth, a solid's
-// boundary) and on the kinematic bodies' triangles (rigid mesh colliders, animated bodies), which
-// take part with infinite mass, as do pinned nodes.
+// boundary) and on the kinematic bodies' triangles where they are the body's shape (rigid mesh
+// colliders, animated bodies: KinematicBody::surface_is_shape), which take part with infinite
+// mass, as do pinned nodes. Analytic colliders (plane, sphere, gears...) act through the ITF04
+// collision processing on the exact shape only.
 //
 // Per step, with x0 the surfaces at the step's start and v = (x(n+1) - x0) / dt the step's
 // average velocity (collisions-BFA02.md section 1):
@@ -31,7 +33,7 @@ struct SelfCollisionSettings {
   int impulse_passes = 3;       // CCD impulse passes before the zones (PhysBAM's default)
   int max_zone_iterations = 100;
   std::vector<std::string> excluded;  // names of objects that do not take part
-  bool kinematic_bodies = true;       // kinematic bodies' triangles take part
+  bool kinematic_bodies = true;       // kinematic bodies' shape triangles take part
 };
 
 // Throws std::invalid_argument naming the field for a bad setting (non-positive thickness, a ccd

@@ -75,6 +75,11 @@ class KinematicBody {
   // Its triangle surface at the last move_to, in world coordinates; nullptr if it has none (an
   // infinite plane).
   virtual const TriangleSurface* surface() const = 0;
+  // True when that surface is the body's collision shape (a mesh collider, an animated body), so
+  // the self-collision layer may collide with its triangles; false when it only draws a shape
+  // whose collisions are exact elsewhere (an analytic sphere or gear: its tessellation lies off
+  // the true surface, which vertices touch, and would read as crossings).
+  virtual bool surface_is_shape() const { return true; }
 };
 
 struct FrameReport;

@@ -8,17 +8,19 @@ namespace invfem::collisions {
 
 void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tris, const Points& x0, const Points& v,
                     const Eigen::VectorXd& inv_mass, bool kinematic,
-                    const std::vector<std::pair<int, int>>& welds) {
+                    const std::vector<std::pair<int, int>>& welds,
+                    const std::vector<std::pair<int, int>>& joins) {
   const Eigen::Index n = x0.rows();
   if (v.rows() != n || (!kinematic && inv_mass.size() != n))
     throw std::invalid_argument("collisions: surface \"" + name + "\": " + std::to_string(n) + " positions, " +
                                 std::to_string(v.rows()) + " velocities, " + std::to_string(inv_mass.size()) +
                                 " masses");
   const SurfaceEdges e = surface_edges(tris, n);  // throws for an index outside [0, n)
-  for (const auto& [a, b] : welds)  // checked before anything is appended: a throw leaves mesh as it was
-    if (a < 0 || b < 0 || a >= n || b >= n)
-      throw std::invalid_argument("collisions: surface \"" + name + "\": weld (" + std::to_string(a) + ", " +
-                                  std::to_string(b) + ") outside [0, " + std::to_string(n) + ")");
+  for (const auto* list : {&welds, &joins})  // checked before anything is appended: a throw leaves mesh as it was
+    for (const auto& [a, b] : *list)
+      if (a < 0 || b < 0 || a >= n || b >= n)
+        throw std::invalid_argument("collisions: surface \"" + name + "\": weld (" + std::to_string(a) + ", " +
+                                    std::to_string(b) + ") outside [0, " + std::to_string(n) + ")");
   CollisionMesh::Range r;
   r.name = name;
   r.first_vertex = static_cast<int>(mesh.x0.rows());
@@ -44,9 +46,25 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
   mesh.edges.conservativeResize(r.first_edge + e.count(), 2);
   mesh.edges.bottomRows(e.count()) = e.vertices.array() + v0;
 
-  // Welds: per vertex its partners, ascending (CSR, appended after the earlier surfaces').
+  // Welds: per vertex its partners, ascending (CSR, appended after the earlier surfaces'). A
+  // weld (a, b) joins a to b and to b's one-ring, and b to a and a's one-ring: the two panels
+  // of a seam meet along it within an edge, and their triangles there touch by construction.
+  std::vector<std::vector<int>> ring(static_cast<std::size_t>(n));
+  for (Eigen::Index k = 0; k < e.count(); ++k) {
+    ring[static_cast<std::size_t>(e.vertices(k, 0))].push_back(e.vertices(k, 1));
+    ring[static_cast<std::size_t>(e.vertices(k, 1))].push_back(e.vertices(k, 0));
+  }
   std::vector<std::vector<int>> partners(static_cast<std::size_t>(n));
   for (const auto& [a, b] : welds) {
+    auto join = [&](int p, int q) {  // symmetric: joined() looks at one side only
+      partners[static_cast<std::size_t>(p)].push_back(v0 + q);
+      partners[static_cast<std::size_t>(q)].push_back(v0 + p);
+    };
+    join(a, b);
+    for (int r : ring[static_cast<std::size_t>(b)]) join(a, r);
+    for (int r : ring[static_cast<std::size_t>(a)]) join(b, r);
+  }
+  for (const auto& [a, b] : joins) {
     partners[static_cast<std::size_t>(a)].push_back(v0 + b);
     partners[static_cast<std::size_t>(b)].push_back(v0 + a);
   }

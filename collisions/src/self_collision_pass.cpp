@@ -4,9 +4,11 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "invfem/collisions/candidates/tangles.hpp"
 #include "invfem/collisions/response/ccd_impulses.hpp"
 #include "invfem/collisions/response/impact_zones.hpp"
 #include "invfem/collisions/response/repulsion.hpp"
+#include "invfem/collisions/rigid_body.hpp"
 
 namespace invfem::collisions {
 
@@ -54,7 +56,23 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
       Points x0, v;
       Eigen::VectorXd w;
       object_state(k, x0, v, w);
-      append_surface(mesh_, objects[k].name, objects[k].surface.tris, x0, v, w, false, objects[k].welds);
+      // A solid's boundary vertices that share a tet are joined (collision_mesh.hpp).
+      const SimObject& o = objects[k];
+      std::vector<std::pair<int, int>> joins;
+      if (o.tets.rows() > 0) {
+        std::vector<int> vertex_of(static_cast<std::size_t>(o.body.x.rows()), -1);
+        for (std::size_t s = 0; s < o.surface_nodes.size(); ++s)
+          vertex_of[static_cast<std::size_t>(o.surface_nodes[s])] = static_cast<int>(s);
+        for (Eigen::Index e = 0; e < o.tets.rows(); ++e)
+          for (int a = 0; a < 4; ++a)
+            for (int b = a + 1; b < 4; ++b) {
+              const int sa = vertex_of[static_cast<std::size_t>(o.tets(e, a))];
+              const int sb = vertex_of[static_cast<std::size_t>(o.tets(e, b))];
+              if (sa >= 0 && sb >= 0) joins.emplace_back(sa, sb);
+            }
+      }
+      append_surface(mesh_, o.name, o.surface.tris, x0, v, w, false, o.welds, joins);
+      mesh_.surfaces.back().untangle = objects[k].kind == ObjectKind::Solid;
       source_.push_back(static_cast<int>(k));
     }
     if (settings_.kinematic_bodies)
@@ -88,19 +106,13 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
   }
 }
 
-void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport& report) {
-  const auto start = std::chrono::steady_clock::now();
-  const double dt = step.dt;
-  gather(objects, step);
-  if (mesh_.tris.rows() == 0) return;
-  const Points v_in = mesh_.v;
-  Points v = mesh_.v;
-
+void SelfCollisionPass::resolve(double dt, FrameReport::Collisions& r, Points& v, bool have_candidates,
+                                const ZoneConstraint& constrain) {
   // Repulsion: pairs within the thickness at x0 (swept boxes grown by it hold them all).
-  broad_phase_.find(mesh_, dt, settings_.thickness, candidates_);
-  FrameReport::Collisions& r = report.collisions;
+  if (!have_candidates) broad_phase_.find(mesh_, v, dt, settings_.thickness, candidates_);
   r.candidates += static_cast<long long>(candidates_.size());
-  r.proximity_impulses += apply_repulsion(mesh_, candidates_, dt, {settings_.thickness, settings_.friction}, v);
+  const long long repulsions = apply_repulsion(mesh_, candidates_, dt, {settings_.thickness, settings_.friction}, v);
+  r.proximity_impulses += repulsions;
   // The impulses need the time of contact only roughly (it sets where the normal is taken), and a
   // query that runs out of boxes is answered as a conservative hit (an extra impulse or zone
   // merge, never a miss): loose tolerances buy speed without costing safety.
@@ -108,19 +120,100 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   ccd.min_distance = settings_.ccd_distance;
   ccd.time_tolerance = 1e-4;
   ccd.max_iterations = 10'000;
-  // Each pass re-detects on the velocities the last one left (BFA02 section 5).
+  // Each pass re-detects on the velocities the last one left (BFA02 section 5); when the
+  // repulsion changed nothing, its candidates (boxes grown by the thickness, more than the CCD
+  // needs) serve the first pass. A pass that finds nothing colliding ends the step's work: the
+  // impact zones would find the same nothing.
   const double margin = 2 * settings_.ccd_distance;
-  for (int pass = 0; pass < settings_.impulse_passes; ++pass) {
-    broad_phase_.find(mesh_, v, dt, margin, candidates_);
-    const long long hits = apply_ccd_impulses(mesh_, candidates_, dt, ccd, settings_.friction, v);
-    r.ccd_hits += hits;
-    if (hits == 0) break;
+  bool clear = false;
+  for (int pass = 0; pass < settings_.impulse_passes && !clear; ++pass) {
+    if (pass > 0 || repulsions > 0) broad_phase_.find(mesh_, v, dt, margin, candidates_);
+    const CcdPassReport p = apply_ccd_impulses(mesh_, candidates_, dt, ccd, settings_.friction, v);
+    r.ccd_hits += p.impulses;
+    clear = p.colliding == 0;
   }
-  const ImpactZoneReport zones =
-      resolve_impact_zones(mesh_, broad_phase_, margin, dt, ccd, settings_.max_zone_iterations, v);
+  ImpactZoneReport zones;
+  if (!clear || constrain)
+    zones = resolve_impact_zones(mesh_, broad_phase_, margin, dt, ccd, settings_.max_zone_iterations, v, constrain);
   r.impact_zones += zones.zones;
   r.largest_zone = std::max(r.largest_zone, zones.largest);
   if (!zones.resolved) ++r.unresolved_steps;
+}
+
+void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport& report) {
+  const auto start = std::chrono::steady_clock::now();
+  const double dt = step.dt, t1 = step.t + dt;
+  gather(objects, step);
+  if (mesh_.tris.rows() == 0) return;
+  FrameReport::Collisions& r = report.collisions;
+
+  // Tangles at the step's start are exempt (candidates/tangles.hpp).
+  mesh_.exempt.clear();
+  broad_phase_.find(mesh_, dt, settings_.thickness, candidates_);
+  broad_phase_.edge_triangle_pairs(mesh_, edge_triangles_);
+  const int tangles = mark_tangles(mesh_, edge_triangles_);
+  r.tangled_pairs += tangles;
+
+  const Points v_in = mesh_.v;
+  Points v = mesh_.v;
+
+  // The layer does not see the analytic colliders (their exact shape acts on vertices, through
+  // the collision processing). Where its impulses or zones would carry a vertex into one (an
+  // impact zone moving a cloth that rests on the ground downward), the vertex's zone (or the
+  // vertex alone) is translated out along the collider's normal, inside the zones' loop, so the
+  // result is both free of collisions and outside the colliders; the end-of-step velocity of
+  // such a vertex then takes the body's normal velocity (no kick out of it). Counted in
+  // stats.jsonl (`collider_projections`).
+  std::vector<const ImplicitSurface*> bodies;
+  for (const auto& k : step.kinematic)
+    if (const auto* rb = dynamic_cast<const RigidBody*>(k.get()); rb && !rb->surface_is_shape())
+      bodies.push_back(rb->implicit().get());
+  struct Projected {
+    int vertex;
+    Vec3 normal, body_velocity;
+  };
+  std::vector<Projected> projected;
+  std::vector<int> projected_at(static_cast<std::size_t>(mesh_.num_vertices()), -1);  // latest entry per vertex
+  ZoneConstraint keep_out;
+  if (!bodies.empty())
+    keep_out = [&](const std::vector<std::vector<int>>& zones, Points& vel) {
+      std::vector<int> zone_of(static_cast<std::size_t>(mesh_.num_vertices()), -1);
+      for (std::size_t z = 0; z < zones.size(); ++z)
+        for (int i : zones[z]) zone_of[static_cast<std::size_t>(i)] = static_cast<int>(z);
+      // A few sweeps: a zone translated out of a curved body may leave another of its vertices in.
+      for (int sweep = 0; sweep < 4; ++sweep) {
+      bool moved = false;
+      std::vector<Vec3> zone_shift(zones.size(), Vec3::Zero());
+      for (Eigen::Index i = 0; i < mesh_.num_vertices(); ++i) {
+        if (!mesh_.movable(static_cast<int>(i)) || vel.row(i) == v_in.row(i)) continue;
+        for (const ImplicitSurface* b : bodies) {
+          const Vec3 x1 = mesh_.x0.row(i).transpose() + dt * vel.row(i).transpose();
+          const double phi = b->phi(x1, t1);
+          if (!(phi < 0)) continue;
+          const Vec3 n = b->normal(x1, t1);
+          moved = true;
+          projected_at[static_cast<std::size_t>(i)] = static_cast<int>(projected.size());
+          projected.push_back({static_cast<int>(i), n, b->velocity(x1, t1)});
+          ++r.collider_projections;
+          const int z = zone_of[static_cast<std::size_t>(i)];
+          if (z < 0) {
+            vel.row(i) -= (phi / dt) * n.transpose();
+          } else {  // the deepest push of the zone along each direction, applied to all of it
+            const Vec3 push = -phi * n;
+            Vec3& s = zone_shift[static_cast<std::size_t>(z)];
+            for (int c = 0; c < 3; ++c)
+              s(c) = std::abs(push(c)) > std::abs(s(c)) ? push(c) : s(c);
+          }
+        }
+      }
+      for (std::size_t z = 0; z < zones.size(); ++z)
+        if (!zone_shift[z].isZero())
+          for (int i : zones[z])
+            if (mesh_.movable(i)) vel.row(i) += (zone_shift[z] / dt).transpose();
+      if (!moved) break;
+      }
+    };
+  resolve(dt, r, v, tangles == 0, keep_out);
 
   // Write back: x(n+1) = x0 + dt v on the surface nodes; v(n+1) gets the same change.
   for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {
@@ -133,6 +226,11 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
       const int node = o.surface_nodes[static_cast<std::size_t>(j)];
       o.body.x.row(node) = mesh_.x0.row(g) + dt * v.row(g);
       o.body.v.row(node) += v.row(g) - v_in.row(g);
+      if (const int k = projected_at[static_cast<std::size_t>(g)]; k >= 0) {
+        const Projected& p = projected[static_cast<std::size_t>(k)];
+        const Vec3 vn = o.body.v.row(node).transpose();
+        o.body.v.row(node) = (vn + (p.body_velocity.dot(p.normal) - vn.dot(p.normal)) * p.normal).transpose();
+      }
     }
     o.refresh_surface();
   }

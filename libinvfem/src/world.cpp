@@ -76,7 +76,7 @@ World::World(WorldSettings settings, std::vector<SimObject> objects,
 
 void World::advance_to(double t_end, FrameReport& report) {
   const std::vector<ObjectKind> stage_order = {ObjectKind::Solid, ObjectKind::Cloth};
-  std::vector<Points> x_start, kinematic_start;
+  std::vector<Points> x_start, kinematic_start, x_before_passes;
   // Land exactly on t_end: the steps of a frame are equal, each within every object's stable
   // step (ITF04's scheme takes a variable dt).
   while (time_ < t_end - 1e-12 * std::max(1.0, t_end)) {
@@ -119,7 +119,15 @@ void World::advance_to(double t_end, FrameReport& report) {
     if (!passes_.empty()) {
       for (auto& o : objects_) o.refresh_surface();
       const StepPassInput input{x_start, kinematic_, kinematic_start, time_, dt};
+      x_before_passes.clear();
+      for (const auto& o : objects_) x_before_passes.push_back(o.body.x);
       for (const auto& p : passes_) p->after_step(objects_, input, report);
+      // The forces were evaluated at the step's end (plastic flow included); an object the
+      // passes moved is evaluated again where it now is, as a checkpoint's restore would
+      // (resumed runs stay bit-identical).
+      for (std::size_t k = 0; k < objects_.size(); ++k)
+        if (objects_[k].body.x != x_before_passes[k])
+          for (auto& f : objects_[k].forces) f->update_positions(objects_[k].body.x, time_ + dt);
     }
     time_ += dt;
     ++report.substeps;

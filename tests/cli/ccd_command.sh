@@ -28,28 +28,18 @@ grep -q "4 queries (2 vf, 2 ee), 2 hits" "$work/err.txt" || { echo "FAIL: summar
 got=$("$invfem" ccd "$work/q.txt" --min-distance 0.1 2>/dev/null)
 [ "$got" = "$(printf '1\n1\n1\n1')" ] || { echo "FAIL: --min-distance 0.1: $got"; fail=1; }
 
-# expect CODE PATTERN ARGS...: want exit CODE and PATTERN in stderr.
-expect() {
-  local code="$1" pattern="$2"
-  shift 2
-  local err
-  err=$("$invfem" "$@" 2>&1 >/dev/null)
-  local got=$?
-  if [ "$got" -ne "$code" ] || ! grep -qF -- "$pattern" <<<"$err"; then
-    echo "FAIL: invfem $*: exit $got (want $code), stderr: $err (want: $pattern)"; fail=1
-  fi
-}
+source "$(dirname "$0")/lib.sh"
 { head -n 3 "$work/q.txt"; echo "vf 0 0 0  1 0 0  0 1 0  0 0 0  1 0 0  0 1 0  0 0 0  1 0"; } > "$work/short.txt"
-expect 2 "short.txt:4: expected 24 numbers after \"vf\" (8 points x y z), found 23" ccd "$work/short.txt"
+expect 2 "short.txt:4: expected 24 numbers after \"vf\" (8 points x y z), found 23" -- ccd "$work/short.txt"
 printf 'vf 1 2 3 4 5 6 7 8 9 1 2 3 4 5 6 7 8 9 1 2 3 4 5 6 7\n' > "$work/long.txt"
-expect 2 "long.txt:1: more than 24 numbers" ccd "$work/long.txt"
+expect 2 "long.txt:1: more than 24 numbers" -- ccd "$work/long.txt"
 printf '# c\nxx 1 2 3\n' > "$work/tag.txt"
-expect 2 "tag.txt:2: expected a query tag vf or ee, found \"xx\"" ccd "$work/tag.txt"
+expect 2 "tag.txt:2: expected a query tag vf or ee, found \"xx\"" -- ccd "$work/tag.txt"
 printf 'ee 1 2 3 4 5 6 7 8 9 1 2 3 4 5 6 7 8 9 1 2 3 4 5 six\n' > "$work/nan.txt"
-expect 2 "nan.txt:1: not a number: \"six\"" ccd "$work/nan.txt"
+expect 2 "nan.txt:1: not a number: \"six\"" -- ccd "$work/nan.txt"
 printf 'ee 1 2 3 4 5 6 7 8 9 1 2 3 4 5 6 7 8 9 1 2 3 4 5 inf\n' > "$work/inf.txt"
-expect 2 "inf.txt:1: number 24 is not finite" ccd "$work/inf.txt"
-expect 2 "cannot open the query file" ccd "$work/missing.txt"
-expect 2 "--min-distance: expected a distance >= 0" ccd "$work/q.txt" --min-distance -1
-expect 2 "ccd: expected one query file" ccd
+expect 2 "inf.txt:1: number 24 is not finite" -- ccd "$work/inf.txt"
+expect 2 "cannot open the query file" -- ccd "$work/missing.txt"
+expect 2 "--min-distance: expected a distance >= 0" -- ccd "$work/q.txt" --min-distance -1
+expect 2 "ccd: expected one query file" -- ccd
 exit $fail

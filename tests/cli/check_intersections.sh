@@ -8,18 +8,7 @@ invfem="$1" work="$2"
 rm -rf "$work" && mkdir -p "$work"
 fail=0
 
-# expect CODE PATTERN -- ARGS...: run invfem with ARGS, want exit CODE and PATTERN in its output.
-expect() {
-  local code="$1" pattern="$2"
-  shift 3
-  local out
-  out=$(timeout 60 "$invfem" "$@" 2>&1)
-  local got=$?
-  if [ "$got" -ne "$code" ] || ! grep -qF -- "$pattern" <<<"$out"; then
-    echo "FAIL: invfem $*: exit $got (want $code), output: $out (want: $pattern)"
-    fail=1
-  fi
-}
+source "$(dirname "$0")/lib.sh"
 
 # tet FILE APEX_Z: tetrahedron B is the unit corner tet; tetrahedron A has its apex at
 # (0.2, 0.2, APEX_Z) and its base at z = -1 (see tests/unit/intersection_certificate.cpp).
@@ -45,41 +34,41 @@ got1=$(awk '$1 == "1" && NF == 6 { print $2, $3, $4, $5 }' <<<"$rows")
 [ "$got0" = "0 0 0 0" ] || { echo "FAIL: frame 0 row \"$got0\" (want 0 0 0 0)"; echo "$rows"; fail=1; }
 [ "$got1" = "0 0 3 3" ] || { echo "FAIL: frame 1 row \"$got1\" (want 0 0 3 3)"; echo "$rows"; fail=1; }
 grep -q '"total": 3' "$work/rows.json" || { echo "FAIL: --json lacks frame 1's total of 3"; fail=1; }
-expect 0 "no intersecting triangle pairs" -- check "$out" --frames 0
-expect 0 "2 frames of 1 surface checked" -- check "$out" --objects a
-expect 1 "a with b: 3" -- check "$out" --frames 1-1
+expect_output 0 "no intersecting triangle pairs" -- check "$out" --frames 0
+expect_output 0 "2 frames of 1 surface checked" -- check "$out" --objects a
+expect_output 1 "a with b: 3" -- check "$out" --frames 1-1
 
 # Welds: two triangles touching at one point through two distinct vertices (0 and 3) count as one
 # pair; welds.txt making them one vertex makes them adjacent.
 mkdir -p "$out/frames/c"
 printf 'v 0 0 5\nv 1 0 5\nv 0 1 5\nv 0 0 5\nv -1 0 5\nv 0 -1 5\nf 1 2 3\nf 4 5 6\n' > "$out/frames/c/0000.obj"
 cp "$out/frames/c/0000.obj" "$out/frames/c/0001.obj"
-expect 1 "c with itself: 2" -- check "$out" --objects c
+expect_output 1 "c with itself: 2" -- check "$out" --objects c
 printf '# welds of "c"\n0 3\n' > "$out/frames/c/welds.txt"
-expect 0 "no intersecting triangle pairs" -- check "$out" --objects c
+expect_output 0 "no intersecting triangle pairs" -- check "$out" --objects c
 printf '0 3\n1 x\n' > "$out/frames/c/welds.txt"
-expect 2 "$out/frames/c/welds.txt:2: \"x\" is not a vertex index" -- check "$out"
+expect_output 2 "$out/frames/c/welds.txt:2: \"x\" is not a vertex index" -- check "$out"
 printf '0 99\n' > "$out/frames/c/welds.txt"
-expect 2 "weld vertex 99 outside [0, 6)" -- check "$out"
+expect_output 2 "weld vertex 99 outside [0, 6)" -- check "$out"
 rm "$out/frames/c/welds.txt"
 
 # MESH mode: the two files of frame 1 as meshes (equal stems: named by path); a welds file for
 # the touching pair.
-expect 1 "frames/a/0001.obj with $out/frames/b/0001.obj: 3" -- check "$out/frames/a/0001.obj" "$out/frames/b/0001.obj"
-expect 0 "no intersecting triangle pairs" -- check "$out/frames/a/0000.obj" "$out/frames/b/0000.obj"
+expect_output 1 "frames/a/0001.obj with $out/frames/b/0001.obj: 3" -- check "$out/frames/a/0001.obj" "$out/frames/b/0001.obj"
+expect_output 0 "no intersecting triangle pairs" -- check "$out/frames/a/0000.obj" "$out/frames/b/0000.obj"
 printf '0 3\n' > "$work/c_welds.txt"
-expect 0 "no intersecting triangle pairs" -- check "$out/frames/c/0000.obj" --welds "$work/c_welds.txt"
+expect_output 0 "no intersecting triangle pairs" -- check "$out/frames/c/0000.obj" --welds "$work/c_welds.txt"
 
 # Bad input: exit 2 with the path named.
-expect 2 "$work/nowhere: no such file or folder" -- check "$work/nowhere"
+expect_output 2 "$work/nowhere: no such file or folder" -- check "$work/nowhere"
 mkdir -p "$work/empty"
-expect 2 "$work/empty: no frames/ folder" -- check "$work/empty"
+expect_output 2 "$work/empty: no frames/ folder" -- check "$work/empty"
 printf 'v 0 0 0\nv 1 0 0\nf 1 2 3\n' > "$out/frames/a/0001.obj"
-expect 2 "$out/frames/a/0001.obj" -- check "$out"
+expect_output 2 "$out/frames/a/0001.obj" -- check "$out"
 rm "$out/frames/a/0001.obj"
-expect 2 "a: frame 1 is missing (0001.obj)" -- check "$out"
-expect 2 "--objects: no object \"zz\"" -- check "$out" --objects zz
-expect 2 "--welds $work/c_welds.txt: give it after the mesh" -- check --welds "$work/c_welds.txt" "$out/frames/c/0000.obj"
+expect_output 2 "a: frame 1 is missing (0001.obj)" -- check "$out"
+expect_output 2 "--objects: no object \"zz\"" -- check "$out" --objects zz
+expect_output 2 "--welds $work/c_welds.txt: give it after the mesh" -- check --welds "$work/c_welds.txt" "$out/frames/c/0000.obj"
 
 [ "$fail" -eq 0 ] && echo "invfem check: counts, welds, MESH mode and errors as documented"
 exit "$fail"

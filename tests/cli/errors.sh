@@ -7,18 +7,7 @@ rm -rf "$work" && mkdir -p "$work"
 good="$src/apps/scenes/torus_puddle.json"
 fail=0
 
-# expect CODE PATTERN -- ARGS...: run invfem with ARGS, want exit CODE and PATTERN in stderr.
-expect() {
-  local code="$1" pattern="$2"
-  shift 3
-  local err
-  err=$("$invfem" "$@" 2>&1 >/dev/null)
-  local got=$?
-  if [ "$got" -ne "$code" ] || ! grep -qF -- "$pattern" <<<"$err"; then
-    echo "FAIL: invfem $*: exit $got (want $code), stderr: $err (want: $pattern)"
-    fail=1
-  fi
-}
+source "$(dirname "$0")/lib.sh"
 scene() {  # scene NAME JSON: write a scene file beside a copy of the torus mesh
   mkdir -p "$work/data"
   cp -n "$src/apps/scenes/data/torus_polyfem.msh" "$work/data/" 2>/dev/null || true

@@ -8,18 +8,7 @@ invfem="$1" work="$2"
 rm -rf "$work" && mkdir -p "$work"
 fail=0
 
-# expect CODE PATTERN -- ARGS...: run invfem with ARGS, want exit CODE and PATTERN in stderr.
-expect() {
-  local code="$1" pattern="$2"
-  shift 3
-  local err
-  err=$("$invfem" "$@" 2>&1 >/dev/null)
-  local got=$?
-  if [ "$got" -ne "$code" ] || ! grep -qF -- "$pattern" <<<"$err"; then
-    echo "FAIL: invfem $*: exit $got (want $code), stderr: $err (want: $pattern)"
-    fail=1
-  fi
-}
+source "$(dirname "$0")/lib.sh"
 # Two 10 cm tets sharing face 123, 5 nodes.
 cat > "$work/pair.vtk" <<'VTK'
 # vtk DataFile Version 3.0

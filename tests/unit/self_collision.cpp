@@ -103,10 +103,13 @@ TEST(CollisionMesh, WeldsMakePrimitivesAdjacentWithoutChainingTheSeam) {
   append_surface(m, "a", t, x, Points::Zero(6, 3), Eigen::VectorXd::Ones(6), false, {{0, 3}, {3, 4}});
   EXPECT_TRUE(joined(m, 0, 3));
   EXPECT_TRUE(joined(m, 4, 3));
-  EXPECT_FALSE(joined(m, 0, 4));  // not transitive
-  const int a[] = {1, 2, 0}, b[] = {5};
+  EXPECT_TRUE(joined(m, 0, 5));   // 5 is in the one-ring of 3, welded to 0
+  EXPECT_TRUE(joined(m, 1, 3));   // and 1 in the one-ring of 0
+  EXPECT_FALSE(joined(m, 1, 5));  // not transitive: 1 and 5 are not joined
+  const int a[] = {1, 2, 0}, b[] = {5}, c[] = {1}, d[] = {2};
   EXPECT_TRUE(adjacent(m, a, 3, &t(1, 0), 3));
-  EXPECT_FALSE(adjacent(m, a, 2, b, 1));
+  EXPECT_FALSE(adjacent(m, c, 1, b, 1));
+  EXPECT_FALSE(adjacent(m, d, 1, b, 1));
   EXPECT_THROW(append_surface(m, "b", t, x, Points::Zero(6, 3), Eigen::VectorXd::Ones(6), false, {{0, 6}}),
                std::invalid_argument);
   // A second surface's vertices and triangles are offset; kinematic ones have infinite mass.
@@ -156,8 +159,19 @@ TEST(BroadPhase, FindsExactlyTheOverlappingSweptBoxesOfNonAdjacentPairs) {
     EXPECT_EQ(ee, ee_ref) << "seed " << seed;
     EXPECT_GT(vf_ref.size(), 100u);
     EXPECT_GT(ee_ref.size(), 100u);
-    // Moving the soup refits (or rebuilds) and still finds the same pairs as brute force.
-    m.x0 += 0.01 * m.v;
+    // Moving the soup refits (or rebuilds) and still finds the same pairs as brute force: a
+    // translation keeps the boxes' area (a refit), a shuffle of the triangles' places moves every
+    // pair.
+    m.x0.col(0).array() += 5.0;
+    Candidates moved;
+    bp.find(m, dt, margin, moved);
+    EXPECT_EQ(moved.vf.size(), c.vf.size());
+    EXPECT_EQ(moved.ee.size(), c.ee.size());
+    std::mt19937 shuffle(seed);
+    for (int f = 0; f < 300; f += 2) {
+      const Vec3 shift = 0.5 * Vec3(std::uniform_real_distribution<double>(-1, 1)(shuffle), 0, 0);
+      for (int k = 0; k < 3; ++k) m.x0.row(m.tris(f, k)) += shift.transpose();
+    }
     Candidates again;
     bp.find(m, dt, margin, again);
     std::size_t expected_ee = 0;

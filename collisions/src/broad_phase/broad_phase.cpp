@@ -200,6 +200,7 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
     const int* tri = &m.tris(f, 0);
     if (adjacent(m, &i, 1, tri, 3)) continue;
     if (!m.movable(i) && !any_movable(tri, 3)) continue;
+    if (m.is_exempt(i) || m.is_exempt(tri[0]) || m.is_exempt(tri[1]) || m.is_exempt(tri[2])) continue;
     if (!e.vertices.boxes[static_cast<std::size_t>(i)].overlaps(e.triangles.boxes[static_cast<std::size_t>(f)]))
       continue;
     out.vf.push_back({i, f});
@@ -214,6 +215,7 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
     const int* eb = &m.edges(b, 0);
     if (adjacent(m, ea, 2, eb, 2)) continue;
     if (!any_movable(ea, 2) && !any_movable(eb, 2)) continue;
+    if (m.is_exempt(ea[0]) || m.is_exempt(ea[1]) || m.is_exempt(eb[0]) || m.is_exempt(eb[1])) continue;
     if (!e.edges.boxes[static_cast<std::size_t>(a)].overlaps(e.edges.boxes[static_cast<std::size_t>(b)])) continue;
     out.ee.push_back({a, b});
   }
@@ -221,6 +223,31 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
   out.vf.erase(std::unique(out.vf.begin(), out.vf.end()), out.vf.end());
   std::sort(out.ee.begin(), out.ee.end());
   out.ee.erase(std::unique(out.ee.begin(), out.ee.end()), out.ee.end());
+}
+
+}  // namespace invfem::collisions
+
+namespace invfem::collisions {
+
+void BroadPhase::edge_triangle_pairs(const CollisionMesh& m, std::vector<std::pair<int, int>>& out) {
+  out.clear();
+  Embree& e = *embree_;
+  if (!e.edges.scene || !e.triangles.scene || e.edges.boxes.size() != static_cast<std::size_t>(m.edges.rows()))
+    return;
+  Collected et;
+  rtcCollide(e.edges.scene, e.triangles.scene, collect, &et);
+  check(e.device, "rtcCollide (edges, triangles)");
+  et.merge();
+  for (const auto& [a, f] : et.pairs) {
+    const int* edge = &m.edges(a, 0);
+    const int* tri = &m.tris(f, 0);
+    if (adjacent(m, edge, 2, tri, 3)) continue;
+    if (!m.movable(edge[0]) && !m.movable(edge[1]) && !m.movable(tri[0]) && !m.movable(tri[1]) && !m.movable(tri[2]))
+      continue;
+    out.emplace_back(a, f);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
 }  // namespace invfem::collisions

@@ -24,30 +24,32 @@ PairStencil stencil_at(const CollisionMesh& m, const EdgeEdgeCandidate& c, const
 }
 
 template <class Candidate>
-long long resolve(const CollisionMesh& m, const std::vector<Candidate>& list, double dt, const CcdSettings& s,
-                  double mu, Points& v) {
+CcdPassReport resolve(const CollisionMesh& m, const std::vector<Candidate>& list, double dt, const CcdSettings& s,
+                      double mu, Points& v) {
   std::vector<char> hit(list.size(), 0);
   parallel_for_each(list.size(), 512, [&](std::size_t k) {
     double toi = 0;
     hit[k] = candidate_ccd(m, list[k], v, dt, s, toi) ? 1 : 0;
   });
-  long long count = 0;
+  CcdPassReport report;
   for (std::size_t k = 0; k < list.size(); ++k) {
     if (!hit[k]) continue;
+    ++report.colliding;
     double toi = 0;
     if (!candidate_ccd(m, list[k], v, dt, s, toi)) continue;  // an earlier impulse cleared it
     const PairStencil p = stencil_at(m, list[k], v, dt, toi);
     const double v_N = relative_velocity(p, v).dot(p.n);
-    if (v_N < 0 && apply_pair_impulse(m, p, -v_N, mu, v)) ++count;
+    if (v_N < 0 && apply_pair_impulse(m, p, -v_N, mu, v)) ++report.impulses;
   }
-  return count;
+  return report;
 }
 
 }  // namespace
 
-long long apply_ccd_impulses(const CollisionMesh& m, const Candidates& c, double dt, const CcdSettings& s,
-                             double mu, Points& v) {
-  return resolve(m, c.vf, dt, s, mu, v) + resolve(m, c.ee, dt, s, mu, v);
+CcdPassReport apply_ccd_impulses(const CollisionMesh& m, const Candidates& c, double dt, const CcdSettings& s,
+                                 double mu, Points& v) {
+  const CcdPassReport a = resolve(m, c.vf, dt, s, mu, v), b = resolve(m, c.ee, dt, s, mu, v);
+  return {a.colliding + b.colliding, a.impulses + b.impulses};
 }
 
 }  // namespace invfem::collisions

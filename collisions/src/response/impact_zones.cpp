@@ -79,7 +79,8 @@ void rigidify_zone(const CollisionMesh& m, const std::vector<int>& zone, double 
 }
 
 ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_phase, double margin, double dt,
-                                      const CcdSettings& s, int max_iterations, Points& v) {
+                                      const CcdSettings& s, int max_iterations, Points& v,
+                                      const ZoneConstraint& constrain) {
   ImpactZoneReport report;
   Candidates c;
   const auto n = static_cast<std::size_t>(m.num_vertices());
@@ -87,7 +88,16 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
   std::vector<char> in_zone(n, 0);
   // A pair needs no test when its four vertices are one zone of movable vertices (it moves
   // rigidly).
+  auto zone_lists = [&]() {
+    std::map<int, std::vector<int>> members;
+    for (std::size_t i = 0; i < n; ++i)
+      if (in_zone[i]) members[zones.find(static_cast<int>(i))].push_back(static_cast<int>(i));
+    std::vector<std::vector<int>> lists;
+    for (auto& [root, zone] : members) lists.push_back(std::move(zone));
+    return lists;
+  };
   for (report.iterations = 0; report.iterations < max_iterations; ++report.iterations) {
+    if (constrain) constrain(zone_lists(), v);
     broad_phase.find(m, v, dt, margin, c);
     // Detect on the current velocities, in parallel (roots read from a frozen copy).
     UnionFind frozen = zones;
@@ -121,12 +131,8 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
     merge(c.ee, ee_hit);
     if (!any) break;
     // Every zone moves rigidly (zones in ascending order of their smallest vertex).
-    std::map<int, std::vector<int>> members;
-    for (std::size_t i = 0; i < n; ++i)
-      if (in_zone[i]) members[zones.find(static_cast<int>(i))].push_back(static_cast<int>(i));
-    std::vector<const std::vector<int>*> list;
-    for (const auto& [root, zone] : members) list.push_back(&zone);
-    parallel_for_each(list.size(), 16, [&](std::size_t z) { rigidify_zone(m, *list[z], dt, v); });
+    const std::vector<std::vector<int>> list = zone_lists();
+    parallel_for_each(list.size(), 16, [&](std::size_t z) { rigidify_zone(m, list[z], dt, v); });
   }
   report.resolved = report.iterations < max_iterations;
   std::map<int, int> sizes;

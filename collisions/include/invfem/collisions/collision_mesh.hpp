@@ -8,12 +8,17 @@
 //                        pinned nodes): they take part with infinite mass
 //   tris        #F x 3   global vertex indices, counter-clockwise from outside
 //   edges       #E x 2   global vertex indices (surface_edges of each surface, offset)
-//   weld_offsets, weld_partners   per vertex i, the vertices a seam joins it to (stitches):
+//   weld_offsets, weld_partners   per vertex i, the vertices a seam joins it to (stitches:
+//                        the welded vertex and its one-ring, append_surface):
 //                        weld_partners[weld_offsets[i] .. weld_offsets[i+1]), ascending. Two
 //                        primitives are adjacent (never a candidate) when they share a vertex or
-//                        hold two welded vertices. Not transitive: the vertices along a seam are
+//                        hold two joined vertices. Not transitive: the vertices along a seam are
 //                        not all joined to one another
 //   surface_of  #V       which surface (index into `surfaces`) a vertex belongs to
+//   exempt      #V or empty   1: the vertex was part of an intersection at the step's start
+//                        on an `untangle` surface (an edge through a face of a solid's boundary
+//                        tangled by inverted elements); pairs holding it are no candidates this
+//                        step, so the tangle may come apart instead of being held crossed
 #include <string>
 #include <vector>
 
@@ -29,6 +34,11 @@ struct CollisionMesh {
     int first_triangle = 0, num_triangles = 0;
     int first_edge = 0, num_edges = 0;
     bool kinematic = false;
+    // A solid's boundary: where it crosses itself at a step's start (a fold through itself by
+    // inverted elements, which ITF04's recovery must undo) its vertices are exempt for the step
+    // (candidates/tangles.hpp). A cloth's crossing, which only a fail-safe failure leaves, stays
+    // held by the CCD instead, so that it cannot spread.
+    bool untangle = false;
   };
   std::vector<Range> surfaces;
   Points x0, v;
@@ -37,19 +47,25 @@ struct CollisionMesh {
   Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> edges;
   std::vector<int> weld_offsets{0}, weld_partners;
   std::vector<int> surface_of;
+  std::vector<char> exempt;
 
   Eigen::Index num_vertices() const { return x0.rows(); }
   // Position at normalized time s in [0, 1] of the step: x0 + s dt v.
   Vec3 position(int i, double s, double dt) const { return x0.row(i).transpose() + (s * dt) * v.row(i).transpose(); }
   bool movable(int i) const { return inv_mass(i) > 0; }
+  bool is_exempt(int i) const { return !exempt.empty() && exempt[static_cast<std::size_t>(i)]; }
 };
 
 // Appends a surface. x0, v: its #V x 3 start positions and average velocities; inv_mass its #V
 // inverse masses (ignored and set to 0 when kinematic); welds: pairs of its vertex indices that a
-// seam joins. Throws std::invalid_argument naming the surface for mismatched sizes or indices.
+// seam joins (each also joined to the other's one-ring); joins: pairs joined as they are (a
+// solid's boundary vertices that share a tet: a tet inverts and recovers by moving a node
+// through its own opposite face, which the element, not the collision layer, governs). Throws
+// std::invalid_argument naming the surface for mismatched sizes or indices.
 void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tris, const Points& x0, const Points& v,
                     const Eigen::VectorXd& inv_mass, bool kinematic,
-                    const std::vector<std::pair<int, int>>& welds = {});
+                    const std::vector<std::pair<int, int>>& welds = {},
+                    const std::vector<std::pair<int, int>>& joins = {});
 
 // True when vertices a and b are one vertex or welded.
 inline bool joined(const CollisionMesh& m, int a, int b) {

@@ -8,7 +8,9 @@
 // collision processing on the exact shape only.
 //
 // Per step, with x0 the surfaces at the step's start and v = (x(n+1) - x0) / dt the step's
-// average velocity (collisions-BFA02.md section 1):
+// average velocity (collisions-BFA02.md section 1), after exempting the vertices of tangles at
+// x0 (candidates/tangles.hpp) and holding those an analytic collider holds (infinite mass; a
+// vertex the layer would push into a collider is held too and the step's layer work redone):
 //   1. broad phase on the swept boxes (broad_phase/), giving candidates (candidates/)
 //   2. repulsion at x0 (response/repulsion.hpp): pairs closer than the thickness
 //   3. up to `impulse_passes` passes of CCD impulses (response/ccd_impulses.hpp)
@@ -22,6 +24,7 @@
 
 #include "invfem/collisions/broad_phase/broad_phase.hpp"
 #include "invfem/collisions/collision_mesh.hpp"
+#include "invfem/collisions/response/impact_zones.hpp"
 #include "invfem/core/world.hpp"
 
 namespace invfem::collisions {
@@ -49,6 +52,10 @@ class SelfCollisionPass final : public StepPass {
  private:
   // Gathers the taking-part surfaces into mesh_ (topology built once, positions every step).
   void gather(const std::vector<SimObject>& objects, const StepPassInput& step);
+  // Stages 1-4 on mesh_ (its inverse masses and exemptions as set), changing v. have_candidates:
+  // candidates_ already holds the repulsion's candidates for these velocities and filters.
+  void resolve(double dt, FrameReport::Collisions& report, Points& v, bool have_candidates,
+               const ZoneConstraint& constrain);
 
   SelfCollisionSettings settings_;
   BroadPhase broad_phase_;
@@ -57,6 +64,7 @@ class SelfCollisionPass final : public StepPass {
   // Per mesh surface: the object it comes from (or -1 - k for kinematic body k).
   std::vector<int> source_;
   Candidates candidates_;
+  std::vector<std::pair<int, int>> edge_triangles_;
 };
 
 }  // namespace invfem::collisions

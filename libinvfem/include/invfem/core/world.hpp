@@ -96,6 +96,7 @@ struct StepPassInput {
 
 // A pass run after every step (stage 4), such as the self-collision layer (collisions/); it may
 // change the objects' end-of-step positions and velocities, and adds its figures to the report.
+// The world then updates the forces of every object whose positions it changed.
 class StepPass {
  public:
   virtual ~StepPass() = default;
@@ -129,6 +130,8 @@ struct FrameReport {
   struct Collisions {
     long long candidates = 0, proximity_impulses = 0, ccd_hits = 0;
     int impact_zones = 0, largest_zone = 0, unresolved_steps = 0;
+    long long tangled_pairs = 0;         // a solid boundary's edge-triangle crossings at a step's start (exempted)
+    long long collider_projections = 0;  // vertices the layer moved into an analytic collider, put back
     double seconds = 0;
   } collisions;
 };

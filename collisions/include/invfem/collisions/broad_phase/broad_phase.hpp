@@ -30,6 +30,10 @@ class BroadPhase {
   void find(const CollisionMesh& mesh, const Points& v, double dt, double margin, Candidates& out);
   void find(const CollisionMesh& mesh, double dt, double margin, Candidates& out) { find(mesh, mesh.v, dt, margin, out); }
 
+  // Edge-triangle pairs (not adjacent, not both without a movable vertex) whose boxes of the
+  // last find() overlap: the candidates of an intersection test at the step's start. Sorted.
+  void edge_triangle_pairs(const CollisionMesh& mesh, std::vector<std::pair<int, int>>& out);
+
   double rebuild_growth = 0.5;
   int builds() const { return builds_; }  // full builds so far (the rest were refits)
 

@@ -12,9 +12,12 @@
 
 namespace invfem::collisions {
 
-// Returns the number of pairs that received an impulse (0: the pass found no approaching
-// collision).
-long long apply_ccd_impulses(const CollisionMesh& mesh, const Candidates& candidates, double dt,
-                             const CcdSettings& settings, double friction, Points& v);
+struct CcdPassReport {
+  long long colliding = 0;  // pairs the CCD flagged at the pass's start (0: nothing left to do)
+  long long impulses = 0;   // pairs that received an impulse
+};
+
+CcdPassReport apply_ccd_impulses(const CollisionMesh& mesh, const Candidates& candidates, double dt,
+                                 const CcdSettings& settings, double friction, Points& v);
 
 }  // namespace invfem::collisions

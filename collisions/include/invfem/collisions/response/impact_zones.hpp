@@ -12,6 +12,9 @@
 // Pairs within one zone of movable vertices move rigidly from an intersection-free start and
 // are not tested again. Each round re-detects its candidates with the broad phase on the
 // current velocities (a zone's motion can carry a vertex out of its first swept box).
+#include <functional>
+#include <vector>
+
 #include "invfem/collisions/broad_phase/broad_phase.hpp"
 #include "invfem/collisions/candidates/candidates.hpp"
 #include "invfem/collisions/ccd/ccd.hpp"
@@ -26,8 +29,16 @@ struct ImpactZoneReport {
   bool resolved = true;   // false: max_iterations were not enough
 };
 
+// constrain (optional) runs at the start of every round, before detection, with the zones so far
+// (vertex lists, ascending): it may change v to keep vertices out of what the layer does not see
+// (the pass moves a zone out of an analytic collider as one rigid translation). The loop ends
+// only on a round that detects nothing after it, so the result is free of collisions and
+// constrained at once, or reported unresolved.
+using ZoneConstraint = std::function<void(const std::vector<std::vector<int>>& zones, Points& v)>;
+
 ImpactZoneReport resolve_impact_zones(const CollisionMesh& mesh, BroadPhase& broad_phase, double margin, double dt,
-                                      const CcdSettings& settings, int max_iterations, Points& v);
+                                      const CcdSettings& settings, int max_iterations, Points& v,
+                                      const ZoneConstraint& constrain = {});
 
 // The rigid velocities of one zone (vertex ids, all movable or some kinematic, as above),
 // written into v. Exposed for the tests.

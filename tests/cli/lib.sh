@@ -1,0 +1,28 @@
+# Shared by the CLI test scripts (source it after setting `invfem`, the binary, and `fail=0`).
+
+# expect CODE PATTERN -- ARGS...: run invfem with ARGS (60 s at most), want exit CODE and PATTERN
+# in its stderr; a mismatch prints FAIL with what came and sets fail=1.
+expect() {
+  local code="$1" pattern="$2"
+  shift 3
+  local err
+  err=$(timeout 60 "$invfem" "$@" 2>&1 >/dev/null)
+  local got=$?
+  if [ "$got" -ne "$code" ] || ! grep -qF -- "$pattern" <<<"$err"; then
+    echo "FAIL: invfem $*: exit $got (want $code), stderr: $err (want: $pattern)"
+    fail=1
+  fi
+}
+
+# expect_output CODE PATTERN -- ARGS...: the same with PATTERN looked for in stdout and stderr.
+expect_output() {
+  local code="$1" pattern="$2"
+  shift 3
+  local out
+  out=$(timeout 60 "$invfem" "$@" 2>&1)
+  local got=$?
+  if [ "$got" -ne "$code" ] || ! grep -qF -- "$pattern" <<<"$out"; then
+    echo "FAIL: invfem $*: exit $got (want $code), output: $out (want: $pattern)"
+    fail=1
+  fi
+}

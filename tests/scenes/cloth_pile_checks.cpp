@@ -17,7 +17,7 @@ TEST(ClothPile, TheStripPilesUpOnTheGround) {
   const TriangleSurface first = frame(0), last = frame(kLastFrame);
   EXPECT_GT(first.x.col(1).maxCoeff() - first.x.col(1).minCoeff(), 1.9);  // it starts standing, 2 m tall
   EXPECT_GE(last.x.col(1).minCoeff(), -1e-9);                              // never below the ground
-  EXPECT_LT(last.x.col(1).maxCoeff(), 0.15);                               // it has fallen
+  EXPECT_LT(last.x.col(1).maxCoeff(), 0.25);                               // it has fallen (2 mm layers pile up)
   // Folded: 2 m of strip lie within a patch much shorter than 2 m, so it lies on itself.
   const double spread = std::max(last.x.col(0).maxCoeff() - last.x.col(0).minCoeff(),
                                  last.x.col(2).maxCoeff() - last.x.col(2).minCoeff());

@@ -47,22 +47,25 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
   mesh.edges.bottomRows(e.count()) = e.vertices.array() + v0;
 
   // Welds: per vertex its partners, ascending (CSR, appended after the earlier surfaces'). A
-  // weld (a, b) joins a to b and to b's one-ring, and b to a and a's one-ring: the two panels
-  // of a seam meet along it within an edge, and their triangles there touch by construction.
+  // weld (a, b) joins every vertex of {a} and a's one-ring to every vertex of {b} and b's
+  // one-ring: the two panels of a seam meet along it, and their triangles there touch by
+  // construction (a stitch is a spring: its gap is the stitch force's business, not a collision).
   std::vector<std::vector<int>> ring(static_cast<std::size_t>(n));
   for (Eigen::Index k = 0; k < e.count(); ++k) {
     ring[static_cast<std::size_t>(e.vertices(k, 0))].push_back(e.vertices(k, 1));
     ring[static_cast<std::size_t>(e.vertices(k, 1))].push_back(e.vertices(k, 0));
   }
   std::vector<std::vector<int>> partners(static_cast<std::size_t>(n));
+  auto join = [&](int p, int q) {  // symmetric: joined() looks at one side only
+    partners[static_cast<std::size_t>(p)].push_back(v0 + q);
+    partners[static_cast<std::size_t>(q)].push_back(v0 + p);
+  };
   for (const auto& [a, b] : welds) {
-    auto join = [&](int p, int q) {  // symmetric: joined() looks at one side only
-      partners[static_cast<std::size_t>(p)].push_back(v0 + q);
-      partners[static_cast<std::size_t>(q)].push_back(v0 + p);
-    };
-    join(a, b);
-    for (int r : ring[static_cast<std::size_t>(b)]) join(a, r);
-    for (int r : ring[static_cast<std::size_t>(a)]) join(b, r);
+    std::vector<int> side_a = ring[static_cast<std::size_t>(a)], side_b = ring[static_cast<std::size_t>(b)];
+    side_a.push_back(a);
+    side_b.push_back(b);
+    for (int p : side_a)
+      for (int q : side_b) join(p, q);
   }
   for (const auto& [a, b] : joins) {
     partners[static_cast<std::size_t>(a)].push_back(v0 + b);

@@ -132,8 +132,9 @@ void SelfCollisionPass::resolve(double dt, FrameReport::Collisions& r, Points& v
     r.ccd_hits += p.impulses;
     clear = p.colliding == 0;
   }
+  // With nothing colliding, the zones run only if keeping clear of the colliders moved something.
   ImpactZoneReport zones;
-  if (!clear || constrain)
+  if (!clear || (constrain && constrain({}, v)))
     zones = resolve_impact_zones(mesh_, broad_phase_, margin, dt, ccd, settings_.max_zone_iterations, v, constrain);
   r.impact_zones += zones.zones;
   r.largest_zone = std::max(r.largest_zone, zones.largest);
@@ -180,38 +181,40 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
       std::vector<int> zone_of(static_cast<std::size_t>(mesh_.num_vertices()), -1);
       for (std::size_t z = 0; z < zones.size(); ++z)
         for (int i : zones[z]) zone_of[static_cast<std::size_t>(i)] = static_cast<int>(z);
+      bool any = false;
       // A few sweeps: a zone translated out of a curved body may leave another of its vertices in.
       for (int sweep = 0; sweep < 4; ++sweep) {
-      bool moved = false;
-      std::vector<Vec3> zone_shift(zones.size(), Vec3::Zero());
-      for (Eigen::Index i = 0; i < mesh_.num_vertices(); ++i) {
-        if (!mesh_.movable(static_cast<int>(i)) || vel.row(i) == v_in.row(i)) continue;
-        for (const ImplicitSurface* b : bodies) {
-          const Vec3 x1 = mesh_.x0.row(i).transpose() + dt * vel.row(i).transpose();
-          const double phi = b->phi(x1, t1);
-          if (!(phi < 0)) continue;
-          const Vec3 n = b->normal(x1, t1);
-          moved = true;
-          projected_at[static_cast<std::size_t>(i)] = static_cast<int>(projected.size());
-          projected.push_back({static_cast<int>(i), n, b->velocity(x1, t1)});
-          ++r.collider_projections;
-          const int z = zone_of[static_cast<std::size_t>(i)];
-          if (z < 0) {
-            vel.row(i) -= (phi / dt) * n.transpose();
-          } else {  // the deepest push of the zone along each direction, applied to all of it
-            const Vec3 push = -phi * n;
-            Vec3& s = zone_shift[static_cast<std::size_t>(z)];
-            for (int c = 0; c < 3; ++c)
-              s(c) = std::abs(push(c)) > std::abs(s(c)) ? push(c) : s(c);
+        bool moved = false;
+        std::vector<Vec3> zone_shift(zones.size(), Vec3::Zero());
+        for (Eigen::Index i = 0; i < mesh_.num_vertices(); ++i) {
+          if (!mesh_.movable(static_cast<int>(i)) || vel.row(i) == v_in.row(i)) continue;
+          for (const ImplicitSurface* b : bodies) {
+            const Vec3 x1 = mesh_.x0.row(i).transpose() + dt * vel.row(i).transpose();
+            const double phi = b->phi(x1, t1);
+            if (!(phi < 0)) continue;
+            const Vec3 n = b->normal(x1, t1);
+            moved = true;
+            projected_at[static_cast<std::size_t>(i)] = static_cast<int>(projected.size());
+            projected.push_back({static_cast<int>(i), n, b->velocity(x1, t1)});
+            ++r.collider_projections;
+            const int z = zone_of[static_cast<std::size_t>(i)];
+            if (z < 0) {
+              vel.row(i) -= (phi / dt) * n.transpose();
+            } else {  // the deepest push of the zone along each direction, applied to all of it
+              const Vec3 push = -phi * n;
+              Vec3& shift = zone_shift[static_cast<std::size_t>(z)];
+              for (int c = 0; c < 3; ++c) shift(c) = std::abs(push(c)) > std::abs(shift(c)) ? push(c) : shift(c);
+            }
           }
         }
+        for (std::size_t z = 0; z < zones.size(); ++z)
+          if (!zone_shift[z].isZero())
+            for (int i : zones[z])
+              if (mesh_.movable(i)) vel.row(i) += (zone_shift[z] / dt).transpose();
+        any = any || moved;
+        if (!moved) break;
       }
-      for (std::size_t z = 0; z < zones.size(); ++z)
-        if (!zone_shift[z].isZero())
-          for (int i : zones[z])
-            if (mesh_.movable(i)) vel.row(i) += (zone_shift[z] / dt).transpose();
-      if (!moved) break;
-      }
+      return any;
     };
   resolve(dt, r, v, tangles == 0, keep_out);
 

@@ -97,26 +97,29 @@ int colliding_pairs(const CollisionMesh& m, const Points& v, double dt, double d
 
 TEST(CollisionMesh, WeldsMakePrimitivesAdjacentWithoutChainingTheSeam) {
   CollisionMesh m;
-  Points x = Points::Random(6, 3);
-  Tris t(2, 3);
-  t << 0, 1, 2, 3, 4, 5;
-  append_surface(m, "a", t, x, Points::Zero(6, 3), Eigen::VectorXd::Ones(6), false, {{0, 3}, {3, 4}});
+  Points x = Points::Random(9, 3);
+  Tris t(3, 3);
+  t << 0, 1, 2, 3, 4, 5, 6, 7, 8;
+  append_surface(m, "a", t, x, Points::Zero(9, 3), Eigen::VectorXd::Ones(9), false, {{0, 3}, {5, 6}});
   EXPECT_TRUE(joined(m, 0, 3));
-  EXPECT_TRUE(joined(m, 4, 3));
-  EXPECT_TRUE(joined(m, 0, 5));   // 5 is in the one-ring of 3, welded to 0
-  EXPECT_TRUE(joined(m, 1, 3));   // and 1 in the one-ring of 0
-  EXPECT_FALSE(joined(m, 1, 5));  // not transitive: 1 and 5 are not joined
-  const int a[] = {1, 2, 0}, b[] = {5}, c[] = {1}, d[] = {2};
+  EXPECT_TRUE(joined(m, 1, 5));   // the one-rings of a weld's two ends, side to side
+  EXPECT_TRUE(joined(m, 4, 8));
+  EXPECT_FALSE(joined(m, 0, 6));  // not transitive: 0 -> 3 and 3 -> 6 do not join 0 and 6
+  EXPECT_FALSE(joined(m, 1, 7));
+  const int a[] = {1, 2, 0}, b[] = {7}, c[] = {1};
   EXPECT_TRUE(adjacent(m, a, 3, &t(1, 0), 3));
   EXPECT_FALSE(adjacent(m, c, 1, b, 1));
-  EXPECT_FALSE(adjacent(m, d, 1, b, 1));
+  t.resize(2, 3);
+  t << 0, 1, 2, 3, 4, 5;
+  x.conservativeResize(6, 3);
   EXPECT_THROW(append_surface(m, "b", t, x, Points::Zero(6, 3), Eigen::VectorXd::Ones(6), false, {{0, 6}}),
                std::invalid_argument);
   // A second surface's vertices and triangles are offset; kinematic ones have infinite mass.
   append_surface(m, "k", t, x, Points::Zero(6, 3), Eigen::VectorXd(), true);
-  EXPECT_EQ(m.tris(2, 0), 6);
-  EXPECT_FALSE(m.movable(7));
-  EXPECT_EQ(m.surfaces[1].first_vertex, 6);
+  EXPECT_EQ(m.tris(3, 0), 9);
+  EXPECT_TRUE(m.movable(7));
+  EXPECT_FALSE(m.movable(10));
+  EXPECT_EQ(m.surfaces[1].first_vertex, 9);
 }
 
 TEST(BroadPhase, FindsExactlyTheOverlappingSweptBoxesOfNonAdjacentPairs) {

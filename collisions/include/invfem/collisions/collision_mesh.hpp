@@ -9,7 +9,7 @@
 //   tris        #F x 3   global vertex indices, counter-clockwise from outside
 //   edges       #E x 2   global vertex indices (surface_edges of each surface, offset)
 //   weld_offsets, weld_partners   per vertex i, the vertices a seam joins it to (stitches:
-//                        the welded vertex and its one-ring, append_surface):
+//                        each side's one-ring to the other's, append_surface):
 //                        weld_partners[weld_offsets[i] .. weld_offsets[i+1]), ascending. Two
 //                        primitives are adjacent (never a candidate) when they share a vertex or
 //                        hold two joined vertices. Not transitive: the vertices along a seam are
@@ -58,7 +58,7 @@ struct CollisionMesh {
 
 // Appends a surface. x0, v: its #V x 3 start positions and average velocities; inv_mass its #V
 // inverse masses (ignored and set to 0 when kinematic); welds: pairs of its vertex indices that a
-// seam joins (each also joined to the other's one-ring); joins: pairs joined as they are (a
+// seam joins (with their one-rings, side to side); joins: pairs joined as they are (a
 // solid's boundary vertices that share a tet: a tet inverts and recovers by moving a node
 // through its own opposite face, which the element, not the collision layer, governs). Throws
 // std::invalid_argument naming the surface for mismatched sizes or indices.

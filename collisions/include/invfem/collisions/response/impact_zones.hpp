@@ -31,10 +31,10 @@ struct ImpactZoneReport {
 
 // constrain (optional) runs at the start of every round, before detection, with the zones so far
 // (vertex lists, ascending): it may change v to keep vertices out of what the layer does not see
-// (the pass moves a zone out of an analytic collider as one rigid translation). The loop ends
-// only on a round that detects nothing after it, so the result is free of collisions and
-// constrained at once, or reported unresolved.
-using ZoneConstraint = std::function<void(const std::vector<std::vector<int>>& zones, Points& v)>;
+// (the pass moves a zone out of an analytic collider as one rigid translation), and returns
+// whether it changed anything. The loop ends only on a round that detects nothing after it, so
+// the result is free of collisions and constrained at once, or reported unresolved.
+using ZoneConstraint = std::function<bool(const std::vector<std::vector<int>>& zones, Points& v)>;
 
 ImpactZoneReport resolve_impact_zones(const CollisionMesh& mesh, BroadPhase& broad_phase, double margin, double dt,
                                       const CcdSettings& settings, int max_iterations, Points& v,

@@ -148,12 +148,16 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   if (mesh_.tris.rows() == 0) return;
   FrameReport::Collisions& r = report.collisions;
 
-  // Tangles at the step's start are exempt (candidates/tangles.hpp).
+  // Tangles at the step's start are exempt (candidates/tangles.hpp); only solids' boundaries
+  // are searched, so a scene of cloths pays nothing for it.
   mesh_.exempt.clear();
   broad_phase_.find(mesh_, dt, settings_.thickness, candidates_);
-  broad_phase_.edge_triangle_pairs(mesh_, edge_triangles_);
-  const int tangles = mark_tangles(mesh_, edge_triangles_);
-  r.tangled_pairs += tangles;
+  int tangles = 0;
+  if (std::any_of(mesh_.surfaces.begin(), mesh_.surfaces.end(), [](const auto& s) { return s.untangle; })) {
+    broad_phase_.edge_triangle_pairs(mesh_, edge_triangles_);
+    tangles = mark_tangles(mesh_, edge_triangles_);
+    r.tangled_pairs += tangles;
+  }
 
   const Points v_in = mesh_.v;
   Points v = mesh_.v;
@@ -189,7 +193,7 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
         for (Eigen::Index i = 0; i < mesh_.num_vertices(); ++i) {
           if (!mesh_.movable(static_cast<int>(i)) || vel.row(i) == v_in.row(i)) continue;
           for (const ImplicitSurface* b : bodies) {
-            const Vec3 x1 = mesh_.x0.row(i).transpose() + dt * vel.row(i).transpose();
+            const Vec3 x1 = mesh_.position(static_cast<int>(i), vel, 1.0, dt);
             const double phi = b->phi(x1, t1);
             if (!(phi < 0)) continue;
             const Vec3 n = b->normal(x1, t1);

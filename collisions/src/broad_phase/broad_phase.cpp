@@ -35,9 +35,8 @@ struct Box {
 Box swept_box(const CollisionMesh& m, const Points& v, const int* ids, int n, double dt, double r) {
   Box b;
   for (int k = 0; k < n; ++k) {
-    const Vec3 p0 = m.x0.row(ids[k]).transpose();
-    b.add(p0);
-    b.add(p0 + dt * v.row(ids[k]).transpose());
+    b.add(m.start(ids[k]));
+    b.add(m.position(ids[k], v, 1.0, dt));
   }
   b.lo.array() -= r;
   b.hi.array() += r;

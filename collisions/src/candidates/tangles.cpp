@@ -24,7 +24,7 @@ int mark_tangles(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs
   parallel_for_each(pairs.size(), 1024, [&](std::size_t k) {
     const auto [e, f] = pairs[k];
     if (!untangles(m.edges(e, 0)) || !untangles(m.tris(f, 0))) return;
-    auto x = [&](int i) -> Vec3 { return m.x0.row(i).transpose(); };
+    auto x = [&](int i) { return m.start(i); };
     crosses[k] = segment_crosses_triangle(x(m.edges(e, 0)), x(m.edges(e, 1)), x(m.tris(f, 0)), x(m.tris(f, 1)),
                                           x(m.tris(f, 2)))
                      ? 1

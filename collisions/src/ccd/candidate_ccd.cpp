@@ -8,10 +8,8 @@
 namespace invfem::collisions {
 
 namespace {
-Vec3 at0(const CollisionMesh& m, int i) { return m.x0.row(i).transpose(); }
-Vec3 at1(const CollisionMesh& m, const Points& v, int i, double dt) {
-  return m.x0.row(i).transpose() + dt * v.row(i).transpose();
-}
+Vec3 at0(const CollisionMesh& m, int i) { return m.start(i); }
+Vec3 at1(const CollisionMesh& m, const Points& v, int i, double dt) { return m.position(i, v, 1.0, dt); }
 }  // namespace
 
 std::array<int, 4> candidate_vertices(const CollisionMesh& m, const VertexFaceCandidate& c) {

@@ -12,12 +12,12 @@ namespace {
 
 // The pair's stencil at normalized time s of the step (positions x0 + s dt v).
 PairStencil stencil_at(const CollisionMesh& m, const VertexFaceCandidate& c, const Points& v, double dt, double s) {
-  auto x = [&](int i) -> Vec3 { return m.x0.row(i).transpose() + (s * dt) * v.row(i).transpose(); };
+  auto x = [&](int i) { return m.position(i, v, s, dt); };
   const auto p = point_triangle_proximity(x(c.vertex), x(m.tris(c.face, 0)), x(m.tris(c.face, 1)), x(m.tris(c.face, 2)));
   return vertex_face_stencil(m, c.vertex, c.face, p.weights, p.normal);
 }
 PairStencil stencil_at(const CollisionMesh& m, const EdgeEdgeCandidate& c, const Points& v, double dt, double s) {
-  auto x = [&](int i) -> Vec3 { return m.x0.row(i).transpose() + (s * dt) * v.row(i).transpose(); };
+  auto x = [&](int i) { return m.position(i, v, s, dt); };
   const auto p = edge_edge_proximity(x(m.edges(c.edge_a, 0)), x(m.edges(c.edge_a, 1)), x(m.edges(c.edge_b, 0)),
                                      x(m.edges(c.edge_b, 1)));
   return edge_edge_stencil(m, c.edge_a, c.edge_b, p.s, p.t, p.normal);

@@ -17,18 +17,16 @@ struct Proximity {
   double overlap = 0;  // h - distance > 0
 };
 
-Vec3 x0_of(const CollisionMesh& m, int i) { return m.x0.row(i).transpose(); }
-
 std::optional<Proximity> vertex_face_proximity(const CollisionMesh& m, const VertexFaceCandidate& c, double h) {
-  const auto p = point_triangle_proximity(x0_of(m, c.vertex), x0_of(m, m.tris(c.face, 0)), x0_of(m, m.tris(c.face, 1)),
-                                          x0_of(m, m.tris(c.face, 2)));
+  const auto p = point_triangle_proximity(m.start(c.vertex), m.start(m.tris(c.face, 0)), m.start(m.tris(c.face, 1)),
+                                          m.start(m.tris(c.face, 2)));
   if (!(p.distance < h)) return std::nullopt;
   return Proximity{vertex_face_stencil(m, c.vertex, c.face, p.weights, p.normal), h - p.distance};
 }
 
 std::optional<Proximity> edge_edge_proximity_of(const CollisionMesh& m, const EdgeEdgeCandidate& c, double h) {
-  const auto p = edge_edge_proximity(x0_of(m, m.edges(c.edge_a, 0)), x0_of(m, m.edges(c.edge_a, 1)),
-                                     x0_of(m, m.edges(c.edge_b, 0)), x0_of(m, m.edges(c.edge_b, 1)));
+  const auto p = edge_edge_proximity(m.start(m.edges(c.edge_a, 0)), m.start(m.edges(c.edge_a, 1)),
+                                     m.start(m.edges(c.edge_b, 0)), m.start(m.edges(c.edge_b, 1)));
   if (!(p.distance < h)) return std::nullopt;
   return Proximity{edge_edge_stencil(m, c.edge_a, c.edge_b, p.s, p.t, p.normal), h - p.distance};
 }

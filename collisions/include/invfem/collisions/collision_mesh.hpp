@@ -50,8 +50,12 @@ struct CollisionMesh {
   std::vector<char> exempt;
 
   Eigen::Index num_vertices() const { return x0.rows(); }
-  // Position at normalized time s in [0, 1] of the step: x0 + s dt v.
-  Vec3 position(int i, double s, double dt) const { return x0.row(i).transpose() + (s * dt) * v.row(i).transpose(); }
+  Vec3 start(int i) const { return x0.row(i).transpose(); }
+  // Vertex i at normalized time s in [0, 1] of the step under velocities vel (#V x 3: the mesh's
+  // own v, or the layer's changed ones): x0 + s dt vel. The one place trajectories are formed.
+  Vec3 position(int i, const Points& vel, double s, double dt) const {
+    return x0.row(i).transpose() + (s * dt) * vel.row(i).transpose();
+  }
   bool movable(int i) const { return inv_mass(i) > 0; }
   bool is_exempt(int i) const { return !exempt.empty() && exempt[static_cast<std::size_t>(i)]; }
 };

@@ -8,19 +8,24 @@ namespace invfem::collisions {
 
 void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tris, const Points& x0, const Points& v,
                     const Eigen::VectorXd& inv_mass, bool kinematic,
-                    const std::vector<std::pair<int, int>>& welds,
-                    const std::vector<std::pair<int, int>>& joins) {
+                    const std::vector<Weld>& welds, const std::vector<std::pair<int, int>>& joins) {
   const Eigen::Index n = x0.rows();
   if (v.rows() != n || (!kinematic && inv_mass.size() != n))
     throw std::invalid_argument("collisions: surface \"" + name + "\": " + std::to_string(n) + " positions, " +
                                 std::to_string(v.rows()) + " velocities, " + std::to_string(inv_mass.size()) +
                                 " masses");
   const SurfaceEdges e = surface_edges(tris, n);  // throws for an index outside [0, n)
-  for (const auto* list : {&welds, &joins})  // checked before anything is appended: a throw leaves mesh as it was
-    for (const auto& [a, b] : *list)
-      if (a < 0 || b < 0 || a >= n || b >= n)
-        throw std::invalid_argument("collisions: surface \"" + name + "\": weld (" + std::to_string(a) + ", " +
-                                    std::to_string(b) + ") outside [0, " + std::to_string(n) + ")");
+  // Checked before anything is appended: a throw leaves mesh as it was.
+  auto outside = [n](int a) { return a < 0 || a >= n; };
+  for (const Weld& w : welds)
+    if (outside(w.i) || outside(w.j) || (w.k >= 0 && outside(w.k)))
+      throw std::invalid_argument("collisions: surface \"" + name + "\": weld (" + std::to_string(w.i) + ", " +
+                                  std::to_string(w.j) + ", " + std::to_string(w.k) + ") outside [0, " +
+                                  std::to_string(n) + ")");
+  for (const auto& [a, b] : joins)
+    if (outside(a) || outside(b))
+      throw std::invalid_argument("collisions: surface \"" + name + "\": joined pair (" + std::to_string(a) + ", " +
+                                  std::to_string(b) + ") outside [0, " + std::to_string(n) + ")");
   CollisionMesh::Range r;
   r.name = name;
   r.first_vertex = static_cast<int>(mesh.x0.rows());
@@ -46,26 +51,36 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
   mesh.edges.conservativeResize(r.first_edge + e.count(), 2);
   mesh.edges.bottomRows(e.count()) = e.vertices.array() + v0;
 
-  // Welds: per vertex its partners, ascending (CSR, appended after the earlier surfaces'). A
-  // weld (a, b) joins every vertex of {a} and a's one-ring to every vertex of {b} and b's
-  // one-ring: the two panels of a seam meet along it, and their triangles there touch by
-  // construction (a stitch is a spring: its gap is the stitch force's business, not a collision).
-  std::vector<std::vector<int>> ring(static_cast<std::size_t>(n));
-  for (Eigen::Index k = 0; k < e.count(); ++k) {
-    ring[static_cast<std::size_t>(e.vertices(k, 0))].push_back(e.vertices(k, 1));
-    ring[static_cast<std::size_t>(e.vertices(k, 1))].push_back(e.vertices(k, 0));
-  }
-  std::vector<std::vector<int>> partners(static_cast<std::size_t>(n));
-  auto join = [&](int p, int q) {  // symmetric: joined() looks at one side only
-    partners[static_cast<std::size_t>(p)].push_back(v0 + q);
-    partners[static_cast<std::size_t>(q)].push_back(v0 + p);
+  // Welds (world.hpp Weld), the rule `invfem check` applies too: vertices held at one another
+  // are one seam point (union-find); a vertex held on an edge touches both ends' points. Each
+  // vertex is joined to the other vertices of its point and to those of every point it touches:
+  // per vertex its partners, ascending (CSR, appended after the earlier surfaces').
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  for (int i = 0; i < static_cast<int>(n); ++i) parent[static_cast<std::size_t>(i)] = i;
+  auto find = [&](int a) {
+    while (parent[static_cast<std::size_t>(a)] != a)
+      a = parent[static_cast<std::size_t>(a)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(a)])];
+    return a;
   };
-  for (const auto& [a, b] : welds) {
-    std::vector<int> side_a = ring[static_cast<std::size_t>(a)], side_b = ring[static_cast<std::size_t>(b)];
-    side_a.push_back(a);
-    side_b.push_back(b);
-    for (int p : side_a)
-      for (int q : side_b) join(p, q);
+  for (const Weld& w : welds)
+    if (w.k < 0) parent[static_cast<std::size_t>(find(w.i))] = find(w.j);
+  std::vector<std::vector<int>> members(static_cast<std::size_t>(n)), touching(static_cast<std::size_t>(n));
+  for (int i = 0; i < static_cast<int>(n); ++i) members[static_cast<std::size_t>(find(i))].push_back(i);
+  for (const Weld& w : welds)
+    if (w.k >= 0)
+      for (int end : {w.j, w.k}) {
+        const int a = find(w.i), b = find(end);
+        touching[static_cast<std::size_t>(a)].push_back(b);
+        touching[static_cast<std::size_t>(b)].push_back(a);
+      }
+  std::vector<std::vector<int>> partners(static_cast<std::size_t>(n));
+  for (int i = 0; i < static_cast<int>(n); ++i) {
+    const int point = find(i);
+    auto& p = partners[static_cast<std::size_t>(i)];
+    for (int m : members[static_cast<std::size_t>(point)])
+      if (m != i) p.push_back(v0 + m);
+    for (int other : touching[static_cast<std::size_t>(point)])
+      for (int m : members[static_cast<std::size_t>(other)]) p.push_back(v0 + m);
   }
   for (const auto& [a, b] : joins) {
     partners[static_cast<std::size_t>(a)].push_back(v0 + b);

@@ -47,8 +47,9 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   std::vector<Stitch> stitches = garment.stitches;
   stitches.insert(stitches.end(), p.extra_stitches.begin(), p.extra_stitches.end());
   std::unique_ptr<StitchForce> stitch;
-  std::vector<std::pair<int, int>> welds;  // node pairs; surface vertices once the surface exists
-  for (const Stitch& st : stitches) welds.insert(welds.end(), {{st.i, st.j}, {st.i, st.k}});
+  std::vector<Weld> welds;  // in nodes; in surface vertices once the surface exists
+  for (const Stitch& st : stitches)  // a stitch at an edge's end holds i at that end (the checker's rule)
+    welds.push_back(st.r == 0 ? Weld{st.i, st.j, -1} : st.r == 1 ? Weld{st.i, st.k, -1} : Weld{st.i, st.j, st.k});
   if (!stitches.empty()) {
     std::vector<double> lengths = seam_lengths(stitches, membrane->rest());
     stitch = std::make_unique<StitchForce>(std::move(stitches), std::move(lengths), x0.rows(), p.stitch, what);
@@ -63,9 +64,10 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   o.surface.source = surface.source;
   std::vector<int> vertex_of(static_cast<std::size_t>(o.body.x.rows()), -1);
   for (std::size_t s = 0; s < o.surface_nodes.size(); ++s) vertex_of[static_cast<std::size_t>(o.surface_nodes[s])] = static_cast<int>(s);
-  for (const auto& [a, b] : welds) {
-    const int sa = vertex_of[static_cast<std::size_t>(a)], sb = vertex_of[static_cast<std::size_t>(b)];
-    if (sa >= 0 && sb >= 0) o.welds.emplace_back(sa, sb);  // a stitch on a vertex no triangle uses joins nothing
+  auto surface_vertex = [&](int node) { return node < 0 ? -1 : vertex_of[static_cast<std::size_t>(node)]; };
+  for (const Weld& w : welds) {  // a stitch on a vertex no triangle uses joins nothing
+    const Weld s{surface_vertex(w.i), surface_vertex(w.j), surface_vertex(w.k)};
+    if (s.i >= 0 && s.j >= 0 && (w.k < 0 || s.k >= 0)) o.welds.push_back(s);
   }
   return o;
 }

@@ -95,24 +95,30 @@ int colliding_pairs(const CollisionMesh& m, const Points& v, double dt, double d
 
 }  // namespace
 
-TEST(CollisionMesh, WeldsMakePrimitivesAdjacentWithoutChainingTheSeam) {
+TEST(CollisionMesh, WeldsJoinTheirSeamPointsOnlyAsTheCheckerDoes) {
   CollisionMesh m;
   Points x = Points::Random(9, 3);
   Tris t(3, 3);
   t << 0, 1, 2, 3, 4, 5, 6, 7, 8;
-  append_surface(m, "a", t, x, Points::Zero(9, 3), Eigen::VectorXd::Ones(9), false, {{0, 3}, {5, 6}});
+  // 0, 3 and 8 held at one point (two stitches at edge ends: a corner of three panels); 6 held
+  // on the edge (4, 5).
+  append_surface(m, "a", t, x, Points::Zero(9, 3), Eigen::VectorXd::Ones(9), false,
+                 {{0, 3, -1}, {3, 8, -1}, {6, 4, 5}});
   EXPECT_TRUE(joined(m, 0, 3));
-  EXPECT_TRUE(joined(m, 1, 5));   // the one-rings of a weld's two ends, side to side
-  EXPECT_TRUE(joined(m, 4, 8));
-  EXPECT_FALSE(joined(m, 0, 6));  // not transitive: 0 -> 3 and 3 -> 6 do not join 0 and 6
-  EXPECT_FALSE(joined(m, 1, 7));
-  const int a[] = {1, 2, 0}, b[] = {7}, c[] = {1};
+  EXPECT_TRUE(joined(m, 8, 0));   // one point, transitively
+  EXPECT_TRUE(joined(m, 6, 4));   // a vertex on an edge touches both ends
+  EXPECT_TRUE(joined(m, 5, 6));
+  EXPECT_FALSE(joined(m, 4, 5));  // touching is not transitive: the seam is not chained
+  EXPECT_FALSE(joined(m, 6, 0));
+  EXPECT_FALSE(joined(m, 1, 3));  // one-rings are not exempt: only what the stitch makes touch
+  const int a[] = {1, 2, 0}, b[] = {7}, c[] = {1}, d[] = {4, 5};
   EXPECT_TRUE(adjacent(m, a, 3, &t(1, 0), 3));
   EXPECT_FALSE(adjacent(m, c, 1, b, 1));
+  EXPECT_FALSE(adjacent(m, a, 2, d, 2));
   t.resize(2, 3);
   t << 0, 1, 2, 3, 4, 5;
   x.conservativeResize(6, 3);
-  EXPECT_THROW(append_surface(m, "b", t, x, Points::Zero(6, 3), Eigen::VectorXd::Ones(6), false, {{0, 6}}),
+  EXPECT_THROW(append_surface(m, "b", t, x, Points::Zero(6, 3), Eigen::VectorXd::Ones(6), false, {{0, 6, -1}}),
                std::invalid_argument);
   // A second surface's vertices and triangles are offset; kinematic ones have infinite mass.
   append_surface(m, "k", t, x, Points::Zero(6, 3), Eigen::VectorXd(), true);

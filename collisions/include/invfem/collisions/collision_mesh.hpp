@@ -8,22 +8,25 @@
 //                        pinned nodes): they take part with infinite mass
 //   tris        #F x 3   global vertex indices, counter-clockwise from outside
 //   edges       #E x 2   global vertex indices (surface_edges of each surface, offset)
-//   weld_offsets, weld_partners   per vertex i, the vertices a seam joins it to (stitches:
-//                        each side's one-ring to the other's, append_surface):
+//   weld_offsets, weld_partners   per vertex i, the vertices a seam joins it to (world.hpp
+//                        Weld: the other vertices of its seam point and of the points it
+//                        touches; a solid's tet neighbours, append_surface):
 //                        weld_partners[weld_offsets[i] .. weld_offsets[i+1]), ascending. Two
 //                        primitives are adjacent (never a candidate) when they share a vertex or
-//                        hold two joined vertices. Not transitive: the vertices along a seam are
+//                        hold two joined vertices. Not chained: the vertices along a seam are
 //                        not all joined to one another
 //   surface_of  #V       which surface (index into `surfaces`) a vertex belongs to
 //   exempt      #V or empty   1: the vertex was part of an intersection at the step's start
 //                        on an `untangle` surface (an edge through a face of a solid's boundary
 //                        tangled by inverted elements); pairs holding it are no candidates this
 //                        step, so the tangle may come apart instead of being held crossed
+#include <algorithm>
 #include <string>
 #include <vector>
 
 #include "invfem/core/surface.hpp"
 #include "invfem/core/types.hpp"
+#include "invfem/core/world.hpp"
 
 namespace invfem::collisions {
 
@@ -61,22 +64,21 @@ struct CollisionMesh {
 };
 
 // Appends a surface. x0, v: its #V x 3 start positions and average velocities; inv_mass its #V
-// inverse masses (ignored and set to 0 when kinematic); welds: pairs of its vertex indices that a
-// seam joins (with their one-rings, side to side); joins: pairs joined as they are (a
+// inverse masses (ignored and set to 0 when kinematic); welds: its seam points (world.hpp Weld,
+// the rule `invfem check` applies: the primitives a stitch makes touch, and no others); joins: pairs joined as they are (a
 // solid's boundary vertices that share a tet: a tet inverts and recovers by moving a node
 // through its own opposite face, which the element, not the collision layer, governs). Throws
 // std::invalid_argument naming the surface for mismatched sizes or indices.
 void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tris, const Points& x0, const Points& v,
                     const Eigen::VectorXd& inv_mass, bool kinematic,
-                    const std::vector<std::pair<int, int>>& welds = {},
-                    const std::vector<std::pair<int, int>>& joins = {});
+                    const std::vector<Weld>& welds = {}, const std::vector<std::pair<int, int>>& joins = {});
 
 // True when vertices a and b are one vertex or welded.
 inline bool joined(const CollisionMesh& m, int a, int b) {
   if (a == b) return true;
-  for (int k = m.weld_offsets[static_cast<std::size_t>(a)]; k < m.weld_offsets[static_cast<std::size_t>(a) + 1]; ++k)
-    if (m.weld_partners[static_cast<std::size_t>(k)] == b) return true;
-  return false;
+  const auto first = m.weld_partners.begin() + m.weld_offsets[static_cast<std::size_t>(a)];
+  const auto last = m.weld_partners.begin() + m.weld_offsets[static_cast<std::size_t>(a) + 1];
+  return first != last && std::binary_search(first, last, b);  // a seam corner joins ~100 vertices
 }
 
 // True when the two primitives (vertex lists) are adjacent: some vertex of one is joined to

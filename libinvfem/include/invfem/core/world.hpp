@@ -41,6 +41,15 @@ struct PinGroup {
 
 enum class ObjectKind { Solid, Cloth };
 
+// A seam point (a garment's stitch) as the self-collision layer and `invfem check` see it:
+// surface vertex i held at vertex j (k < 0: a stitch at an edge's end), or on the edge (j, k).
+// Vertices held at one another are one point (transitively: three panels meeting at a corner);
+// a vertex on an edge touches both its ends. Primitives holding such vertices touch by
+// construction and are never collision candidates; nothing further from the seam is exempt.
+struct Weld {
+  int i = -1, j = -1, k = -1;
+};
+
 // One simulated object: its nodes (Body), the forces acting on them, its pins, and its surface.
 struct SimObject {
   std::string name;
@@ -53,10 +62,8 @@ struct SimObject {
   // end of every advance_to (refresh_surface).
   TriangleSurface surface;
   std::vector<int> surface_nodes;
-  // Pairs of surface vertices a seam joins (a garment's stitches: vertex i with both ends of the
-  // edge it is sewn onto). The self-collision layer and `invfem check` treat primitives holding
-  // two welded vertices as adjacent: the seam makes them touch.
-  std::vector<std::pair<int, int>> welds;
+  // The seam points of a garment's stitches, in surface vertices (Weld).
+  std::vector<Weld> welds;
   Tets tets;  // solids: the tet mesh, for volumetric output; empty otherwise
 
   std::vector<Force*> force_pointers() const;

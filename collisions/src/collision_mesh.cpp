@@ -52,9 +52,17 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
   mesh.edges.bottomRows(e.count()) = e.vertices.array() + v0;
 
   // Welds (world.hpp Weld), the rule `invfem check` applies too: vertices held at one another
-  // are one seam point (union-find); a vertex held on an edge touches both ends' points. Each
-  // vertex is joined to the other vertices of its point and to those of every point it touches:
-  // per vertex its partners, ascending (CSR, appended after the earlier surfaces').
+  // are one seam point (union-find); a vertex held on an edge touches both ends' points. A seam
+  // vertex is joined to the other vertices of its point and of every point it touches, and to
+  // their one-rings: the stitch holds it at a point of the other panel's triangles around its
+  // target, not exactly at the target (a stitch at an edge's end lands between its triangles).
+  // One-rings are not joined to one-rings, so nothing off the seam is exempt. Per vertex its
+  // partners, ascending (CSR, appended after the earlier surfaces').
+  std::vector<std::vector<int>> ring(static_cast<std::size_t>(n));
+  for (Eigen::Index k = 0; k < e.count(); ++k) {
+    ring[static_cast<std::size_t>(e.vertices(k, 0))].push_back(e.vertices(k, 1));
+    ring[static_cast<std::size_t>(e.vertices(k, 1))].push_back(e.vertices(k, 0));
+  }
   std::vector<int> parent(static_cast<std::size_t>(n));
   for (int i = 0; i < static_cast<int>(n); ++i) parent[static_cast<std::size_t>(i)] = i;
   auto find = [&](int a) {
@@ -74,13 +82,20 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
         touching[static_cast<std::size_t>(b)].push_back(a);
       }
   std::vector<std::vector<int>> partners(static_cast<std::size_t>(n));
+  auto join = [&](int p, int q) {  // symmetric: joined() looks at one side only
+    partners[static_cast<std::size_t>(p)].push_back(v0 + q);
+    partners[static_cast<std::size_t>(q)].push_back(v0 + p);
+  };
   for (int i = 0; i < static_cast<int>(n); ++i) {
     const int point = find(i);
-    auto& p = partners[static_cast<std::size_t>(i)];
-    for (int m : members[static_cast<std::size_t>(point)])
-      if (m != i) p.push_back(v0 + m);
+    std::vector<int> seam = members[static_cast<std::size_t>(point)];
     for (int other : touching[static_cast<std::size_t>(point)])
-      for (int m : members[static_cast<std::size_t>(other)]) p.push_back(v0 + m);
+      seam.insert(seam.end(), members[static_cast<std::size_t>(other)].begin(), members[static_cast<std::size_t>(other)].end());
+    for (int m : seam) {
+      if (m == i) continue;
+      join(i, m);
+      for (int q : ring[static_cast<std::size_t>(m)]) join(i, q);
+    }
   }
   for (const auto& [a, b] : joins) {
     partners[static_cast<std::size_t>(a)].push_back(v0 + b);

@@ -108,10 +108,13 @@ TEST(CollisionMesh, WeldsJoinTheirSeamPointsOnlyAsTheCheckerDoes) {
   EXPECT_TRUE(joined(m, 8, 0));   // one point, transitively
   EXPECT_TRUE(joined(m, 6, 4));   // a vertex on an edge touches both ends
   EXPECT_TRUE(joined(m, 5, 6));
+  EXPECT_TRUE(joined(m, 3, 1));   // a seam vertex and the neighbours of its point's vertices
+  EXPECT_TRUE(joined(m, 6, 3));   // 3 neighbours 4, which 6 touches
+  EXPECT_TRUE(joined(m, 0, 6));   // 0's point holds 8, whose neighbour 6 is
   EXPECT_FALSE(joined(m, 4, 5));  // touching is not transitive: the seam is not chained
-  EXPECT_FALSE(joined(m, 6, 0));
-  EXPECT_FALSE(joined(m, 1, 3));  // one-rings are not exempt: only what the stitch makes touch
-  const int a[] = {1, 2, 0}, b[] = {7}, c[] = {1}, d[] = {4, 5};
+  EXPECT_FALSE(joined(m, 1, 4));  // neighbours never touch neighbours: nothing off the seam
+  EXPECT_FALSE(joined(m, 7, 2));
+  const int a[] = {1, 2, 0}, b[] = {7}, c[] = {1}, d[] = {4, 7};
   EXPECT_TRUE(adjacent(m, a, 3, &t(1, 0), 3));
   EXPECT_FALSE(adjacent(m, c, 1, b, 1));
   EXPECT_FALSE(adjacent(m, a, 2, d, 2));

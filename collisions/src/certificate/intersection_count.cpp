@@ -26,8 +26,8 @@ long long IntersectionCount::cross_total() const {
 namespace {
 
 // Which triangles of one surface are adjacent (see the header): a representative vertex per
-// vertex (union-find over same_point welds) and the sorted "touching" pairs of representatives
-// from on_edge welds.
+// vertex (union-find over same_point welds) and the sorted "touching" pairs of representatives:
+// a seam point with the points its on_edge welds reach and the neighbours of their vertices.
 class Adjacency {
  public:
   Adjacency(const TriangleSurface& s, const SurfaceWelds& w) : rep_(s.num_vertices()) {
@@ -45,10 +45,33 @@ class Adjacency {
       if (a != b) rep_[std::max(a, b)] = std::min(a, b);
     }
     for (int v = 0; v < n; ++v) rep_[v] = find(v);  // flatten: rep_[v] is the root
+    // Seam points: each root's vertices, and the roots an on_edge weld makes it touch.
+    std::vector<std::vector<int>> members(static_cast<std::size_t>(n)), touched(static_cast<std::size_t>(n));
+    for (int v = 0; v < n; ++v) members[rep_[v]].push_back(v);
     for (const auto& e : w.on_edge) {
       for (int v : e) check(v);
-      add_touch(rep_[e[0]], rep_[e[1]]);
-      add_touch(rep_[e[0]], rep_[e[2]]);
+      for (int end : {e[1], e[2]}) {
+        touched[rep_[e[0]]].push_back(rep_[end]);
+        touched[rep_[end]].push_back(rep_[e[0]]);
+      }
+    }
+    // Vertex neighbours, from the triangles.
+    std::vector<std::vector<int>> ring(static_cast<std::size_t>(n));
+    for (Eigen::Index t = 0; t < s.tris.rows(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const int a = s.tris(t, k), b = s.tris(t, (k + 1) % 3);
+        ring[a].push_back(b);
+        ring[b].push_back(a);
+      }
+    // A seam point touches the points it is welded to and their vertices' neighbours.
+    for (int r = 0; r < n; ++r) {
+      if (rep_[r] != r || (members[r].size() < 2 && touched[r].empty())) continue;
+      std::vector<int> seam = members[r];
+      for (int other : touched[r]) seam.insert(seam.end(), members[other].begin(), members[other].end());
+      for (int m : seam) {
+        add_touch(r, rep_[m]);
+        for (int q : ring[m]) add_touch(r, rep_[q]);
+      }
     }
     std::sort(touching_.begin(), touching_.end());
     touching_.erase(std::unique(touching_.begin(), touching_.end()), touching_.end());

@@ -10,10 +10,13 @@
 // triangle_intersection.hpp), except pairs of one surface that are adjacent:
 //   - two triangles sharing a vertex (an edge or a corner) are adjacent;
 //   - welds (a garment's seams) widen "sharing a vertex": vertices joined by `same_point` welds
-//     are one vertex (transitively: union-find), and a vertex held on an edge (j, k) by an
-//     `on_edge` weld touches j and k (not transitively: a seam's chain of such welds must not
-//     merge the whole seam into one vertex). Two triangles are adjacent when a corner of one is
-//     the same vertex as, or touches, a corner of the other.
+//     are one seam point (transitively: union-find), and a vertex held on an edge (j, k) by an
+//     `on_edge` weld makes its point reach the points of j and k (not transitively: a seam's
+//     chain of such welds must not merge the whole seam into one vertex). A seam point touches
+//     the points it reaches and every neighbour of their vertices: a stitch holds its vertex at a
+//     point of the other panel's triangles around its target, not exactly at the target. Two
+//     triangles are adjacent when a corner of one is the same vertex as, or touches, a corner of
+//     the other. Neighbours never touch neighbours: nothing off the seam is exempt.
 // Pairs of different surfaces are never adjacent. Vertices at identical positions without a weld
 // are distinct: their triangles touch, which counts.
 #include <array>

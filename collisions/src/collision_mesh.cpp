@@ -108,6 +108,7 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
     mesh.weld_offsets.push_back(static_cast<int>(mesh.weld_partners.size()));
     mesh.surface_of.push_back(static_cast<int>(mesh.surfaces.size()));
   }
+  for (const Weld& w : welds) mesh.welds.push_back({v0 + w.i, v0 + w.j, w.k < 0 ? -1 : v0 + w.k, w.r});
   mesh.surfaces.push_back(r);
 }
 

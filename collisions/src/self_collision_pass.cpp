@@ -8,6 +8,7 @@
 #include "invfem/collisions/response/ccd_impulses.hpp"
 #include "invfem/collisions/response/impact_zones.hpp"
 #include "invfem/collisions/response/repulsion.hpp"
+#include "invfem/collisions/response/seams.hpp"
 #include "invfem/collisions/rigid_body.hpp"
 
 namespace invfem::collisions {
@@ -106,13 +107,16 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
   }
 }
 
-void SelfCollisionPass::resolve(double dt, FrameReport::Collisions& r, Points& v, bool have_candidates,
+void SelfCollisionPass::resolve(double dt, FrameReport::Collisions& r, const Points& v_in, Points& v, bool have_candidates,
                                 const ZoneConstraint& constrain) {
   // Repulsion: pairs within the thickness at x0 (swept boxes grown by it hold them all).
   if (!have_candidates) broad_phase_.find(mesh_, v, dt, settings_.thickness, candidates_);
   r.candidates += static_cast<long long>(candidates_.size());
   const long long repulsions = apply_repulsion(mesh_, candidates_, dt, {settings_.thickness, settings_.friction}, v);
   r.proximity_impulses += repulsions;
+  // Seams move as one with what the impulses asked of either side (response/seams.hpp); the
+  // passes below re-detect on the result.
+  if (repulsions > 0) r.seam_impulses += hold_seams(mesh_, v_in, v);
   // The impulses need the time of contact only roughly (it sets where the normal is taken), and a
   // query that runs out of boxes is answered as a conservative hit (an extra impulse or zone
   // merge, never a miss): loose tolerances buy speed without costing safety.
@@ -131,6 +135,7 @@ void SelfCollisionPass::resolve(double dt, FrameReport::Collisions& r, Points& v
     const CcdPassReport p = apply_ccd_impulses(mesh_, candidates_, dt, ccd, settings_.friction, v);
     r.ccd_hits += p.impulses;
     clear = p.colliding == 0;
+    if (!clear) r.seam_impulses += hold_seams(mesh_, v_in, v);
   }
   // With nothing colliding, the zones run only if keeping clear of the colliders moved something.
   ImpactZoneReport zones;
@@ -220,7 +225,7 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
       }
       return any;
     };
-  resolve(dt, r, v, tangles == 0, keep_out);
+  resolve(dt, r, v_in, v, tangles == 0, keep_out);
 
   // Write back: x(n+1) = x0 + dt v on the surface nodes; v(n+1) gets the same change.
   for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {

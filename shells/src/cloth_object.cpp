@@ -49,7 +49,7 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   std::unique_ptr<StitchForce> stitch;
   std::vector<Weld> welds;  // in nodes; in surface vertices once the surface exists
   for (const Stitch& st : stitches)  // a stitch at an edge's end holds i at that end (the checker's rule)
-    welds.push_back(st.r == 0 ? Weld{st.i, st.j, -1} : st.r == 1 ? Weld{st.i, st.k, -1} : Weld{st.i, st.j, st.k});
+    welds.push_back(st.r == 0 ? Weld{st.i, st.j, -1} : st.r == 1 ? Weld{st.i, st.k, -1} : Weld{st.i, st.j, st.k, st.r});
   if (!stitches.empty()) {
     std::vector<double> lengths = seam_lengths(stitches, membrane->rest());
     stitch = std::make_unique<StitchForce>(std::move(stitches), std::move(lengths), x0.rows(), p.stitch, what);
@@ -66,7 +66,7 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   for (std::size_t s = 0; s < o.surface_nodes.size(); ++s) vertex_of[static_cast<std::size_t>(o.surface_nodes[s])] = static_cast<int>(s);
   auto surface_vertex = [&](int node) { return node < 0 ? -1 : vertex_of[static_cast<std::size_t>(node)]; };
   for (const Weld& w : welds) {  // a stitch on a vertex no triangle uses joins nothing
-    const Weld s{surface_vertex(w.i), surface_vertex(w.j), surface_vertex(w.k)};
+    const Weld s{surface_vertex(w.i), surface_vertex(w.j), surface_vertex(w.k), w.r};
     if (s.i >= 0 && s.j >= 0 && (w.k < 0 || s.k >= 0)) o.welds.push_back(s);
   }
   return o;

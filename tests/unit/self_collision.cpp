@@ -14,6 +14,7 @@
 #include "invfem/collisions/response/impact_zones.hpp"
 #include "invfem/collisions/response/pair_impulse.hpp"
 #include "invfem/collisions/response/repulsion.hpp"
+#include "invfem/collisions/response/seams.hpp"
 #include "invfem/collisions/self_collision_pass.hpp"
 
 using namespace invfem;
@@ -334,6 +335,45 @@ TEST(Repulsion, PushesCloseApproachingPairsApartAndLeavesFarOnesAlone) {
     p1 += v.row(i).transpose();
   }
   EXPECT_LT((p1 - p0).norm(), 1e-12);
+}
+
+TEST(Seams, HoldSeamsUndoesWhatOpensAStitchAndConservesMomentum) {
+  // Three triangles; 3 held on the edge (6, 7) at r = 0.25, 1 held at 8; vertex 8 is kinematic.
+  CollisionMesh m;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Points x(9, 3), v_in(9, 3);
+  for (int i = 0; i < 9; ++i) {
+    x.row(i) = Vec3(u(rng), u(rng), u(rng)).transpose();
+    v_in.row(i) = Vec3(u(rng), u(rng), u(rng)).transpose();
+  }
+  Tris t(3, 3);
+  t << 0, 1, 2, 3, 4, 5, 6, 7, 8;
+  Eigen::VectorXd inv_mass(9);
+  inv_mass << 1, 0.5, 2, 0.25, 1, 1, 4, 0.5, 0;
+  append_surface(m, "a", t, x, v_in, inv_mass, false, {{3, 6, 7, 0.25}, {1, 8, -1}});
+  ASSERT_EQ(m.welds.size(), 2u);
+  // The layer's impulses (any momentum-conserving changes) pushed 3 and 1 away from their seams.
+  Points v = v_in;
+  const Vec3 j1(0.3, -0.2, 0.5), j2(-0.4, 0.1, 0.2);
+  v.row(3) += (inv_mass(3) * j1).transpose();
+  v.row(4) -= (inv_mass(4) * j1).transpose();
+  v.row(1) += (inv_mass(1) * j2).transpose();
+  v.row(0) -= (inv_mass(0) * j2).transpose();
+  auto momentum = [&](const Points& vel) {  // of the vertices off the weld to the kinematic 8
+    Vec3 p = Vec3::Zero();
+    for (int i : {0, 2, 3, 4, 5, 6, 7}) p += (vel.row(i) / inv_mass(i)).transpose();
+    return p;
+  };
+  const Vec3 p0 = momentum(v);
+  EXPECT_EQ(hold_seams(m, v_in, v), 2);
+  const Points dv = v - v_in;
+  EXPECT_LT((dv.row(3) - 0.75 * dv.row(6) - 0.25 * dv.row(7)).norm(), 1e-12);
+  EXPECT_LT((dv.row(1) - dv.row(8)).norm(), 1e-12);
+  EXPECT_EQ(v.row(8), v_in.row(8));                // infinite mass: the seam follows it
+  EXPECT_LT((momentum(v) - p0).norm(), 1e-12);
+  EXPECT_EQ(v.row(2), v_in.row(2));                // off the seams nothing changes
+  EXPECT_EQ(hold_seams(m, v_in, v), 0);            // closed seams are left alone
 }
 
 TEST(ImpactZones, ResolveEveryCollisionOfAFastCrossing) {

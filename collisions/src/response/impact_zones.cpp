@@ -130,6 +130,19 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
     merge(c.vf, vf_hit);
     merge(c.ee, ee_hit);
     if (!any) break;
+    // A stitch moves with its zone: a weld with a vertex in a zone brings its other vertices in,
+    // so the rigid motion keeps the seam as the step left it (response/seams.hpp). Judged on the
+    // zones before this expansion, so a seam is taken in one stitch per round, not chained.
+    const std::vector<char> zoned = in_zone;
+    for (const Weld& w : m.welds) {
+      const int ids[3] = {w.i, w.j, w.k < 0 ? w.j : w.k};
+      if (!zoned[static_cast<std::size_t>(ids[0])] && !zoned[static_cast<std::size_t>(ids[1])] &&
+          !zoned[static_cast<std::size_t>(ids[2])])
+        continue;
+      for (int i : ids) in_zone[static_cast<std::size_t>(i)] = 1;
+      zones.unite(ids[0], ids[1]);
+      zones.unite(ids[0], ids[2]);
+    }
     // Every zone moves rigidly (zones in ascending order of their smallest vertex).
     const std::vector<std::vector<int>> list = zone_lists();
     parallel_for_each(list.size(), 16, [&](std::size_t z) { rigidify_zone(m, list[z], dt, v); });

@@ -15,6 +15,7 @@
 //                        primitives are adjacent (never a candidate) when they share a vertex or
 //                        hold two joined vertices. Not chained: the vertices along a seam are
 //                        not all joined to one another
+//   welds                the surfaces' seam points (world.hpp Weld), global indices
 //   surface_of  #V       which surface (index into `surfaces`) a vertex belongs to
 //   exempt      #V or empty   1: the vertex was part of an intersection at the step's start
 //                        on an `untangle` surface (an edge through a face of a solid's boundary
@@ -49,6 +50,7 @@ struct CollisionMesh {
   Tris tris;
   Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> edges;
   std::vector<int> weld_offsets{0}, weld_partners;
+  std::vector<Weld> welds;  // every surface's welds, in global vertex indices
   std::vector<int> surface_of;
   std::vector<char> exempt;
 

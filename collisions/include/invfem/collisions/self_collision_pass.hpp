@@ -54,7 +54,7 @@ class SelfCollisionPass final : public StepPass {
   void gather(const std::vector<SimObject>& objects, const StepPassInput& step);
   // Stages 1-4 on mesh_ (its inverse masses and exemptions as set), changing v. have_candidates:
   // candidates_ already holds the repulsion's candidates for these velocities and filters.
-  void resolve(double dt, FrameReport::Collisions& report, Points& v, bool have_candidates,
+  void resolve(double dt, FrameReport::Collisions& report, const Points& v_in, Points& v, bool have_candidates,
                const ZoneConstraint& constrain);
 
   SelfCollisionSettings settings_;

@@ -42,12 +42,14 @@ struct PinGroup {
 enum class ObjectKind { Solid, Cloth };
 
 // A seam point (a garment's stitch) as the self-collision layer and `invfem check` see it:
-// surface vertex i held at vertex j (k < 0: a stitch at an edge's end), or on the edge (j, k).
+// surface vertex i held at vertex j (k < 0: a stitch at an edge's end), or at the point
+// (1 - r) x_j + r x_k of the edge (j, k), 0 < r < 1.
 // Vertices held at one another are one point (transitively: three panels meeting at a corner);
 // a vertex on an edge touches both its ends. Primitives holding such vertices touch by
 // construction and are never collision candidates; nothing further from the seam is exempt.
 struct Weld {
   int i = -1, j = -1, k = -1;
+  double r = 0;
 };
 
 // One simulated object: its nodes (Body), the forces acting on them, its pins, and its surface.
@@ -139,6 +141,7 @@ struct FrameReport {
     int impact_zones = 0, largest_zone = 0, unresolved_steps = 0;
     long long tangled_pairs = 0;         // a solid boundary's edge-triangle crossings at a step's start (exempted)
     long long collider_projections = 0;  // vertices the layer moved into an analytic collider, put back
+    long long seam_impulses = 0;         // welds whose opening by the layer's impulses was undone (response/seams.hpp)
     double seconds = 0;
   } collisions;
 };

@@ -9,7 +9,8 @@
 // (I^+: the pseudo-inverse, for collinear zones). A zone that holds kinematic vertices (infinite
 // mass: colliders, animated bodies, pins) follows their motion instead: the same formulas over
 // its kinematic vertices alone, with equal weights, then applied to its movable vertices.
-// Pairs within one zone of movable vertices move rigidly from an intersection-free start and
+// A weld (a garment's stitch) with a vertex in a zone brings its other vertices into it, so seams
+// move rigidly with their zone. Pairs within one zone of movable vertices move rigidly from an intersection-free start and
 // are not tested again. Each round re-detects its candidates with the broad phase on the
 // current velocities (a zone's motion can carry a vertex out of its first swept box).
 #include <functional>

@@ -159,6 +159,7 @@ const Points& BodySequence::frame(int k) {
 }
 
 void BodySequence::move_to(double t) {
+  if (placed_ && t == time_) return;  // the World moves bodies to a step's end, then again to the frame's
   const Bracket b = bracket(t);
   // Copies: reading the second frame may evict the cache entry of the first.
   const Points a = frame(b.first);
@@ -174,6 +175,8 @@ void BodySequence::move_to(double t) {
   if (mesh_) mesh_->update(x, v);  // throws (and changes nothing) for a coordinate out of range
   surface_.x = std::move(x);
   velocity_ = std::move(v);
+  time_ = t;
+  placed_ = true;
 }
 
 }  // namespace invfem

@@ -125,6 +125,8 @@ class BodySequence final : public KinematicBody {
   unsigned long long clock_ = 0;
   long long loads_ = 0;
   TriangleSurface surface_;  // posed at the last move_to
+  double time_ = 0;          // of the last move_to, once placed_
+  bool placed_ = false;
   Points velocity_;
   std::shared_ptr<MeshSurface> mesh_;
 };

@@ -8,8 +8,9 @@
 #include <iostream>
 #include <memory>
 
-#include "checkpoint.hpp"
 #include "invfem/core/mesh_error.hpp"
+
+#include "checkpoint.hpp"
 #include "cli_args.hpp"
 #include "json_fields.hpp"
 #include "preview.hpp"

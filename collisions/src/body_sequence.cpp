@@ -22,19 +22,13 @@ std::vector<std::string> expand_frame_pattern(const std::string& pattern, int fi
   if (pattern.find_first_of("{}", close + 1) != std::string::npos || pattern.find('}') < open)
     throw std::invalid_argument(what + "more than one placeholder (or a stray brace)");
   const std::string inside = pattern.substr(open + 1, close - open - 1);
+  // {N}: no padding; {N:0W}: W digits, 1 to 9 (what a frame number plausibly needs).
   int width = 0;
-  if (inside == "N") {
-    width = 0;
-  } else if (inside.size() == 5 && inside.compare(0, 3, "N:0") == 0 && std::isdigit(static_cast<unsigned char>(inside[3])) &&
-             inside[4] >= '0' && inside[4] <= '9') {
-    width = 10 * (inside[3] - '0') + (inside[4] - '0');
-  } else if (inside.size() == 4 && inside.compare(0, 3, "N:0") == 0 && inside[3] >= '1' && inside[3] <= '9') {
-    width = inside[3] - '0';
-  } else {
+  const bool padded = inside.size() == 4 && inside.compare(0, 3, "N:0") == 0 && inside[3] >= '1' && inside[3] <= '9';
+  if (padded) width = inside[3] - '0';
+  else if (inside != "N")
     throw std::invalid_argument(what + "the placeholder must be {N} or {N:0W} with a width W of 1 to 9, not {" +
                                 inside + "}");
-  }
-  if (width > 9) throw std::invalid_argument(what + "a zero-padding width of 1 to 9, not " + std::to_string(width));
   if (first < 0 || last < first)
     throw std::invalid_argument(what + "frames first = " + std::to_string(first) + ", last = " + std::to_string(last) +
                                 ": need 0 <= first <= last");

@@ -134,6 +134,10 @@ Points BodySequence::load(int k) const {
   return posed(f, file);
 }
 
+void BodySequence::check_frames() const {
+  for (int k = 1; k < frame_count(); ++k) (void)load(k);
+}
+
 const Points& BodySequence::frame(int k) {
   for (Cached& c : cache_)
     if (c.index == k) {

@@ -48,10 +48,13 @@ expect 2 "$work/more/box2.obj: 27 vertices, but frame 0 ($work/more/box0.obj) ha
 if [ ! -f "$work/o_more/frames/c/0004.obj" ] || [ -f "$work/o_more/frames/c/0005.obj" ]; then
   echo "FAIL: the run stopped by a bad frame should have written frames 0..4 and no more"; fail=1
 fi
+# check-scene reads every frame, so it finds the bad one before a run does.
+expect 2 "collider \"box\": $work/more/box2.obj: 27 vertices" -- check-scene "$work/more.json"
 # A good sequence, by list, started at its frame 2 and looped: the body's frames are written.
 expect 0 "" -- run "$(scene good '"files": ["seq/box0.obj", "seq/box2.obj", "seq/box4.obj"], "fps": 5, "start_frame": 2, "after_end": "loop", "transform": {"scale": 0.5}')" --out "$work/o_good" --quiet
 for f in 0000 0012; do
   [ -f "$work/o_good/frames/box/$f.obj" ] || { echo "FAIL: no frames/box/$f.obj"; fail=1; }
 done
+expect_output 0 "sequence \"box\": 3 frames read and checked" -- check-scene "$work/good.json"
 [ $fail -eq 0 ] && echo "all body sequence CLI checks passed"
 exit $fail

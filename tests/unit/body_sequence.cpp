@@ -86,6 +86,7 @@ TEST(BodySequence, InterpolatesPositionsAndVelocitiesAtAndBetweenFrames) {
   s.fps = 10;
   s.start_time = 0.2;
   BodySequence b("box", s);
+  EXPECT_NO_THROW(b.check_frames());
   const Points X0 = box_at(f.h, f.centres[0]), X1 = box_at(f.h, f.centres[1]), X2 = box_at(f.h, f.centres[2]);
   auto expect_at = [&](double t, const Points& x, const Points& v) {
     b.move_to(t);
@@ -250,6 +251,10 @@ TEST(BodySequence, BadFramesAreReportedNamingTheFile) {
   s.files = {f.files[0], f.files[1], f.dir.file("more.obj", obj_text(more, box.tris))};
   {
     BodySequence b("box", s);
+    // check_frames finds it ahead of time, and leaves the streaming as it was.
+    const long long loaded = b.frames_loaded();
+    EXPECT_THROW(b.check_frames(), MeshError);
+    EXPECT_EQ(b.frames_loaded(), loaded);
     expect_bad_frame(b, 0.15, s.files[2], "9 vertices, but frame 0");
   }
   // Other triangles (two corners of one swapped).

@@ -95,6 +95,10 @@ class BodySequence final : public KinematicBody {
   // Frames currently held in the cache.
   std::size_t frames_cached() const { return cache_.size(); }
 
+  // Reads and checks every frame now, one at a time (none is kept; the cache is untouched): a
+  // long run's bad frame found before the run. Throws MeshError naming the first bad file.
+  void check_frames() const;
+
   // Which two frames time t interpolates between, and the weight of the second (see the header
   // comment). `moving` is false when the body holds still (before the start, past the end with
   // hold, or a single frame).

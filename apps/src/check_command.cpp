@@ -163,7 +163,7 @@ std::vector<Source> run_sources(const fs::path& out, const ParsedArgs& args) {
     if (scene.contains("colliders") && scene["colliders"].is_array())
       for (const auto& c : scene["colliders"]) {
         if (!c.is_object() || !c.contains("name") || !c["name"].is_string() || !c.contains("type") ||
-            !c["type"].is_string() || c["type"] == "mesh")
+            !c["type"].is_string() || c["type"] == "mesh" || c["type"] == "sequence")
           continue;
         const std::string name = c["name"];
         if (c["type"] == "gears") {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "invfem/collisions/analytic_surfaces.hpp"
+#include "invfem/collisions/body_sequence.hpp"
 #include "invfem/collisions/gear.hpp"
 #include "invfem/collisions/mesh_surface.hpp"
 #include "invfem/collisions/moving_surface.hpp"
@@ -51,12 +52,27 @@ std::vector<std::string> collider_body_names(const ColliderSpec& c) {
   return {c.name};
 }
 
-std::vector<std::shared_ptr<RigidBody>> build_colliders(const Scene& scene) {
-  std::vector<std::shared_ptr<RigidBody>> out;
+Colliders build_colliders(const Scene& scene) {
+  Colliders colliders;
+  std::vector<std::shared_ptr<RigidBody>> out;  // this collider's rigid bodies
   for (const auto& c : scene.colliders) {
     const std::string what = scene.file.string() + ": collider \"" + c.name + "\": ";
+    out.clear();
     try {
-      if (c.type == "plane") {
+      if (c.type == "sequence") {
+        BodySequenceSettings s;
+        for (const auto& p : c.sequence.files) s.files.push_back(p.string());
+        s.fps = c.sequence.fps;
+        s.start_time = c.sequence.start_time;
+        s.linear = c.transform.scale * rotation_of(c.transform);
+        s.translation = to_vec(c.transform.translate);
+        s.after_end = c.sequence.after_end == "loop" ? SequenceEnd::Loop : SequenceEnd::Hold;
+        s.friction = c.friction;
+        s.mesh.query_radius = c.query_radius;
+        auto body = std::make_shared<BodySequence>(c.name, std::move(s));
+        colliders.collision.push_back({body->implicit(), body->friction()});
+        colliders.bodies.push_back(std::move(body));
+      } else if (c.type == "plane") {
         out.push_back(std::make_shared<RigidBody>(c.name, std::make_shared<PlaneSurface>(to_vec(c.point), to_vec(c.normal)),
                                                   c.friction, TriangleSurface{}, Motion{}));
       } else if (c.type == "gears") {
@@ -109,8 +125,12 @@ std::vector<std::shared_ptr<RigidBody>> build_colliders(const Scene& scene) {
     } catch (const std::exception& e) {
       throw InputError(what + e.what());
     }
+    for (auto& b : out) {
+      colliders.collision.push_back({b->implicit(), b->friction()});
+      colliders.bodies.push_back(std::move(b));
+    }
   }
-  return out;
+  return colliders;
 }
 
 }  // namespace invfem::app

@@ -1,17 +1,26 @@
 #pragma once
-// Scene colliders -> kinematic rigid bodies (collisions/rigid_body.hpp): an implicit surface for
-// collision processing and a body-frame triangle surface of the same shape, moved by one Motion.
-// A "gears" collider is a pair of bodies, named <name>_1 and <name>_2.
+// Scene colliders -> kinematic bodies: rigid bodies (collisions/rigid_body.hpp: an implicit surface
+// for collision processing and a body-frame triangle surface of the same shape, moved by one
+// Motion) and bodies from mesh sequences (collisions/body_sequence.hpp). A "gears" collider is a
+// pair of bodies, named <name>_1 and <name>_2.
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "invfem/collisions/rigid_body.hpp"
+#include "invfem/collisions/rigid_collisions.hpp"
 #include "scene.hpp"
 
 namespace invfem::app {
 
-std::vector<std::shared_ptr<RigidBody>> build_colliders(const Scene& scene);
+struct Colliders {
+  std::vector<std::shared_ptr<KinematicBody>> bodies;  // in scene order, for the World
+  std::vector<RigidCollider> collision;                // each body's shape and friction, for RigidCollisions
+};
+
+// Loads every collider mesh (a sequence: its frame 0, and the frame it starts on); throws
+// InputError naming the scene, the collider and the problem.
+Colliders build_colliders(const Scene& scene);
 
 // The rigid motion a MotionSpec describes from `pose` at rest; a constant spin turns about
 // `center` (moving with the linear velocity).

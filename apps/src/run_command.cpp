@@ -8,6 +8,8 @@
 #include <iostream>
 #include <memory>
 
+#include "invfem/core/mesh_error.hpp"
+
 #include "checkpoint.hpp"
 #include "cli_args.hpp"
 #include "json_fields.hpp"
@@ -144,7 +146,12 @@ int run_command(const std::vector<std::string>& raw) {
     const auto t0 = clock();
     FrameReport r;
     FrameTimings t;
-    world.advance_to(frame / scene.fps, r);
+    try {
+      world.advance_to(frame / scene.fps, r);
+    } catch (const MeshError& e) {  // a body sequence's frame, read when the run reaches it
+      throw InputError(scene_path + ": frame " + std::to_string(frame) + ": " + e.what() + "; frames up to " +
+                       std::to_string(frame - 1) + " are in " + out_dir.string());
+    }
     t.simulate = seconds(t0, clock());
     if (!world.state_is_finite()) {
       std::cerr << "error: " << scene_path << ": the simulation produced a non-finite state in frame " << frame

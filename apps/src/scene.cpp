@@ -4,6 +4,7 @@
 #include <fstream>
 #include <set>
 
+#include "invfem/collisions/body_sequence.hpp"
 #include "invfem/solids/scramble.hpp"
 #include "json_fields.hpp"
 #include "scene_parts.hpp"
@@ -228,16 +229,81 @@ MotionSpec parse_motion(const Fields& f) {
   return m;
 }
 
+// The frames of a "sequence" collider: `frames` {pattern, first, last} or `files` [...], paths
+// relative to the scene's folder. With check_files every frame file must exist (a stat each;
+// frame 0 is read and checked when the world is built, later frames when the run reaches them).
+SequenceSpec parse_sequence(const Fields& f, const std::filesystem::path& dir, bool check_files) {
+  SequenceSpec q;
+  if (f.has("frames") == f.has("files"))
+    f.fail("frames", "either \"frames\": {\"pattern\", \"first\", \"last\"} or a \"files\" list",
+           f.has("frames") ? "both" : "neither");
+  if (f.has("frames")) {
+    const Fields fr = f.object("frames");
+    fr.reject_unknown({"pattern", "first", "last"});
+    const std::string pattern = fr.string("pattern");
+    q.first = fr.integer("first", 0, 0, 100000000);
+    if (!fr.has("last")) fr.fail("last", "the number of the last frame");
+    q.last = fr.integer("last", 0, 0, 100000000);
+    if (q.last < q.first) fr.fail("last", "a last frame >= first (" + std::to_string(q.first) + ")");
+    q.pattern = (std::filesystem::absolute(dir / pattern)).lexically_normal().string();
+    try {
+      for (const auto& file : expand_frame_pattern(q.pattern, q.first, q.last)) q.files.emplace_back(file);
+    } catch (const std::invalid_argument& e) {
+      fr.fail("pattern", "a pattern with one {N} or {N:0W} placeholder", e.what());
+    }
+    if (check_files)
+      for (std::size_t k = 0; k < q.files.size(); ++k)
+        if (!std::filesystem::exists(q.files[k]))
+          fr.fail("pattern", "existing frame files",
+                  "\"" + q.files[k].string() + "\" (frame " + std::to_string(q.first + static_cast<int>(k)) +
+                      "), which does not exist");
+  } else {
+    const auto& v = f.raw("files");
+    if (!v.is_array() || v.empty()) f.fail("files", "a non-empty array of frame file names");
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      if (!v[k].is_string()) f.fail("files", "file names (strings)", "element " + std::to_string(k) + ": " + describe(v[k]));
+      const std::filesystem::path p = std::filesystem::absolute(dir / v[k].get<std::string>()).lexically_normal();
+      if (check_files && !std::filesystem::exists(p))
+        f.fail("files", "existing frame files", "\"" + p.string() + "\" (element " + std::to_string(k) + "), which does not exist");
+      q.files.push_back(p);
+    }
+  }
+  if (!f.has("fps")) f.fail("fps", "the sequence's frame rate [frames/s]");
+  q.fps = f.number_in("fps", q.fps, 1e-3, 1e6);
+  if (f.has("start_time") && f.has("start_frame"))
+    f.fail("start_frame", "either start_time or start_frame, not both");
+  q.start_time = f.number_in("start_time", q.start_time, -1e9, 1e9);
+  if (f.has("start_frame")) {
+    q.start_frame = f.integer("start_frame", 0, 0, static_cast<int>(q.files.size()) - 1);
+    q.start_time = -*q.start_frame / q.fps;
+  }
+  q.after_end = f.string("after_end", q.after_end);
+  if (q.after_end != "hold" && q.after_end != "loop") f.fail("after_end", "\"hold\" or \"loop\"");
+  return q;
+}
+
 ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, bool check_files) {
   f.reject_unknown({"name", "type", "point", "normal", "radius", "half_extents", "half_height", "teeth",
                     "outer_radius", "root_radius", "thickness", "clearance", "mesh", "query_radius", "transform",
-                    "motion", "friction"});
+                    "motion", "friction", "frames", "files", "fps", "start_time", "start_frame", "after_end"});
   ColliderSpec c;
   c.name = f.string("name");
   c.type = f.string("type", c.type);
-  static const std::set<std::string> types{"plane", "sphere", "box", "cylinder", "gears", "mesh"};
-  if (!types.count(c.type)) f.fail("type", "one of plane, sphere, box, cylinder, gears, mesh");
+  static const std::set<std::string> types{"plane", "sphere", "box", "cylinder", "gears", "mesh", "sequence"};
+  if (!types.count(c.type)) f.fail("type", "one of plane, sphere, box, cylinder, gears, mesh, sequence");
   c.friction = f.number_in("friction", c.friction, 0, 100);
+  if (c.type != "sequence")
+    for (const char* k : {"frames", "files", "fps", "start_time", "start_frame", "after_end"})
+      if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a " + c.type + " collider (it belongs to a sequence)");
+  if (c.type == "sequence") {
+    for (const char* k : {"point", "normal", "radius", "half_extents", "half_height", "teeth", "outer_radius",
+                          "root_radius", "thickness", "clearance", "mesh", "motion"})
+      if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a sequence (its frames give its shape and motion)");
+    c.sequence = parse_sequence(f, dir, check_files);
+    c.query_radius = f.number_in("query_radius", c.query_radius, 1e-9, 1e4);
+    c.transform = parse_transform(f.object_or_empty("transform"));
+    return c;
+  }
   if (c.type == "plane") {
     for (const char* k : {"radius", "half_extents", "half_height", "teeth", "mesh", "transform", "motion"})
       if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a plane (a plane is static: point and normal)");
@@ -566,6 +632,22 @@ nlohmann::json collider_json(const ColliderSpec& c) {
   if (c.type == "mesh") {
     j["mesh"] = c.mesh.string();
     j["query_radius"] = c.query_radius;
+  }
+  if (c.type == "sequence") {
+    const SequenceSpec& q = c.sequence;
+    if (!q.pattern.empty()) {
+      j["frames"] = {{"pattern", q.pattern}, {"first", q.first}, {"last", q.last}};
+    } else {
+      j["files"] = nlohmann::json::array();
+      for (const auto& p : q.files) j["files"].push_back(p.string());
+    }
+    j["fps"] = q.fps;
+    if (q.start_frame) j["start_frame"] = *q.start_frame;
+    else j["start_time"] = q.start_time;
+    j["after_end"] = q.after_end;
+    j["query_radius"] = c.query_radius;
+    j["transform"] = transform_json(c.transform);
+    return j;
   }
   if (c.motion.kind != MotionSpec::Kind::Keyframed) {
     j["transform"] = transform_json(c.transform);

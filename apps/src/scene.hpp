@@ -181,9 +181,20 @@ struct RenderSpec {
   CameraSpec camera;
 };
 
+// A body from a mesh sequence (collisions/body_sequence.hpp): its frame files, by pattern or list.
+struct SequenceSpec {
+  std::string pattern;  // absolute, with its {N} / {N:0W} placeholder; empty: `files` as listed
+  int first = 0, last = 0;                  // pattern: frame numbers
+  std::vector<std::filesystem::path> files; // absolute, frame k = files[k] (expanded from the pattern)
+  double fps = 25;                          // [frames/s] of the sequence
+  double start_time = 0;                    // [s] when frame 0 (files[0]) is shown
+  std::optional<int> start_frame;           // given instead: files[start_frame] at t = 0
+  std::string after_end = "hold";           // hold | loop
+};
+
 struct ColliderSpec {
   std::string name;
-  std::string type = "plane";  // plane | sphere | box | cylinder | gears | mesh
+  std::string type = "plane";  // plane | sphere | box | cylinder | gears | mesh | sequence
   std::array<double, 3> point{0, 0, 0};      // plane
   std::array<double, 3> normal{0, 1, 0};     // plane
   double radius = 0.5;                        // sphere, cylinder
@@ -192,7 +203,8 @@ struct ColliderSpec {
   int teeth = 12;                             // gears: a pair turning in opposite directions
   double outer_radius = 0.5, root_radius = 0.4, thickness = 0.3, clearance = 0.0;
   std::filesystem::path mesh;                 // mesh: any triangle surface assimp reads
-  double query_radius = 0.05;                 // mesh: contact search distance [m]
+  double query_radius = 0.05;                 // mesh, sequence: contact search distance [m]
+  SequenceSpec sequence;                      // sequence
   Transform transform;                        // body -> world at rest (not with keyframes)
   MotionSpec motion;
   double friction = 0.3;

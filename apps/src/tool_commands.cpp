@@ -4,6 +4,8 @@
 #include <iostream>
 
 #include "cli_args.hpp"
+#include "invfem/collisions/body_sequence.hpp"
+#include "invfem/core/mesh_error.hpp"
 #include "invfem/solids/bcc_mesher.hpp"
 #include "json_fields.hpp"
 #include "scene.hpp"
@@ -15,7 +17,8 @@ const char* const kCheckSceneHelp =
     "usage: invfem check-scene SCENE.json [--quick] [--set path.to.field=value]...\n"
     "\n"
     "Validates the scene without simulating: every field, and every mesh it names (loaded and\n"
-    "checked as a run would). Prints the scene as it would run, every default filled in.\n"
+    "checked as a run would; every frame of a sequence collider too, which a run reads only when it\n"
+    "reaches it). Prints the scene as it would run, every default filled in.\n"
     "Exit code 0 when valid, 2 with a message naming the file, field and problem otherwise.\n";
 
 const char* const kMeshHelp =
@@ -38,6 +41,15 @@ int check_scene_command(const std::vector<std::string>& raw) {
   if (args.positional.size() != 1) throw InputError("check-scene: expected one scene file (see invfem check-scene --help)");
   const Scene scene = load_scene(args.positional[0], args.all("--set"), args.flag("--quick"));
   const World world = build_world(scene);  // loads and validates every mesh
+  for (const auto& k : world.kinematic_bodies())
+    if (const auto* sequence = dynamic_cast<const BodySequence*>(k.get())) {
+      try {
+        sequence->check_frames();
+      } catch (const MeshError& e) {
+        throw InputError(scene.file.string() + ": collider \"" + k->name() + "\": " + e.what());
+      }
+      std::fprintf(stderr, "sequence \"%s\": %d frames read and checked\n", k->name().c_str(), sequence->frame_count());
+    }
   std::cout << to_json(scene).dump(2) << "\n";
   std::size_t nodes = 0;
   for (const auto& o : world.objects()) nodes += o.body.x.rows();

@@ -13,8 +13,7 @@ World build_world(const Scene& scene) {
   std::vector<SimObject> objects;
   for (const auto& spec : scene.solids) objects.push_back(build_solid(spec, scene));
   for (const auto& spec : scene.cloths) objects.push_back(build_cloth(spec, scene));
-  const std::vector<std::shared_ptr<RigidBody>> bodies = build_colliders(scene);
-  std::vector<std::shared_ptr<KinematicBody>> kinematic(bodies.begin(), bodies.end());
+  Colliders colliders = build_colliders(scene);
   WorldSettings settings;
   settings.max_dt = scene.solver.max_dt;
   settings.cg = CGSettings{scene.solver.cg_tolerance, scene.solver.cg_max_iterations};
@@ -23,7 +22,8 @@ World build_world(const Scene& scene) {
   settings.implicit.max_newton_iterations = scene.solver.newton_max_iterations;
   settings.implicit.cg = CGSettings{std::max(scene.solver.cg_tolerance, 1e-6), scene.solver.cg_max_iterations};
   try {
-    World world(settings, std::move(objects), std::move(kinematic), make_rigid_collisions(bodies));
+    World world(settings, std::move(objects), std::move(colliders.bodies),
+                std::make_unique<RigidCollisions>(std::move(colliders.collision)));
     const SelfCollisionSpec& sc = scene.self_collision;
     if (sc.enabled) {
       collisions::SelfCollisionSettings s;

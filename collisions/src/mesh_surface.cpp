@@ -87,6 +87,20 @@ void MeshSurface::update(const Points& x, double dt) {
   m.stamp = ++g_stamp;
 }
 
+void MeshSurface::update(const Points& x, const Points& v) {
+  Impl& m = *impl_;
+  if (v.rows() != x.rows())
+    throw std::invalid_argument("MeshSurface::update: " + std::to_string(v.rows()) + " velocities for " +
+                                std::to_string(x.rows()) + " positions");
+  if (!v.allFinite()) throw std::invalid_argument("MeshSurface::update: a velocity is not finite");
+  const Points before = m.surface().x;
+  m.bvh->refit(x);  // checks the count and the coordinates
+  m.x_prev = before;
+  m.vel = v;
+  m.compute_normals();
+  m.stamp = ++g_stamp;
+}
+
 MeshClosestPoint MeshSurface::closest(const Vec3& x) const {
   const Impl& m = *impl_;
   MeshClosestPoint out;

@@ -282,6 +282,34 @@ TEST(MeshSurface, BadInputThrowsNamingTheProblem) {
   EXPECT_NE(message_of([&] { s.update(x.topRows(5), 0.1); }).find("vertices"), std::string::npos);
   EXPECT_NE(message_of([&] { s.update(x, 0); }).find("dt"), std::string::npos);
   EXPECT_NE(message_of([&] { s.update(nan_x, 0.1); }).find("vertex 3"), std::string::npos);
+  const Points v = Points::Ones(x.rows(), 3);
+  EXPECT_NE(message_of([&] { s.update(x, Points(v.topRows(5))); }).find("velocities"), std::string::npos);
+  Points nan_v = v;
+  nan_v(2, 0) = std::nan("");
+  EXPECT_NE(message_of([&] { s.update(x, nan_v); }).find("velocity"), std::string::npos);
   // A failed update leaves the surface usable and unchanged.
   EXPECT_NEAR(s.phi(Vec3(0, 0, 0), 0), 1.0 - 0.35, 0.05);
+  EXPECT_EQ(s.velocity(Vec3(1.5, 0, 0), 0), Vec3::Zero());
+}
+
+TEST(MeshSurface, GivenVelocitiesAreBlendedAtTheClosestPoint) {
+  // update(x, v): the positions refit as with update(x, dt), the velocity is the blend of the
+  // given vertex velocities, whatever the positions did (here they stay, the velocities vary).
+  Points x;
+  Tris tris;
+  make_torus(1.0, 0.35, 24, 12, x, tris);
+  MeshSurface s(TriangleSurface{x, tris, "test"});
+  Points v(x.rows(), 3);
+  for (Eigen::Index i = 0; i < x.rows(); ++i) v.row(i) = Vec3(x(i, 1), -x(i, 0), 2.0).transpose();
+  Points x1 = x;
+  x1.col(2).array() += 0.1;
+  s.update(x1, v);
+  for (const Vec3& p : {Vec3(1.5, 0, 0.1), Vec3(0, -1.4, 0.5), Vec3(0.3, 0.7, 0.1)}) {
+    const MeshClosestPoint c = s.closest(p);
+    Vec3 expected = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) expected += c.barycentric[k] * v.row(tris(c.triangle, k)).transpose();
+    EXPECT_LT((c.velocity - expected).norm(), 1e-12);
+    EXPECT_NEAR(c.velocity.z(), 2.0, 1e-12);
+    EXPECT_NEAR(c.phi, MeshSurface(TriangleSurface{x1, tris, "test"}).phi(p, 0), 1e-12);
+  }
 }

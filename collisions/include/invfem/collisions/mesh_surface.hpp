@@ -9,7 +9,7 @@
 //
 // The mesh can deform (a simulated solid's boundary as a one-way collider): update() refits
 // the BVH and the velocity of the closest point is the barycentric blend of the vertex
-// velocities (x_now - x_before) / dt.
+// velocities (x_now - x_before) / dt, or of velocities the caller gives (update(x, v)).
 //
 // Time arguments are ignored: queries see the mesh as of the last update. Queries are
 // thread-safe between updates; update() must not run concurrently with queries.
@@ -52,6 +52,11 @@ class MeshSurface final : public ImplicitSurface {
   // New vertex positions (same count and topology) after a step of length dt > 0: refits the
   // BVH and sets the vertex velocities to (x - previous) / dt.
   void update(const Points& x, double dt);
+  // New vertex positions with their velocities given (#V x 3 each; a body whose motion is known,
+  // such as an interpolated mesh sequence): refits the BVH; the closest point's velocity is the
+  // barycentric blend of `v`. Throws std::invalid_argument for a wrong shape or a non-finite
+  // velocity; the surface is then unchanged.
+  void update(const Points& x, const Points& v);
 
   MeshClosestPoint closest(const Vec3& x) const;
 

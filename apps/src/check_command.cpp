@@ -43,7 +43,9 @@ const char* const kCheckHelp =
     "(simulated objects and mesh colliders) is checked, frame by frame; an object's welds.txt,\n"
     "written by the run for objects with stitches, gives its seams. Analytic colliders (plane,\n"
     "sphere, box, cylinder, gears in OUT/scene.json) are skipped: the run collides with their exact\n"
-    "shape, and their files are only its tessellation for the previews.\n"
+    "shape, and their files are only its tessellation for the previews. Mesh and sequence colliders\n"
+    "(a body animated elsewhere) are checked against every object, but not against themselves:\n"
+    "their own crossings are input data, which no simulation can change.\n"
     "  --frames A-B     only frames A to B (or one frame: --frames A)\n"
     "  --objects a,b    only these objects (an analytic collider named here is checked too)\n"
     "MESH...: each file one surface, checked as one frame. An .obj keeps its vertex order and its\n"
@@ -69,6 +71,7 @@ struct Source {
   std::map<int, fs::path> frames;        // frame -> file (OUT mode); frame 0 only for MESH
   std::optional<fs::path> welds_file;    // welds.txt or an .obj with stitch lines
   certificate::SurfaceWelds welds;
+  bool count_self = true;                // false: a mesh or sequence collider (its own crossings are input)
 };
 
 struct Row {
@@ -150,8 +153,8 @@ std::vector<Source> run_sources(const fs::path& out, const ParsedArgs& args) {
     if (!s.frames.empty()) sources.push_back(std::move(s));
   }
   // Analytic colliders' drawings, from the scene the run wrote (absent: nothing is skipped).
-  std::set<std::string> drawings;
-  if (fs::exists(out / "scene.json") && !args.has("--objects")) {
+  std::set<std::string> drawings, bodies;
+  if (fs::exists(out / "scene.json")) {
     nlohmann::json scene;
     try {
       scene = nlohmann::json::parse(read_text_file((out / "scene.json").string(), 1u << 26, "invfem check"));
@@ -163,8 +166,12 @@ std::vector<Source> run_sources(const fs::path& out, const ParsedArgs& args) {
     if (scene.contains("colliders") && scene["colliders"].is_array())
       for (const auto& c : scene["colliders"]) {
         if (!c.is_object() || !c.contains("name") || !c["name"].is_string() || !c.contains("type") ||
-            !c["type"].is_string() || c["type"] == "mesh" || c["type"] == "sequence")
+            !c["type"].is_string())
           continue;
+        if (c["type"] == "mesh" || c["type"] == "sequence") {
+          bodies.insert(c["name"].get<std::string>());
+          continue;
+        }
         const std::string name = c["name"];
         if (c["type"] == "gears") {
           drawings.insert(name + "_1");
@@ -174,6 +181,8 @@ std::vector<Source> run_sources(const fs::path& out, const ParsedArgs& args) {
         }
       }
   }
+  if (args.has("--objects")) drawings.clear();  // named objects are checked whatever they are
+  for (auto& s : sources) s.count_self = bodies.count(s.name) == 0;
   if (!drawings.empty()) {
     std::string skipped;
     for (const auto& s : sources)
@@ -241,14 +250,16 @@ Row check_frame(int frame, const std::vector<Source>& sources, int examples) {
   }
   std::vector<const TriangleSurface*> pointers;
   std::vector<certificate::SurfaceWelds> welds;
+  std::vector<char> count_self;
   for (std::size_t i = 0; i < sources.size(); ++i) {
     pointers.push_back(&surfaces[i]);
     welds.push_back(sources[i].welds);
+    count_self.push_back(sources[i].count_self ? 1 : 0);
   }
   Row row;
   row.frame = frame;
   try {
-    row.count = certificate::count_intersections(pointers, welds, examples);
+    row.count = certificate::count_intersections(pointers, welds, examples, count_self);
   } catch (const std::invalid_argument& e) {
     throw InputError(e.what());
   }

@@ -69,6 +69,7 @@ Colliders build_colliders(const Scene& scene) {
         s.after_end = c.sequence.after_end == "loop" ? SequenceEnd::Loop : SequenceEnd::Hold;
         s.friction = c.friction;
         s.mesh.query_radius = c.query_radius;
+        s.mesh.offset = c.offset;
         auto body = std::make_shared<BodySequence>(c.name, std::move(s));
         colliders.collision.push_back({body->implicit(), body->friction()});
         colliders.bodies.push_back(std::move(body));
@@ -101,6 +102,7 @@ Colliders build_colliders(const Scene& scene) {
         apply_transform(c.transform, mesh.x);
         MeshSurfaceOptions options;
         options.query_radius = c.query_radius;
+        options.offset = c.offset;
         auto surface = std::make_shared<MeshSurface>(mesh, options);
         out.push_back(std::make_shared<RigidBody>(c.name, surface, c.friction, std::move(mesh), Motion{}, true));
       } else {

@@ -282,9 +282,16 @@ SequenceSpec parse_sequence(const Fields& f, const std::filesystem::path& dir, b
   return q;
 }
 
+// A mesh or sequence collider's offset: >= 0 and below its query radius.
+double parse_offset(const Fields& f, double query_radius) {
+  const double offset = f.number_in("offset", 1e-3, 0, 1);
+  if (!(offset < query_radius)) f.fail("offset", "an offset below query_radius (" + std::to_string(query_radius) + " m)");
+  return offset;
+}
+
 ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, bool check_files) {
   f.reject_unknown({"name", "type", "point", "normal", "radius", "half_extents", "half_height", "teeth",
-                    "outer_radius", "root_radius", "thickness", "clearance", "mesh", "query_radius", "transform",
+                    "outer_radius", "root_radius", "thickness", "clearance", "mesh", "query_radius", "offset", "transform",
                     "motion", "friction", "frames", "files", "fps", "start_time", "start_frame", "after_end"});
   ColliderSpec c;
   c.name = f.string("name");
@@ -301,6 +308,7 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
       if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a sequence (its frames give its shape and motion)");
     c.sequence = parse_sequence(f, dir, check_files);
     c.query_radius = f.number_in("query_radius", c.query_radius, 1e-9, 1e4);
+    c.offset = parse_offset(f, c.query_radius);
     c.transform = parse_transform(f.object_or_empty("transform"));
     return c;
   }
@@ -327,6 +335,8 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
     c.mesh = parse_mesh_path(f, "mesh", dir, check_files);
   }
   c.query_radius = f.number_in("query_radius", c.query_radius, 1e-9, 1e4);
+  if (c.type == "mesh") c.offset = parse_offset(f, c.query_radius);
+  else if (f.has("offset")) f.fail("offset", "no \"offset\" on an analytic collider (mesh and sequence only)");
   c.transform = parse_transform(f.object_or_empty("transform"));
   c.motion = parse_motion(f.object_or_empty("motion"));
   if (c.motion.kind == MotionSpec::Kind::Keyframed && f.has("transform"))
@@ -632,6 +642,7 @@ nlohmann::json collider_json(const ColliderSpec& c) {
   if (c.type == "mesh") {
     j["mesh"] = c.mesh.string();
     j["query_radius"] = c.query_radius;
+    j["offset"] = c.offset;
   }
   if (c.type == "sequence") {
     const SequenceSpec& q = c.sequence;
@@ -646,6 +657,7 @@ nlohmann::json collider_json(const ColliderSpec& c) {
     else j["start_time"] = q.start_time;
     j["after_end"] = q.after_end;
     j["query_radius"] = c.query_radius;
+    j["offset"] = c.offset;
     j["transform"] = transform_json(c.transform);
     return j;
   }

@@ -204,6 +204,7 @@ struct ColliderSpec {
   double outer_radius = 0.5, root_radius = 0.4, thickness = 0.3, clearance = 0.0;
   std::filesystem::path mesh;                 // mesh: any triangle surface assimp reads
   double query_radius = 0.05;                 // mesh, sequence: contact search distance [m]
+  double offset = 1e-3;                       // mesh, sequence: collision surface outside the mesh [m]
   SequenceSpec sequence;                      // sequence
   Transform transform;                        // body -> world at rest (not with keyframes)
   MotionSpec motion;

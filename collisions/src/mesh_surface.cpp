@@ -65,6 +65,8 @@ MeshSurface::MeshSurface(const TriangleSurface& surface, MeshSurfaceOptions opti
   Impl& m = *impl_;
   if (std::isnan(options.query_radius) || !(options.query_radius > 0))
     throw std::invalid_argument("MeshSurfaceOptions.query_radius: must be > 0 (infinity for unbounded)");
+  if (!(options.offset >= 0) || !(options.offset < options.query_radius))
+    throw std::invalid_argument("MeshSurfaceOptions.offset: must be >= 0 and below query_radius");
   m.options = options;
   m.bvh = std::make_unique<SurfaceBvh>(surface, SurfaceBvhOptions{.refit = true});
   m.x_prev = surface.x;
@@ -109,7 +111,7 @@ MeshClosestPoint MeshSurface::closest(const Vec3& x) const {
   const std::optional<SurfacePoint> hit = m.bvh->closest_point(x, R);
   if (!hit) {
     out.found = false;
-    out.phi = R;
+    out.phi = R - m.options.offset;
     const Vec3 away = x - m.box_center;
     out.normal = away.norm() > 0 ? Vec3(away.normalized()) : Vec3::UnitZ();
     return out;
@@ -130,7 +132,7 @@ MeshClosestPoint MeshSurface::closest(const Vec3& x) const {
   out.distance = d;
   const Vec3 diff = x - out.point;
   const bool outside = diff.dot(pseudo) >= 0;
-  out.phi = outside ? d : -d;
+  out.phi = (outside ? d : -d) - m.options.offset;
   if (d > 0) {
     out.normal = (outside ? diff : Vec3(-diff)) / d;
   } else {

@@ -127,9 +127,13 @@ void trim(std::vector<IntersectingPair>& v, std::size_t cap, bool force) {
 }  // namespace
 
 IntersectionCount count_intersections(const std::vector<const TriangleSurface*>& surfaces,
-                                      const std::vector<SurfaceWelds>& welds, int max_examples) {
+                                      const std::vector<SurfaceWelds>& welds, int max_examples,
+                                      const std::vector<char>& count_self) {
   if (!welds.empty() && welds.size() != surfaces.size())
     throw std::invalid_argument("count_intersections: " + std::to_string(welds.size()) + " weld lists for " +
+                                std::to_string(surfaces.size()) + " surfaces");
+  if (!count_self.empty() && count_self.size() != surfaces.size())
+    throw std::invalid_argument("count_intersections: " + std::to_string(count_self.size()) + " self flags for " +
                                 std::to_string(surfaces.size()) + " surfaces");
   const int ns = static_cast<int>(surfaces.size());
   std::vector<Adjacency> adjacency;
@@ -175,7 +179,9 @@ IntersectionCount count_intersections(const std::vector<const TriangleSurface*>&
       tree.query(tree.box(g), [&](int h) {
         if (h <= g) return;  // each unordered pair once
         const int sh = owner[h];
-        if (sg == sh && adjacency[sg].adjacent(surfaces[sg]->tris, g - offset[sg], h - offset[sh])) return;
+        if (sg == sh && ((!count_self.empty() && !count_self[static_cast<std::size_t>(sg)]) ||
+                         adjacency[sg].adjacent(surfaces[sg]->tris, g - offset[sg], h - offset[sh])))
+          return;
         ++p.candidates;
         if (!triangles_intersect(tg, triangle(h))) return;
         if (sg == sh)

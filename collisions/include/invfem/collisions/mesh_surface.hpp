@@ -26,6 +26,11 @@ struct MeshSurfaceOptions {
   // normal pointing away from the mesh's box center and zero velocity: it is treated as outside
   // and far, even if it lies deep inside the mesh. Infinity = exact everywhere (slower).
   double query_radius = std::numeric_limits<double>::infinity();
+  // The collision surface lies this far outside the mesh [m], >= 0 and below query_radius:
+  // phi = signed distance - offset. Projected vertices then rest at this gap, not on the mesh,
+  // so the self-collision layer, which keeps a positive gap to the mesh's triangles, starts each
+  // step from a state it can keep (a vertex exactly on a triangle is a contact it cannot undo).
+  double offset = 0;
 };
 
 struct MeshClosestPoint {
@@ -34,7 +39,7 @@ struct MeshClosestPoint {
   Vec3 point = Vec3::Zero();       // p, the closest point of the mesh
   Vec3 barycentric = Vec3::Zero(); // p = sum_i b_i x(tris(triangle, i))
   double distance = 0;             // |x - p|
-  double phi = 0;                  // +distance outside, -distance inside
+  double phi = 0;                  // +distance outside, -distance inside, minus the offset
   Vec3 normal = Vec3::UnitZ();     // outward unit
   Vec3 velocity = Vec3::Zero();    // of the material point at p
 };

@@ -11,7 +11,9 @@
 namespace invfem::collisions {
 
 // True (and toi, a lower bound of the first contact in [0, 1]) when the pair may come within
-// settings.min_distance during the step.
+// settings.min_distance during the step, or within half its distance at the step's start d0 when
+// d0 is below min_distance (a pair that starts that close must not come closer; it is not a
+// collision at t = 0 that nothing could undo).
 bool candidate_ccd(const CollisionMesh& m, const VertexFaceCandidate& c, const Points& v, double dt,
                    const CcdSettings& settings, double& toi);
 bool candidate_ccd(const CollisionMesh& m, const EdgeEdgeCandidate& c, const Points& v, double dt,

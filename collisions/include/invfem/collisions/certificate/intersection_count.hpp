@@ -65,8 +65,10 @@ struct IntersectionCount {
 // `welds` is empty or has one entry per surface. Runs in parallel over triangles (TBB); the result
 // does not depend on the thread count. Throws std::invalid_argument naming the surface's source for
 // an empty surface, a non-finite position, a bad triangle index, a triangle repeating a vertex, or
-// a weld with an index outside the surface.
+// a weld with an index outside the surface. count_self: empty, or per surface 0 to leave its pairs
+// with itself uncounted (an animated body's own crossings are its input data, not the run's).
 IntersectionCount count_intersections(const std::vector<const TriangleSurface*>& surfaces,
-                                      const std::vector<SurfaceWelds>& welds = {}, int max_examples = 10);
+                                      const std::vector<SurfaceWelds>& welds = {}, int max_examples = 10,
+                                      const std::vector<char>& count_self = {});
 
 }  // namespace invfem::certificate

@@ -1,6 +1,7 @@
 #include "object_builders.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <iostream>
 #include <optional>
 
@@ -235,7 +236,14 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
     // Attached vertices, embedded in their solid by build_world (the solid is built there).
     for (std::size_t k = 0; k < spec.attachments.size(); ++k) {
       const AttachmentSpec& a = spec.attachments[k];
-      const std::string a_what = where + ": attachments[" + std::to_string(k) + "]";
+      // Named by JSON path when the spec is one of the scene's (it always is from build_world).
+      const auto index = std::find_if(scene.cloths.begin(), scene.cloths.end(),
+                                      [&](const ClothSpec& c) { return &c == &spec; }) - scene.cloths.begin();
+      const std::string a_what =
+          index < static_cast<std::ptrdiff_t>(scene.cloths.size())
+              ? scene.file.string() + ": $.cloths[" + std::to_string(index) + "].attachments[" + std::to_string(k) +
+                    "] (" + what + ")"
+              : where + ": attachments[" + std::to_string(k) + "]";
       PinSpec selection;
       selection.vertices = a.vertices;
       selection.box = a.box;

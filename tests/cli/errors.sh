@@ -65,7 +65,7 @@ expect 2 "\$.cloths[0].rest_shape: expected \"mesh\" for a grid" -- \
 both=''"$solid"' }], "cloths": [{"name": "c", "mesh": "data/sheet.obj"'
 expect 2 "\$.cloths[0].attachments[0].solid: expected the name of a solid of the scene" -- \
   run "$(scene attachsolid '{ '"$both"', "attachments": [{"solid": "nobody", "vertices": [0]}] }] }')" --out "$work/o"
-expect 2 "attachments[0] selects no vertex" -- \
+expect 2 "\$.cloths[0].attachments[0] (cloth \"c\") selects no vertex" -- \
   run "$(scene attachempty '{ '"$both"', "attachments": [{"solid": "t", "box": {"min": [5, 5, 5], "max": [6, 6, 6]}}] }] }')" --out "$work/o"
 expect 2 "\$.cloths[0].attachments[0].vertices: expected exactly one of" -- \
   run "$(scene attachtwo '{ '"$both"', "attachments": [{"solid": "t", "vertices": [0], "group": "front"}] }] }')" --out "$work/o"

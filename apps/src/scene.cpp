@@ -471,8 +471,24 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
     for (std::size_t i = 0; i < j["solids"].size(); ++i) {
       Fields f(j["solids"][i], fname, "$.solids[" + std::to_string(i) + "]");
       f.reject_unknown({"name", "mesh", "mesh_resolution", "transform", "velocity", "material", "pin_boxes",
-                        "plasticity", "plastic_goal", "fiber", "initial_shape", "self_collision"});
+                        "plasticity", "plastic_goal", "fiber", "initial_shape", "self_collision", "cloth_coupling"});
       SolidSpec solid;
+      if (f.has("cloth_coupling")) {
+        const Fields c = f.object("cloth_coupling");
+        c.reject_unknown({"enabled", "cloths", "friction", "query_radius"});
+        auto& cc = solid.cloth_coupling;
+        cc.enabled = c.boolean("enabled", cc.enabled);
+        cc.friction = c.number_in("friction", cc.friction, 0, 10);
+        cc.query_radius = c.number_in("query_radius", cc.query_radius, 1e-6, 1e3);
+        if (c.has("cloths")) {
+          const auto& v = c.raw("cloths");
+          if (!v.is_array()) c.fail("cloths", "an array of cloth names");
+          for (std::size_t k = 0; k < v.size(); ++k) {
+            if (!v[k].is_string()) c.fail("cloths", "cloth names", "element " + std::to_string(k) + ": " + describe(v[k]));
+            cc.cloths.push_back(v[k].get<std::string>());
+          }
+        }
+      }
       solid.name = f.string("name");
       solid.self_collision = f.boolean("self_collision", solid.self_collision);
       unique_name(f, solid.name);
@@ -504,6 +520,22 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
     }
   }
   if (s.solids.empty() && s.cloths.empty()) root.fail("solids", "at least one solid or cloth object");
+  // Couplings and attachments name objects of the other kind.
+  for (std::size_t i = 0; i < s.solids.size(); ++i)
+    for (std::size_t k = 0; k < s.solids[i].cloth_coupling.cloths.size(); ++k) {
+      const std::string& name = s.solids[i].cloth_coupling.cloths[k];
+      if (std::none_of(s.cloths.begin(), s.cloths.end(), [&](const ClothSpec& c) { return c.name == name; }))
+        Fields(j["solids"][i]["cloth_coupling"], fname, "$.solids[" + std::to_string(i) + "].cloth_coupling")
+            .fail("cloths", "names of cloths of the scene", "element " + std::to_string(k) + ": \"" + name + "\"");
+    }
+  for (std::size_t i = 0; i < s.cloths.size(); ++i)
+    for (std::size_t k = 0; k < s.cloths[i].attachments.size(); ++k) {
+      const std::string& name = s.cloths[i].attachments[k].solid;
+      if (std::none_of(s.solids.begin(), s.solids.end(), [&](const SolidSpec& o) { return o.name == name; }))
+        Fields(j["cloths"][i]["attachments"][k], fname,
+               "$.cloths[" + std::to_string(i) + "].attachments[" + std::to_string(k) + "]")
+            .fail("solid", "the name of a solid of the scene", "\"" + name + "\"");
+    }
   // Cloth and garment scenes take large implicit steps unless they say otherwise (a cloth's
   // in-plane stiffness would cost hundreds of explicit substeps a frame).
   if (s.solver.integrator.empty()) s.solver.integrator = s.cloths.empty() ? "itf04" : "implicit";
@@ -599,6 +631,8 @@ nlohmann::json solid_json(const SolidSpec& o) {
   nlohmann::json j{
       {"name", o.name},
       {"self_collision", o.self_collision},
+      {"cloth_coupling", {{"enabled", o.cloth_coupling.enabled}, {"cloths", o.cloth_coupling.cloths},
+                          {"friction", o.cloth_coupling.friction}, {"query_radius", o.cloth_coupling.query_radius}}},
       {"mesh", o.mesh.string()},
       {"mesh_resolution", o.mesh_resolution},
       {"transform", transform_json(o.transform)},

@@ -67,8 +67,18 @@ struct SolidInitialShapeSpec {
   double size = 0;                     // box: edge of the cube about the centroid [m]
 };
 
+// One-way coupling (ITF04 section 10): the solid's deformed boundary is a moving collider for
+// cloths (never pushed back).
+struct ClothCouplingSpec {
+  bool enabled = true;
+  std::vector<std::string> cloths;  // empty: every cloth of the scene
+  double friction = 0.3;            // Coulomb coefficient between the cloth and the solid
+  double query_radius = 0.05;       // [m] contact search distance
+};
+
 struct SolidSpec {
   std::string name;
+  ClothCouplingSpec cloth_coupling;
   bool self_collision = true;  // its boundary surface takes part in the self-collision layer
   std::filesystem::path mesh;  // absolute, resolved against the scene file's folder
   int mesh_resolution = 24;    // BCC cells along the longest side, when `mesh` is a surface
@@ -147,8 +157,19 @@ struct PinSpec {
   MotionSpec motion;  // Fixed: held still; else carried by the motion about their rest positions
 };
 
+// Cloth vertices tied to a solid (world.hpp Attachment), chosen like pins: by vertex list, box
+// (the cloth's initial positions) or group. Each is embedded in the solid's tet that holds it, or
+// on the closest boundary triangle, when the run starts.
+struct AttachmentSpec {
+  std::string solid;
+  std::vector<int> vertices;
+  std::optional<PinBox> box;
+  std::string group;
+};
+
 struct ClothSpec {
   std::string name;
+  std::vector<AttachmentSpec> attachments;
   bool self_collision = true;     // takes part in the self-collision layer
   std::filesystem::path mesh;     // empty: a grid or a shape
   GridSpec grid;

@@ -59,6 +59,25 @@ PinSpec parse_pin(const Fields& f) {
   return p;
 }
 
+AttachmentSpec parse_attachment(const Fields& f) {
+  f.reject_unknown({"solid", "vertices", "box", "group"});
+  AttachmentSpec a;
+  a.solid = f.string("solid");
+  if (a.solid.empty()) f.fail("solid", "the name of a solid");
+  const int ways = int(f.has("vertices")) + int(f.has("box")) + int(f.has("group"));
+  if (ways != 1) f.fail("vertices", "exactly one of \"vertices\", \"box\" or \"group\"");
+  if (f.has("vertices")) {
+    a.vertices = parse_vertex_list(f, "vertices");
+    if (a.vertices.empty()) f.fail("vertices", "at least one vertex index");
+  }
+  if (f.has("box")) a.box = parse_pin_box(f.object("box"));
+  if (f.has("group")) {
+    a.group = f.string("group");
+    if (a.group.empty()) f.fail("group", "a group name");
+  }
+  return a;
+}
+
 StitchSpec parse_stitches(const Fields& f) {
   f.reject_unknown({"from_mesh", "list", "stiffness", "damping"});
   StitchSpec s;
@@ -92,7 +111,7 @@ StitchSpec parse_stitches(const Fields& f) {
 ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool check_files) {
   f.reject_unknown({"name", "mesh", "grid", "half_torus", "rest_shape", "initial_shape", "transform", "velocity",
                     "material", "plasticity", "bending_plasticity", "inversion_test", "stitches", "pin_vertices",
-                    "pin_boxes", "pins", "self_collision"});
+                    "pin_boxes", "pins", "self_collision", "attachments"});
   ClothSpec c;
   c.name = f.string("name");
   c.self_collision = f.boolean("self_collision", c.self_collision);
@@ -163,6 +182,13 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
     for (std::size_t i = 0; i < v.size(); ++i)
       c.pins.push_back(parse_pin(Fields(v[i], f.file(), f.path_of("pins") + "[" + std::to_string(i) + "]")));
   }
+  if (f.has("attachments")) {
+    const auto& v = f.raw("attachments");
+    if (!v.is_array()) f.fail("attachments", "an array of attachments");
+    for (std::size_t i = 0; i < v.size(); ++i)
+      c.attachments.push_back(
+          parse_attachment(Fields(v[i], f.file(), f.path_of("attachments") + "[" + std::to_string(i) + "]")));
+  }
   return c;
 }
 
@@ -202,6 +228,16 @@ nlohmann::json cloth_json(const ClothSpec& c) {
     j["inversion_test"] = c.inversion_direction;
   else
     j["inversion_test"] = c.inversion_test;
+  if (!c.attachments.empty()) {
+    j["attachments"] = nlohmann::json::array();
+    for (const auto& a : c.attachments) {
+      nlohmann::json aj{{"solid", a.solid}};
+      if (a.box) aj["box"] = {{"min", a.box->min}, {"max", a.box->max}};
+      else if (!a.group.empty()) aj["group"] = a.group;
+      else aj["vertices"] = a.vertices;
+      j["attachments"].push_back(aj);
+    }
+  }
   if (!c.pins.empty()) {
     j["pins"] = nlohmann::json::array();
     for (const auto& p : c.pins) {

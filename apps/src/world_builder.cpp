@@ -3,6 +3,8 @@
 #include <algorithm>
 
 #include "collider_builders.hpp"
+#include "invfem/collisions/rigid_collisions.hpp"
+#include "invfem/core/attachment_embedding.hpp"
 #include "invfem/collisions/self_collision_pass.hpp"
 #include "json_fields.hpp"
 #include "object_builders.hpp"
@@ -13,6 +15,24 @@ World build_world(const Scene& scene) {
   std::vector<SimObject> objects;
   for (const auto& spec : scene.solids) objects.push_back(build_solid(spec, scene));
   for (const auto& spec : scene.cloths) objects.push_back(build_cloth(spec, scene));
+  // Attached cloth vertices: embedded in their solid at the start (scene.cpp checked the names).
+  for (SimObject& cloth : objects)
+    for (AttachmentGroup& group : cloth.attachments) {
+      const auto solid = std::find_if(objects.begin(), objects.end(), [&](const SimObject& o) {
+        return o.kind == ObjectKind::Solid && o.name == group.solid;
+      });
+      if (solid == objects.end())
+        throw InputError(scene.file.string() + ": cloth \"" + cloth.name + "\" is attached to \"" + group.solid +
+                         "\", which is no solid of the scene");
+      std::vector<int> nodes;
+      for (const Attachment& a : group.vertices) nodes.push_back(a.node);
+      group.vertices = embed_in_solid(*solid, cloth.body.x, nodes);
+    }
+  std::vector<SolidCoupling> couplings;
+  for (const auto& spec : scene.solids)
+    if (spec.cloth_coupling.enabled && !scene.cloths.empty())
+      couplings.push_back(SolidCoupling{spec.name, spec.cloth_coupling.cloths, spec.cloth_coupling.friction,
+                                        spec.cloth_coupling.query_radius});
   Colliders colliders = build_colliders(scene);
   WorldSettings settings;
   settings.max_dt = scene.solver.max_dt;
@@ -23,7 +43,7 @@ World build_world(const Scene& scene) {
   settings.implicit.cg = CGSettings{std::max(scene.solver.cg_tolerance, 1e-6), scene.solver.cg_max_iterations};
   try {
     World world(settings, std::move(objects), std::move(colliders.bodies),
-                std::make_unique<RigidCollisions>(std::move(colliders.collision)));
+                std::make_unique<RigidCollisions>(std::move(colliders.collision), std::move(couplings)));
     const SelfCollisionSpec& sc = scene.self_collision;
     if (sc.enabled) {
       collisions::SelfCollisionSettings s;

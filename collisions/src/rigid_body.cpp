@@ -35,10 +35,11 @@ const TriangleSurface* RigidBody::surface() const {
   return &world_;
 }
 
-std::unique_ptr<RigidCollisions> make_rigid_collisions(const std::vector<std::shared_ptr<RigidBody>>& bodies) {
+std::unique_ptr<RigidCollisions> make_rigid_collisions(const std::vector<std::shared_ptr<RigidBody>>& bodies,
+                                                       std::vector<SolidCoupling> couplings) {
   std::vector<RigidCollider> colliders;
   for (const auto& b : bodies) colliders.push_back({b->implicit(), b->friction()});
-  return std::make_unique<RigidCollisions>(std::move(colliders));
+  return std::make_unique<RigidCollisions>(std::move(colliders), std::move(couplings));
 }
 
 namespace {

@@ -1,6 +1,9 @@
 #include "invfem/collisions/rigid_collisions.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+
+#include "invfem/core/world.hpp"
 
 namespace invfem {
 
@@ -13,6 +16,36 @@ Vec3 coulomb(const Vec3& tangential, double mu, double normal_change) {
 }
 }  // namespace
 
+void RigidCollisions::begin_object(const SimObject& object) {
+  active_ = colliders_;
+  if (object.kind != ObjectKind::Cloth) return;
+  for (std::size_t c = 0; c < couplings_.size(); ++c) {
+    const auto& names = couplings_[c].cloths;
+    if (c >= solid_surfaces_.size() || !solid_surfaces_[c]) continue;
+    if (names.empty() || std::find(names.begin(), names.end(), object.name) != names.end())
+      active_.push_back(RigidCollider{solid_surfaces_[c], couplings_[c].friction});
+  }
+}
+
+void RigidCollisions::solids_stepped(const std::vector<SimObject>& objects, double, double) {
+  solid_surfaces_.resize(couplings_.size());
+  for (std::size_t c = 0; c < couplings_.size(); ++c) {
+    const auto it = std::find_if(objects.begin(), objects.end(), [&](const SimObject& o) {
+      return o.name == couplings_[c].solid && o.kind == ObjectKind::Solid;
+    });
+    if (it == objects.end())
+      throw std::invalid_argument("collisions: coupling names \"" + couplings_[c].solid + "\", no solid of the world");
+    // The surface's velocity is the solid's node velocities at t + dt (not (x - x_before) / dt:
+    // that would be wrong for one step after a checkpoint restore).
+    Points vel(static_cast<Eigen::Index>(it->surface_nodes.size()), 3);
+    for (std::size_t s = 0; s < it->surface_nodes.size(); ++s)
+      vel.row(static_cast<Eigen::Index>(s)) = it->body.v.row(it->surface_nodes[s]);
+    if (!solid_surfaces_[c])
+      solid_surfaces_[c] = std::make_shared<MeshSurface>(it->surface, MeshSurfaceOptions{couplings_[c].query_radius});
+    solid_surfaces_[c]->update(it->surface.x, vel);
+  }
+}
+
 int RigidCollisions::process(const Points& x_old, Points& x_new, Points& v, double t_new, double dt,
                              NodeConstraints& constraints) {
   int count = 0;
@@ -20,7 +53,7 @@ int RigidCollisions::process(const Points& x_old, Points& x_new, Points& v, doub
   for (Eigen::Index i = 0; i < n; ++i) {
     bool collided = false;
     NodeConstraint contact{static_cast<int>(i), NodeConstraint::Kind::Normal};
-    for (const RigidCollider& c : colliders_) {
+    for (const RigidCollider& c : active_.empty() ? colliders_ : active_) {
       Vec3 x = x_new.row(i).transpose();
       const double phi = c.surface->phi(x, t_new);
       if (!(phi < 0)) continue;

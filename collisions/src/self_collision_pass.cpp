@@ -42,6 +42,8 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
     std::vector<char> pinned(static_cast<std::size_t>(o.body.x.rows()), 0);
     for (const PinGroup& g : o.pins)
       for (int i : g.nodes) pinned[static_cast<std::size_t>(i)] = 1;
+    for (const AttachmentGroup& g : o.attachments)  // they follow their solid
+      for (const Attachment& a : g.vertices) pinned[static_cast<std::size_t>(a.node)] = 1;
     for (Eigen::Index s = 0; s < n; ++s) {
       const int i = o.surface_nodes[static_cast<std::size_t>(s)];
       x0.row(s) = step.x_start[k].row(i);
@@ -74,6 +76,7 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
       }
       append_surface(mesh_, o.name, o.surface.tris, x0, v, w, false, o.welds, joins);
       mesh_.surfaces.back().untangle = objects[k].kind == ObjectKind::Solid;
+      mesh_.surfaces.back().level = objects[k].kind == ObjectKind::Solid ? 1 : 0;  // one-way coupling
       source_.push_back(static_cast<int>(k));
     }
     if (settings_.kinematic_bodies)
@@ -217,9 +220,12 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
           }
         }
         for (std::size_t z = 0; z < zones.size(); ++z)
-          if (!zone_shift[z].isZero())
+          if (!zone_shift[z].isZero()) {
+            int lowest = mesh_.level(zones[z].front());  // a higher level is kinematic in the zone
+            for (int i : zones[z]) lowest = std::min(lowest, mesh_.level(i));
             for (int i : zones[z])
-              if (mesh_.movable(i)) vel.row(i) += (zone_shift[z] / dt).transpose();
+              if (mesh_.movable(i) && mesh_.level(i) == lowest) vel.row(i) += (zone_shift[z] / dt).transpose();
+          }
         any = any || moved;
         if (!moved) break;
       }

@@ -33,6 +33,14 @@ NodeConstraints SimObject::pin_constraints(double t, double dt) const {
   return out;
 }
 
+Vec3 attachment_target(const Attachment& a, const Points& x) {
+  Vec3 p = a.offset;
+  for (int k = 0; k < 4; ++k)
+    if (a.solid_nodes[static_cast<std::size_t>(k)] >= 0)
+      p += a.weights[static_cast<std::size_t>(k)] * x.row(a.solid_nodes[static_cast<std::size_t>(k)]).transpose();
+  return p;
+}
+
 void SimObject::refresh_surface() {
   for (std::size_t s = 0; s < surface_nodes.size(); ++s)
     surface.x.row(static_cast<Eigen::Index>(s)) = body.x.row(surface_nodes[s]);
@@ -66,12 +74,56 @@ World::World(WorldSettings settings, std::vector<SimObject> objects,
                                       " outside [0, " + std::to_string(n) + ")");
     }
   }
+  attached_solid_.resize(objects_.size());
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    const SimObject& o = objects_[k];
+    for (const AttachmentGroup& g : o.attachments) {
+      const std::string what = "world: object \"" + o.name + "\" is attached to \"" + g.solid + "\"";
+      const auto it = std::find_if(objects_.begin(), objects_.end(), [&](const SimObject& s) { return s.name == g.solid; });
+      if (it == objects_.end() || it->kind != ObjectKind::Solid || &*it == &o)
+        throw std::invalid_argument(what + ", which is no solid of the world");
+      const Eigen::Index ns = it->body.x.rows();
+      for (const Attachment& a : g.vertices) {
+        if (a.node < 0 || a.node >= o.body.x.rows())
+          throw std::invalid_argument(what + ": attached node " + std::to_string(a.node) + " outside [0, " +
+                                      std::to_string(o.body.x.rows()) + ")");
+        for (int s : a.solid_nodes)
+          if (s < -1 || s >= ns)
+            throw std::invalid_argument(what + ": embedding node " + std::to_string(s) + " outside [0, " +
+                                        std::to_string(ns) + ")");
+      }
+      attached_solid_[k].push_back(static_cast<int>(it - objects_.begin()));
+    }
+  }
   for (const auto& k : kinematic_)
     if (!names.insert(k->name()).second)
       throw std::invalid_argument("world: two objects or bodies are named \"" + k->name() + "\"");
   for (const auto& k : kinematic_) k->move_to(time_);
   for (SimObject& o : objects_) o.refresh_surface();
   implicit_.resize(objects_.size());
+}
+
+NodeConstraints World::constraints_of(std::size_t k, double dt) const {
+  const SimObject& o = objects_[k];
+  NodeConstraints out = o.pin_constraints(time_, dt);
+  if (o.attachments.empty()) return out;
+  // An attached node lands on its target in the solid at t + dt (the solids have stepped); a
+  // node also pinned keeps its pin.
+  std::vector<char> held(static_cast<std::size_t>(o.body.x.rows()), 0);
+  for (const NodeConstraint& c : out) held[static_cast<std::size_t>(c.node)] = 1;
+  for (std::size_t g = 0; g < o.attachments.size(); ++g) {
+    const Points& xs = objects_[static_cast<std::size_t>(attached_solid_[k][g])].body.x;
+    for (const Attachment& a : o.attachments[g].vertices) {
+      if (held[static_cast<std::size_t>(a.node)]) continue;
+      held[static_cast<std::size_t>(a.node)] = 1;
+      NodeConstraint c;
+      c.node = a.node;
+      c.kind = NodeConstraint::Kind::Full;
+      c.velocity = (attachment_target(a, xs) - o.body.x.row(a.node).transpose()) / dt;
+      out.push_back(c);
+    }
+  }
+  return out;
 }
 
 void World::advance_to(double t_end, FrameReport& report) {
@@ -95,16 +147,22 @@ void World::advance_to(double t_end, FrameReport& report) {
     // 1. Kinematic bodies.
     for (const auto& k : kinematic_) k->move_to(time_ + dt);
     // 2, 3. Solids, then cloths.
-    for (ObjectKind kind : stage_order)
+    for (ObjectKind kind : stage_order) {
+      if (kind == ObjectKind::Cloth && collisions_) {  // 2b. the solids at t + dt, for the cloths
+        for (auto& o : objects_)
+          if (o.kind == ObjectKind::Solid) o.refresh_surface();
+        collisions_->solids_stepped(objects_, time_ + dt, dt);
+      }
       for (std::size_t k = 0; k < objects_.size(); ++k) {
         SimObject& o = objects_[k];
         if (o.kind != kind) continue;
+        if (collisions_) collisions_->begin_object(o);
+        const NodeConstraints held = constraints_of(k, dt);
         const StepStats s =
             settings_.integrator == Integrator::ITF04
-                ? newmark_step(o.body, o.force_pointers(), collisions_.get(), o.pin_constraints(time_, dt), time_, dt,
-                               settings_.cg)
-                : implicit_step(o.body, o.force_pointers(), collisions_.get(), o.pin_constraints(time_, dt), time_,
-                                dt, settings_.implicit, implicit_[k]);
+                ? newmark_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, settings_.cg)
+                : implicit_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, settings_.implicit,
+                                implicit_[k]);
         report.cg_iterations += s.cg_iterations;
         report.cg_all_converged = report.cg_all_converged && s.cg_converged;
         report.colliding_nodes += s.colliding_nodes;
@@ -114,6 +172,7 @@ void World::advance_to(double t_end, FrameReport& report) {
           report.newton_worst_residual = std::max(report.newton_worst_residual, s.newton_residual);
         }
       }
+    }
     // 4. After-step passes, on refreshed surfaces (without passes nothing reads the surfaces
     // until the frame is done: they are refreshed once, below).
     if (!passes_.empty()) {

@@ -61,5 +61,15 @@ expect 2 "this is not an OBJ file" -- \
   run "$(scene plypattern '{ "cloths": [{"name": "c", "mesh": "data/tri.ply", "rest_shape": "pattern" }] }')" --out "$work/o"
 expect 2 "\$.cloths[0].rest_shape: expected \"mesh\" for a grid" -- \
   run "$(scene gridpattern '{ "cloths": [{"name": "c", "rest_shape": "pattern" }] }')" --out "$work/o"
+# One-way coupling: attachments to a solid that is not there, selecting nothing; a coupling naming no cloth.
+both=''"$solid"' }], "cloths": [{"name": "c", "mesh": "data/sheet.obj"'
+expect 2 "\$.cloths[0].attachments[0].solid: expected the name of a solid of the scene" -- \
+  run "$(scene attachsolid '{ '"$both"', "attachments": [{"solid": "nobody", "vertices": [0]}] }] }')" --out "$work/o"
+expect 2 "\$.cloths[0].attachments[0] (cloth \"c\") selects no vertex" -- \
+  run "$(scene attachempty '{ '"$both"', "attachments": [{"solid": "t", "box": {"min": [5, 5, 5], "max": [6, 6, 6]}}] }] }')" --out "$work/o"
+expect 2 "\$.cloths[0].attachments[0].vertices: expected exactly one of" -- \
+  run "$(scene attachtwo '{ '"$both"', "attachments": [{"solid": "t", "vertices": [0], "group": "front"}] }] }')" --out "$work/o"
+expect 2 "\$.solids[0].cloth_coupling.cloths: expected names of cloths of the scene" -- \
+  run "$(scene couplecloth '{ '"$solid"', "cloth_coupling": {"cloths": ["cape"]} }] }')" --out "$work/o"
 if [ "$fail" -ne 0 ]; then exit 1; fi
 echo "every documented error gives its message and exit code 2"

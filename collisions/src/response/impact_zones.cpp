@@ -45,10 +45,14 @@ Vec3 pseudo_solve(const Mat3& I, const Vec3& L) {
 }  // namespace
 
 void rigidify_zone(const CollisionMesh& m, const std::vector<int>& zone, double dt, Points& v) {
+  // Vertices of a level above the zone's lowest are kinematic in it (one-way coupling).
+  int lowest = m.level(zone.front());
+  for (int i : zone) lowest = std::min(lowest, m.level(i));
+  auto fixed = [&](int i) { return !m.movable(i) || m.level(i) > lowest; };
   bool kinematic = false;
-  for (int i : zone) kinematic = kinematic || !m.movable(i);
+  for (int i : zone) kinematic = kinematic || fixed(i);
   // The vertices that define the motion, and their weights.
-  auto weight = [&](int i) { return kinematic ? (m.movable(i) ? 0.0 : 1.0) : 1.0 / m.inv_mass(i); };
+  auto weight = [&](int i) { return kinematic ? (fixed(i) ? 1.0 : 0.0) : 1.0 / m.inv_mass(i); };
   double M = 0;
   Vec3 x_cm = Vec3::Zero(), v_cm = Vec3::Zero();
   for (int i : zone) {
@@ -71,7 +75,7 @@ void rigidify_zone(const CollisionMesh& m, const std::vector<int>& zone, double 
   const double angle = omega.norm() * dt;
   const Mat3 R = angle > 0 ? Mat3(Eigen::AngleAxisd(angle, omega.normalized())) : Mat3::Identity();
   for (int i : zone) {
-    if (!m.movable(i)) continue;
+    if (fixed(i)) continue;
     const Vec3 r = m.x0.row(i).transpose() - x_cm;
     const Vec3 x1 = x_cm + dt * v_cm + R * r;
     v.row(i) = ((x1 - m.x0.row(i).transpose()) / dt).transpose();
@@ -110,7 +114,7 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
         const int root = frozen.parent[static_cast<std::size_t>(ids[0])];
         for (int i : ids)
           inside = inside && m.movable(i) && in_zone[static_cast<std::size_t>(i)] &&
-                   frozen.parent[static_cast<std::size_t>(i)] == root;
+                   frozen.parent[static_cast<std::size_t>(i)] == root && m.level(i) == m.level(ids[0]);
         double toi = 0;
         hit[k] = !inside && candidate_ccd(m, list[k], v, dt, s, toi) ? 1 : 0;
       });

@@ -26,9 +26,17 @@ Vec3 relative_velocity(const PairStencil& p, const Points& v) {
   return r;
 }
 
+double pair_inverse_mass(const CollisionMesh& m, const PairStencil& p, int k) {
+  const int i = p.ids[static_cast<std::size_t>(k)];
+  const int own = m.level(i);
+  for (int id : p.ids)
+    if (m.level(id) < own) return 0.0;
+  return m.inv_mass(i);
+}
+
 double inverse_effective_mass(const CollisionMesh& m, const PairStencil& p) {
   double s = 0;
-  for (int k = 0; k < 4; ++k) s += p.c(k) * p.c(k) * m.inv_mass(p.ids[static_cast<std::size_t>(k)]);
+  for (int k = 0; k < 4; ++k) s += p.c(k) * p.c(k) * pair_inverse_mass(m, p, k);
   return s;
 }
 
@@ -44,7 +52,7 @@ bool apply_pair_impulse(const CollisionMesh& m, const PairStencil& p, double del
   const Vec3 j = change / w;
   for (int k = 0; k < 4; ++k) {
     const int i = p.ids[static_cast<std::size_t>(k)];
-    v.row(i) += (p.c(k) * m.inv_mass(i)) * j.transpose();
+    v.row(i) += (p.c(k) * pair_inverse_mass(m, p, k)) * j.transpose();
   }
   return true;
 }

@@ -43,6 +43,11 @@ struct CollisionMesh {
     // (candidates/tangles.hpp). A cloth's crossing, which only a fail-safe failure leaves, stays
     // held by the CCD instead, so that it cannot spread.
     bool untangle = false;
+    // One-way coupling: in a pair (or impact zone) holding vertices of surfaces of different
+    // levels, the vertices of the higher levels act as infinite mass (inverse mass 0 for that
+    // pair; kinematic in that zone: the zone follows them). A simulated solid's boundary is level
+    // 1 and a cloth level 0, so a solid moves a cloth and the cloth never moves it back.
+    int level = 0;
   };
   std::vector<Range> surfaces;
   Points x0, v;
@@ -62,6 +67,7 @@ struct CollisionMesh {
     return x0.row(i).transpose() + (s * dt) * vel.row(i).transpose();
   }
   bool movable(int i) const { return inv_mass(i) > 0; }
+  int level(int i) const { return surfaces[static_cast<std::size_t>(surface_of[static_cast<std::size_t>(i)])].level; }
   bool is_exempt(int i) const { return !exempt.empty() && exempt[static_cast<std::size_t>(i)]; }
 };
 

@@ -48,8 +48,10 @@ class RigidBody final : public KinematicBody {
   mutable bool posed_ = false;
 };
 
-// Collision processing against every body's implicit surface with its friction.
-std::unique_ptr<RigidCollisions> make_rigid_collisions(const std::vector<std::shared_ptr<RigidBody>>& bodies);
+// Collision processing against every body's implicit surface with its friction, and the solids
+// coupled to cloths (one-way coupling, rigid_collisions.hpp).
+std::unique_ptr<RigidCollisions> make_rigid_collisions(const std::vector<std::shared_ptr<RigidBody>>& bodies,
+                                                       std::vector<SolidCoupling> couplings = {});
 
 // Closed triangle surfaces of the analytic shapes in their body frames, wound outward.
 TriangleSurface sphere_triangles(double radius);                 // 32 x 16 latitude-longitude

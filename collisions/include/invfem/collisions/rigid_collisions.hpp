@@ -3,9 +3,11 @@
 // (ITF04 section 9). Every node is processed, interior nodes included, so small bodies cannot
 // slip between surface nodes.
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "invfem/collisions/implicit_surface.hpp"
+#include "invfem/collisions/mesh_surface.hpp"
 #include "invfem/core/collision_processor.hpp"
 
 namespace invfem {
@@ -15,9 +17,29 @@ struct RigidCollider {
   double friction = 0.3;  // Coulomb coefficient mu
 };
 
+// One-way coupling (ITF04 section 10): a simulated solid whose deformed boundary is a moving
+// collider for cloths. Its surface (SimObject::surface) becomes a MeshSurface at the first step,
+// refit after the solids step each step, with the closest-point normal rule and the velocity of
+// the solid's surface nodes at t + dt. It acts on the named cloths only (never on itself or on
+// another solid), and nothing acts back on the solid.
+struct SolidCoupling {
+  std::string solid;
+  std::vector<std::string> cloths;  // empty: every cloth of the world
+  double friction = 0.3;            // Coulomb coefficient mu
+  double query_radius = 0.05;       // [m] contact search distance (MeshSurfaceOptions)
+};
+
 class RigidCollisions final : public CollisionProcessor {
  public:
-  explicit RigidCollisions(std::vector<RigidCollider> colliders) : colliders_(std::move(colliders)) {}
+  explicit RigidCollisions(std::vector<RigidCollider> colliders, std::vector<SolidCoupling> couplings = {})
+      : colliders_(std::move(colliders)), couplings_(std::move(couplings)) {}
+
+  // Cloths see the rigid colliders and the solids coupled to them; solids see the rigid
+  // colliders only.
+  void begin_object(const SimObject& object) override;
+  // Builds (first call) or refits each coupled solid's MeshSurface at t_new. Throws
+  // std::invalid_argument when a coupling names no solid of `objects`.
+  void solids_stepped(const std::vector<SimObject>& objects, double t_new, double dt) override;
 
   // For each node with phi(x~) < 0:
   //  - project x~ to the surface (dx_N = -phi along N);
@@ -33,6 +55,9 @@ class RigidCollisions final : public CollisionProcessor {
 
  private:
   std::vector<RigidCollider> colliders_;
+  std::vector<SolidCoupling> couplings_;
+  std::vector<std::shared_ptr<MeshSurface>> solid_surfaces_;  // per coupling, once built
+  std::vector<RigidCollider> active_;  // what process() uses for the current object
 };
 
 }  // namespace invfem

@@ -4,11 +4,24 @@
 #include "invfem/core/node_constraint.hpp"
 #include "invfem/core/types.hpp"
 
+#include <vector>
+
 namespace invfem {
+
+struct SimObject;
 
 class CollisionProcessor {
  public:
   virtual ~CollisionProcessor() = default;
+  // Stage hooks of the world's step (world.hpp). begin_object: the process() calls that follow
+  // are for this object (a processor may treat objects differently by name or kind: a solid's
+  // boundary collides with cloths only, never with itself). solids_stepped: every solid has
+  // stepped to t_new = t + dt and its surface was refreshed from its nodes (objects holds all of
+  // them, cloths still at t); no cloth has stepped yet. Both do nothing by default.
+  virtual void begin_object(const SimObject& object) { (void)object; }
+  virtual void solids_stepped(const std::vector<SimObject>& objects, double t_new, double dt) {
+    (void)objects, (void)t_new, (void)dt;
+  }
   // x_old: x(n); x_new: the predicted x~(n+1), projected in place to x(n+1); v: v(n), modified in
   // place to v~(n) (normal velocity of the object where approaching, friction with the
   // dx_N/dt term). Appends one Kind::Normal constraint per colliding node, whose normal velocity

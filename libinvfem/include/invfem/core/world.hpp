@@ -6,13 +6,20 @@
 //   1. kinematic bodies move to t + dt (rigid colliders now; bodies from mesh sequences later);
 //   2. solids step (the ITF04 section 9 step, newmark_step, or the implicit step, implicit_step),
 //      in the order they were added;
-//   3. cloths and shells step, likewise, so that they see the solids at t + dt (one-way coupling);
+//   2b. one-way coupling (ITF04 section 10): the solids' surfaces are refreshed from their nodes
+//      and handed to the collision processor (CollisionProcessor::solids_stepped), which may make
+//      them moving colliders for the cloths; the cloths never push back;
+//   3. cloths and shells step, likewise, so that they see the solids at t + dt: the collision
+//      processor is told which object each step is for (CollisionProcessor::begin_object), and
+//      attached cloth vertices (SimObject::attachments) are held as Full constraints on their
+//      targets in the solids at t + dt;
 //   4. after-step passes: every object's surface is refreshed from its nodes, then each StepPass
 //      runs in the order added (the BFA02 self-collision pass goes here). With no pass, surfaces
 //      are refreshed once, when advance_to returns.
 // dt is solver.max_dt, with the ITF04 step also the smallest stable step of every object,
 // shortened so the steps of a frame are equal and land exactly on the frame time. The implicit
 // step has no stability limit: its dt is max_dt (a frame or a fraction of one).
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -52,6 +59,25 @@ struct Weld {
   double r = 0;
 };
 
+// A cloth vertex tied to a solid (one-way coupling, ITF04 section 10: a cape tied at the
+// shoulders). The vertex follows target = sum_k weights[k] x_solid(solid_nodes[k]) + offset:
+// inside a tet, the tet's 4 nodes by barycentric weights (offset 0); otherwise the closest
+// boundary triangle's 3 nodes (solid_nodes[3] = -1, weights[3] = 0) and offset, the world-space
+// vector from that closest point to the vertex when the embedding was found (it keeps its gap
+// to the surface; it does not turn with the solid).
+struct Attachment {
+  int node = -1;                           // the cloth's node
+  std::array<int, 4> solid_nodes{-1, -1, -1, -1};
+  std::array<double, 4> weights{0, 0, 0, 0};
+  Vec3 offset = Vec3::Zero();              // [m]
+};
+
+// The attachments of one cloth to one solid, named (the world resolves the name).
+struct AttachmentGroup {
+  std::string solid;
+  std::vector<Attachment> vertices;
+};
+
 // One simulated object: its nodes (Body), the forces acting on them, its pins, and its surface.
 struct SimObject {
   std::string name;
@@ -67,12 +93,18 @@ struct SimObject {
   // The seam points of a garment's stitches, in surface vertices (Weld).
   std::vector<Weld> welds;
   Tets tets;  // solids: the tet mesh, for volumetric output; empty otherwise
+  // Cloths: vertices that follow a solid (held as Full constraints toward their targets at the
+  // step's end; the solid steps first). Empty for solids.
+  std::vector<AttachmentGroup> attachments;
 
   std::vector<Force*> force_pointers() const;
   // Kind::Full constraints of every pinned node for a step of length dt from the current x.
   NodeConstraints pin_constraints(double t, double dt) const;
   void refresh_surface();
 };
+
+// Where attachment a of a group puts its cloth vertex, given the solid's node positions x.
+Vec3 attachment_target(const Attachment& a, const Points& x);
 
 // A scripted body that moves but is not simulated (a rigid collider, an animated body).
 class KinematicBody {
@@ -150,7 +182,8 @@ class World {
  public:
   // Objects are stepped by kind (stage order above), in the given order within a kind. Throws
   // std::invalid_argument for two objects or bodies with one name, or an object whose surface map
-  // or pins name a node it does not have.
+  // or pins name a node it does not have, or an attachment naming no solid of the world or a
+  // node outside its cloth or solid.
   World(WorldSettings settings, std::vector<SimObject> objects,
         std::vector<std::shared_ptr<KinematicBody>> kinematic, std::unique_ptr<CollisionProcessor> collisions);
 
@@ -174,6 +207,8 @@ class World {
 
  private:
   void resynchronize(double time);
+  // Pins and attachments of object k for a step of length dt from the current state.
+  NodeConstraints constraints_of(std::size_t k, double dt) const;
   void apply_state(StateReader& in);
 
   WorldSettings settings_;
@@ -183,6 +218,7 @@ class World {
   std::unique_ptr<CollisionProcessor> collisions_;
   std::vector<std::unique_ptr<StepPass>> passes_;
   std::vector<ImplicitWorkspace> implicit_;  // per object, for the implicit integrator
+  std::vector<std::vector<int>> attached_solid_;  // per object, per attachment group: the solid's index
 };
 
 }  // namespace invfem

@@ -10,7 +10,10 @@
 // mass: colliders, animated bodies, pins) follows their motion instead: the same formulas over
 // its kinematic vertices alone, with equal weights, then applied to its movable vertices.
 // A weld (a garment's stitch) with a vertex in a zone brings its other vertices into it, so seams
-// move rigidly with their zone. Pairs within one zone of movable vertices move rigidly from an intersection-free start and
+// move rigidly with their zone. In a zone holding surfaces of several levels
+// (CollisionMesh::Range::level: a solid's boundary and a cloth), the vertices above the zone's
+// lowest level count as kinematic (one-way coupling).
+// Pairs within one zone of movable vertices move rigidly from an intersection-free start and
 // are not tested again. Each round re-detects its candidates with the broad phase on the
 // current velocities (a zone's motion can carry a vertex out of its first swept box).
 #include <functional>

@@ -26,7 +26,11 @@ PairStencil edge_edge_stencil(const CollisionMesh& m, int edge_a, int edge_b, do
 // v_rel of the pair under velocities v (#V x 3).
 Vec3 relative_velocity(const PairStencil& p, const Points& v);
 
-// sum_k c_k^2 / m_k: 0 when every vertex has infinite mass.
+// 1 / m_k of vertex ids[k] within the pair: its inverse mass, or 0 when the pair also holds a
+// vertex of a lower level (CollisionMesh::Range::level: one-way coupling).
+double pair_inverse_mass(const CollisionMesh& m, const PairStencil& p, int k);
+
+// sum_k c_k^2 / m_k (pair_inverse_mass): 0 when every vertex has infinite mass.
 double inverse_effective_mass(const CollisionMesh& m, const PairStencil& p);
 
 // Raises the normal relative velocity by delta >= 0 and applies Coulomb friction for it

@@ -475,11 +475,12 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
       SolidSpec solid;
       if (f.has("cloth_coupling")) {
         const Fields c = f.object("cloth_coupling");
-        c.reject_unknown({"enabled", "cloths", "friction", "query_radius"});
+        c.reject_unknown({"enabled", "cloths", "friction", "query_radius", "offset"});
         auto& cc = solid.cloth_coupling;
         cc.enabled = c.boolean("enabled", cc.enabled);
         cc.friction = c.number_in("friction", cc.friction, 0, 10);
         cc.query_radius = c.number_in("query_radius", cc.query_radius, 1e-6, 1e3);
+        cc.offset = parse_offset(c, cc.query_radius);
         if (c.has("cloths")) {
           const auto& v = c.raw("cloths");
           if (!v.is_array()) c.fail("cloths", "an array of cloth names");
@@ -632,7 +633,8 @@ nlohmann::json solid_json(const SolidSpec& o) {
       {"name", o.name},
       {"self_collision", o.self_collision},
       {"cloth_coupling", {{"enabled", o.cloth_coupling.enabled}, {"cloths", o.cloth_coupling.cloths},
-                          {"friction", o.cloth_coupling.friction}, {"query_radius", o.cloth_coupling.query_radius}}},
+                          {"friction", o.cloth_coupling.friction}, {"query_radius", o.cloth_coupling.query_radius},
+                          {"offset", o.cloth_coupling.offset}}},
       {"mesh", o.mesh.string()},
       {"mesh_resolution", o.mesh_resolution},
       {"transform", transform_json(o.transform)},

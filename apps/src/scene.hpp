@@ -74,6 +74,7 @@ struct ClothCouplingSpec {
   std::vector<std::string> cloths;  // empty: every cloth of the scene
   double friction = 0.3;            // Coulomb coefficient between the cloth and the solid
   double query_radius = 0.05;       // [m] contact search distance
+  double offset = 1e-3;             // [m] the collision surface lies this far outside the boundary
 };
 
 struct SolidSpec {

@@ -32,7 +32,7 @@ World build_world(const Scene& scene) {
   for (const auto& spec : scene.solids)
     if (spec.cloth_coupling.enabled && !scene.cloths.empty())
       couplings.push_back(SolidCoupling{spec.name, spec.cloth_coupling.cloths, spec.cloth_coupling.friction,
-                                        spec.cloth_coupling.query_radius});
+                                        spec.cloth_coupling.query_radius, spec.cloth_coupling.offset});
   Colliders colliders = build_colliders(scene);
   WorldSettings settings;
   settings.max_dt = scene.solver.max_dt;

@@ -41,7 +41,7 @@ void RigidCollisions::solids_stepped(const std::vector<SimObject>& objects, doub
     for (std::size_t s = 0; s < it->surface_nodes.size(); ++s)
       vel.row(static_cast<Eigen::Index>(s)) = it->body.v.row(it->surface_nodes[s]);
     if (!solid_surfaces_[c])
-      solid_surfaces_[c] = std::make_shared<MeshSurface>(it->surface, MeshSurfaceOptions{couplings_[c].query_radius});
+      solid_surfaces_[c] = std::make_shared<MeshSurface>(it->surface, MeshSurfaceOptions{couplings_[c].query_radius, couplings_[c].offset});
     solid_surfaces_[c]->update(it->surface.x, vel);
   }
 }

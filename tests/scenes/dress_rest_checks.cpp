@@ -4,31 +4,19 @@
 // and `invfem render` wrote; registered only where ../shared/data is present.
 #include <gtest/gtest.h>
 
-#include <algorithm>
-
-#include "invfem/shells/garment.hpp"
-#include "scene_output.hpp"
+#include "garment_checks.hpp"
 
 namespace invfem::test {
 namespace {
 
 const std::filesystem::path kOut = INVFEM_SCENE_DIR;
-const std::string kStage = std::string(INVFEM_SHARED_DATA) + "/cloth/dress_knife_stage_cipc.obj";
 constexpr int kLastFrame = 3;  // the scene's quick "frames"
 constexpr double kPinY = 1.274;
 
 TriangleSurface frame(int f) { return read_obj_surface((kOut / "frames/dress" / frame_file(f)).string()); }
 
 TEST(DressRest, EveryStitchStaysWithinOneMillimetre) {
-  const Garment g = load_garment(kStage);
-  ASSERT_EQ(g.stitches.size(), 851u);
-  for (int f = 0; f <= kLastFrame; ++f) {
-    const TriangleSurface s = frame(f);
-    ASSERT_EQ(s.x.rows(), 15656) << "the output keeps the file's vertex numbering";
-    const std::vector<double> gaps = stitch_gaps(g.stitches, s.x);
-    const auto worst = std::max_element(gaps.begin(), gaps.end());
-    EXPECT_LT(*worst, 1e-3) << "frame " << f << ": stitch " << (worst - gaps.begin()) << " gapes " << *worst << " m";
-  }
+  expect_dress_stitches_hold(kOut, "dress", INVFEM_SHARED_DATA, kLastFrame);
 }
 
 TEST(DressRest, HangsFromItsPinnedTop) {

@@ -1,0 +1,28 @@
+#pragma once
+// Checks shared by the garment scenes (dress_rest, dress_dance): the C-IPC dress's seams.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+
+#include "invfem/shells/garment.hpp"
+#include "scene_output.hpp"
+
+namespace invfem::test {
+
+// Every stitch of the C-IPC dress (the stage file of `shared_data`) within `bound` [m] in frames
+// 0 to last_frame of `object` in the run folder `out`; the output keeps the file's numbering.
+inline void expect_dress_stitches_hold(const std::filesystem::path& out, const std::string& object,
+                                       const std::string& shared_data, int last_frame, double bound = 1e-3) {
+  const Garment g = load_garment(shared_data + "/cloth/dress_knife_stage_cipc.obj");
+  ASSERT_EQ(g.stitches.size(), 851u);
+  for (int f = 0; f <= last_frame; ++f) {
+    const TriangleSurface s = read_obj_surface((out / "frames" / object / frame_file(f)).string());
+    ASSERT_EQ(s.x.rows(), 15656) << "the output keeps the file's vertex numbering";
+    const std::vector<double> gaps = stitch_gaps(g.stitches, s.x);
+    const auto worst = std::max_element(gaps.begin(), gaps.end());
+    EXPECT_LT(*worst, bound) << "frame " << f << ": stitch " << (worst - gaps.begin()) << " gapes " << *worst << " m";
+  }
+}
+
+}  // namespace invfem::test

@@ -233,22 +233,18 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
       params.pins.push_back(make_pin_group(x0, std::move(nodes), std::move(motion), pin_what));
     }
     SimObject cloth = make_cloth_object(spec.name, g, std::move(params));
-    // Attached vertices, embedded in their solid by build_world (the solid is built there).
+    // Attached vertices, embedded in their solid by build_world (the solid is built there). Named
+    // by JSON path when the spec is one of the scene's (it always is from build_world).
+    const auto index = std::find_if(scene.cloths.begin(), scene.cloths.end(),
+                                    [&](const ClothSpec& c) { return &c == &spec; }) - scene.cloths.begin();
     for (std::size_t k = 0; k < spec.attachments.size(); ++k) {
       const AttachmentSpec& a = spec.attachments[k];
-      // Named by JSON path when the spec is one of the scene's (it always is from build_world).
-      const auto index = std::find_if(scene.cloths.begin(), scene.cloths.end(),
-                                      [&](const ClothSpec& c) { return &c == &spec; }) - scene.cloths.begin();
       const std::string a_what =
           index < static_cast<std::ptrdiff_t>(scene.cloths.size())
               ? scene.file.string() + ": $.cloths[" + std::to_string(index) + "].attachments[" + std::to_string(k) +
                     "] (" + what + ")"
               : where + ": attachments[" + std::to_string(k) + "]";
-      PinSpec selection;
-      selection.vertices = a.vertices;
-      selection.box = a.box;
-      selection.group = a.group;
-      const std::vector<int> nodes = pinned_vertices(selection, g, x0, a_what);
+      const std::vector<int> nodes = pinned_vertices(a.selection, g, x0, a_what);
       if (nodes.empty()) throw InputError(a_what + " selects no vertex");
       AttachmentGroup group{a.solid, {}};
       for (int i : nodes) group.vertices.push_back(Attachment{i});

@@ -158,14 +158,12 @@ struct PinSpec {
   MotionSpec motion;  // Fixed: held still; else carried by the motion about their rest positions
 };
 
-// Cloth vertices tied to a solid (world.hpp Attachment), chosen like pins: by vertex list, box
-// (the cloth's initial positions) or group. Each is embedded in the solid's tet that holds it, or
-// on the closest boundary triangle, when the run starts.
+// Cloth vertices tied to a solid (world.hpp Attachment), chosen as pins are: by vertex list, box
+// (the cloth's initial positions) or group (`selection`; its motion stays Fixed). Each is embedded
+// in the solid's tet that holds it, or on the closest boundary triangle, when the run starts.
 struct AttachmentSpec {
   std::string solid;
-  std::vector<int> vertices;
-  std::optional<PinBox> box;
-  std::string group;
+  PinSpec selection;
 };
 
 struct ClothSpec {

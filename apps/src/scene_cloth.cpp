@@ -44,8 +44,8 @@ std::vector<int> parse_vertex_list(const Fields& f, const std::string& key) {
   return out;
 }
 
-PinSpec parse_pin(const Fields& f) {
-  f.reject_unknown({"vertices", "box", "group", "motion"});
+// The vertices a pin or an attachment selects: exactly one of "vertices", "box" or "group".
+PinSpec parse_selection(const Fields& f) {
   PinSpec p;
   const int ways = int(f.has("vertices")) + int(f.has("box")) + int(f.has("group"));
   if (ways != 1) f.fail("vertices", "exactly one of \"vertices\", \"box\" or \"group\"");
@@ -55,6 +55,20 @@ PinSpec parse_pin(const Fields& f) {
     p.group = f.string("group");
     if (p.group.empty()) f.fail("group", "a group name");
   }
+  return p;
+}
+
+nlohmann::json selection_json(const PinSpec& p) {
+  nlohmann::json j;
+  if (p.box) j["box"] = {{"min", p.box->min}, {"max", p.box->max}};
+  else if (!p.group.empty()) j["group"] = p.group;
+  else j["vertices"] = p.vertices;
+  return j;
+}
+
+PinSpec parse_pin(const Fields& f) {
+  f.reject_unknown({"vertices", "box", "group", "motion"});
+  PinSpec p = parse_selection(f);
   p.motion = parse_motion(f.object_or_empty("motion"));
   return p;
 }
@@ -64,17 +78,8 @@ AttachmentSpec parse_attachment(const Fields& f) {
   AttachmentSpec a;
   a.solid = f.string("solid");
   if (a.solid.empty()) f.fail("solid", "the name of a solid");
-  const int ways = int(f.has("vertices")) + int(f.has("box")) + int(f.has("group"));
-  if (ways != 1) f.fail("vertices", "exactly one of \"vertices\", \"box\" or \"group\"");
-  if (f.has("vertices")) {
-    a.vertices = parse_vertex_list(f, "vertices");
-    if (a.vertices.empty()) f.fail("vertices", "at least one vertex index");
-  }
-  if (f.has("box")) a.box = parse_pin_box(f.object("box"));
-  if (f.has("group")) {
-    a.group = f.string("group");
-    if (a.group.empty()) f.fail("group", "a group name");
-  }
+  a.selection = parse_selection(f);
+  if (f.has("vertices") && a.selection.vertices.empty()) f.fail("vertices", "at least one vertex index");
   return a;
 }
 
@@ -231,20 +236,15 @@ nlohmann::json cloth_json(const ClothSpec& c) {
   if (!c.attachments.empty()) {
     j["attachments"] = nlohmann::json::array();
     for (const auto& a : c.attachments) {
-      nlohmann::json aj{{"solid", a.solid}};
-      if (a.box) aj["box"] = {{"min", a.box->min}, {"max", a.box->max}};
-      else if (!a.group.empty()) aj["group"] = a.group;
-      else aj["vertices"] = a.vertices;
+      nlohmann::json aj = selection_json(a.selection);
+      aj["solid"] = a.solid;
       j["attachments"].push_back(aj);
     }
   }
   if (!c.pins.empty()) {
     j["pins"] = nlohmann::json::array();
     for (const auto& p : c.pins) {
-      nlohmann::json pj;
-      if (p.box) pj["box"] = {{"min", p.box->min}, {"max", p.box->max}};
-      else if (!p.group.empty()) pj["group"] = p.group;
-      else pj["vertices"] = p.vertices;
+      nlohmann::json pj = selection_json(p);
       pj["motion"] = motion_json(p.motion);
       j["pins"].push_back(pj);
     }

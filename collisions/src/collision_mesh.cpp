@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "union_find.hpp"
+
 namespace invfem::collisions {
 
 
@@ -63,15 +65,10 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
     ring[static_cast<std::size_t>(e.vertices(k, 0))].push_back(e.vertices(k, 1));
     ring[static_cast<std::size_t>(e.vertices(k, 1))].push_back(e.vertices(k, 0));
   }
-  std::vector<int> parent(static_cast<std::size_t>(n));
-  for (int i = 0; i < static_cast<int>(n); ++i) parent[static_cast<std::size_t>(i)] = i;
-  auto find = [&](int a) {
-    while (parent[static_cast<std::size_t>(a)] != a)
-      a = parent[static_cast<std::size_t>(a)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(a)])];
-    return a;
-  };
+  UnionFind points(static_cast<std::size_t>(n));
+  auto find = [&](int a) { return points.find(a); };
   for (const Weld& w : welds)
-    if (w.k < 0) parent[static_cast<std::size_t>(find(w.i))] = find(w.j);
+    if (w.k < 0) points.unite(w.i, w.j);
   std::vector<std::vector<int>> members(static_cast<std::size_t>(n)), touching(static_cast<std::size_t>(n));
   for (int i = 0; i < static_cast<int>(n); ++i) members[static_cast<std::size_t>(find(i))].push_back(i);
   for (const Weld& w : welds)

@@ -221,10 +221,9 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
         }
         for (std::size_t z = 0; z < zones.size(); ++z)
           if (!zone_shift[z].isZero()) {
-            int lowest = mesh_.level(zones[z].front());  // a higher level is kinematic in the zone
-            for (int i : zones[z]) lowest = std::min(lowest, mesh_.level(i));
+            const int lowest = lowest_level(mesh_, zones[z]);
             for (int i : zones[z])
-              if (mesh_.movable(i) && mesh_.level(i) == lowest) vel.row(i) += (zone_shift[z] / dt).transpose();
+              if (!fixed_in_zone(mesh_, i, lowest)) vel.row(i) += (zone_shift[z] / dt).transpose();
           }
         any = any || moved;
         if (!moved) break;

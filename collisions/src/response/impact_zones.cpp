@@ -6,31 +6,13 @@
 #include <algorithm>
 #include <map>
 
+#include "../union_find.hpp"
 #include "invfem/collisions/ccd/candidate_ccd.hpp"
 #include "invfem/core/parallel.hpp"
 
 namespace invfem::collisions {
 
 namespace {
-
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(std::size_t n) : parent(n) {
-    for (std::size_t i = 0; i < n; ++i) parent[i] = static_cast<int>(i);
-  }
-  int find(int i) {
-    while (parent[static_cast<std::size_t>(i)] != i) {
-      parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
-      i = parent[static_cast<std::size_t>(i)];
-    }
-    return i;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-  }
-};
 
 // omega = I^+ L, eigenvalues below 1e-12 of the largest treated as zero.
 Vec3 pseudo_solve(const Mat3& I, const Vec3& L) {
@@ -44,11 +26,15 @@ Vec3 pseudo_solve(const Mat3& I, const Vec3& L) {
 
 }  // namespace
 
-void rigidify_zone(const CollisionMesh& m, const std::vector<int>& zone, double dt, Points& v) {
-  // Vertices of a level above the zone's lowest are kinematic in it (one-way coupling).
+int lowest_level(const CollisionMesh& m, const std::vector<int>& zone) {
   int lowest = m.level(zone.front());
   for (int i : zone) lowest = std::min(lowest, m.level(i));
-  auto fixed = [&](int i) { return !m.movable(i) || m.level(i) > lowest; };
+  return lowest;
+}
+
+void rigidify_zone(const CollisionMesh& m, const std::vector<int>& zone, double dt, Points& v) {
+  const int lowest = lowest_level(m, zone);
+  auto fixed = [&](int i) { return fixed_in_zone(m, i, lowest); };
   bool kinematic = false;
   for (int i : zone) kinematic = kinematic || fixed(i);
   // The vertices that define the motion, and their weights.

@@ -44,6 +44,14 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& mesh, BroadPhase& bro
                                       const CcdSettings& settings, int max_iterations, Points& v,
                                       const ZoneConstraint& constrain = {});
 
+// True when vertex i does not move with its zone but the zone with it: a kinematic vertex, or
+// one of a surface level above the zone's lowest (one-way coupling: a solid's boundary in a zone
+// with a cloth). lowest: the smallest level of the zone's vertices (lowest_level).
+int lowest_level(const CollisionMesh& mesh, const std::vector<int>& zone);
+inline bool fixed_in_zone(const CollisionMesh& mesh, int i, int lowest) {
+  return !mesh.movable(i) || mesh.level(i) > lowest;
+}
+
 // The rigid velocities of one zone (vertex ids, all movable or some kinematic, as above),
 // written into v. Exposed for the tests.
 void rigidify_zone(const CollisionMesh& mesh, const std::vector<int>& zone, double dt, Points& v);

@@ -36,6 +36,15 @@ struct MeshSurface::Impl {
 
   const TriangleSurface& surface() const { return bvh->surface(); }
 
+  // The new positions (refit, checked: the count and the coordinates), the previous ones kept in
+  // x_prev, the normals recomputed. The caller sets the velocities, then the stamp.
+  void refit_to(const Points& x) {
+    Points before = surface().x;
+    bvh->refit(x);
+    x_prev = std::move(before);
+    compute_normals();
+  }
+
   void compute_normals() {
     const Points& x = surface().x;
     const Tris& tris = surface().tris;
@@ -81,11 +90,8 @@ MeshSurface::~MeshSurface() = default;
 void MeshSurface::update(const Points& x, double dt) {
   Impl& m = *impl_;
   if (!std::isfinite(dt) || !(dt > 0)) throw std::invalid_argument("MeshSurface::update: dt must be finite and > 0");
-  const Points before = m.surface().x;
-  m.bvh->refit(x);  // checks the count and the coordinates
-  m.x_prev = before;
+  m.refit_to(x);
   m.vel = (x - m.x_prev) / dt;
-  m.compute_normals();
   m.stamp = ++g_stamp;
 }
 
@@ -95,11 +101,8 @@ void MeshSurface::update(const Points& x, const Points& v) {
     throw std::invalid_argument("MeshSurface::update: " + std::to_string(v.rows()) + " velocities for " +
                                 std::to_string(x.rows()) + " positions");
   if (!v.allFinite()) throw std::invalid_argument("MeshSurface::update: a velocity is not finite");
-  const Points before = m.surface().x;
-  m.bvh->refit(x);  // checks the count and the coordinates
-  m.x_prev = before;
+  m.refit_to(x);
   m.vel = v;
-  m.compute_normals();
   m.stamp = ++g_stamp;
 }
 

@@ -20,12 +20,11 @@ int index_of(const std::string& word) {
 certificate::SurfaceWelds welds_from_stitches(const std::vector<Stitch>& stitches) {
   certificate::SurfaceWelds w;
   for (const Stitch& s : stitches) {
-    if (s.r == 0)
-      w.same_point.push_back({s.i, s.j});
-    else if (s.r == 1)
-      w.same_point.push_back({s.i, s.k});
+    const Weld seam = stitch_weld(s);
+    if (seam.k < 0)
+      w.same_point.push_back({seam.i, seam.j});
     else
-      w.on_edge.push_back({s.i, s.j, s.k});
+      w.on_edge.push_back({seam.i, seam.j, seam.k});
   }
   return w;
 }

@@ -48,8 +48,7 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   stitches.insert(stitches.end(), p.extra_stitches.begin(), p.extra_stitches.end());
   std::unique_ptr<StitchForce> stitch;
   std::vector<Weld> welds;  // in nodes; in surface vertices once the surface exists
-  for (const Stitch& st : stitches)  // a stitch at an edge's end holds i at that end (the checker's rule)
-    welds.push_back(st.r == 0 ? Weld{st.i, st.j, -1} : st.r == 1 ? Weld{st.i, st.k, -1} : Weld{st.i, st.j, st.k, st.r});
+  for (const Stitch& st : stitches) welds.push_back(stitch_weld(st));
   if (!stitches.empty()) {
     std::vector<double> lengths = seam_lengths(stitches, membrane->rest());
     stitch = std::make_unique<StitchForce>(std::move(stitches), std::move(lengths), x0.rows(), p.stitch, what);

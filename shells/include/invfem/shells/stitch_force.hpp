@@ -19,6 +19,7 @@
 
 #include "invfem/core/force.hpp"
 #include "invfem/core/triangle_kernel.hpp"
+#include "invfem/core/world.hpp"
 
 namespace invfem {
 
@@ -34,6 +35,15 @@ inline Vec3 stitch_gap(const Stitch& s, const Points& x) {
 
 // |C| per stitch at positions x [m].
 std::vector<double> stitch_gaps(const std::vector<Stitch>& stitches, const Points& x);
+
+// The seam point a stitch makes (world.hpp Weld), the one classification the self-collision
+// layer and `invfem check` both start from: a stitch at an edge's end (r = 0 or 1) holds i at
+// that vertex, one inside an edge holds i on it.
+inline Weld stitch_weld(const Stitch& s) {
+  if (s.r == 0) return Weld{s.i, s.j, -1};
+  if (s.r == 1) return Weld{s.i, s.k, -1};
+  return Weld{s.i, s.j, s.k, s.r};
+}
 
 struct StitchParams {
   double stiffness = 5e3;  // per metre of seam [N/m^2] > 0

@@ -15,7 +15,6 @@ namespace {
 
 constexpr std::size_t kGrain = 2048;
 
-double dot(const Points& a, const Points& b) { return a.reshaped().dot(b.reshaped()); }  // sequential
 
 // Builds the pattern of M + h^2 K + h C from every force's element lists (once per body).
 void prepare(ImplicitWorkspace& ws, const Body& body, const std::vector<Force*>& forces) {
@@ -121,7 +120,7 @@ double incremental_potential(const Body& body, const std::vector<Force*>& forces
   }
   ws.scratch = x - x_start;
   ws.C.multiply(ws.scratch, ws.product);
-  const double damping = dot(ws.scratch, ws.product);
+  const double damping = points_dot(ws.scratch, ws.product);
   return 0.5 * inertia + h * h * (psi - gravity + friction_potential(k, x, x_start, h)) + 0.5 * h * damping;
 }
 
@@ -145,8 +144,8 @@ void assemble(const Body& body, const std::vector<Force*>& forces, const Contact
   for (std::size_t f = 0; f < forces.size(); ++f) {
     forces[f]->stiffness_matrices(ws.stiffness[f]);
     ws.stiffness_scatter[f].add(ws.stiffness[f], h * h, ws.A);
-    ws.damping_scatter[f].add(ws.damping[f], h, ws.A);
   }
+  ws.A.add_scaled(ws.C, h);  // C is frozen at x(n): assembled once a step, not gathered again
   for (std::size_t j = k.first_contact; j < k.constraints.size(); ++j) {
     if (k.friction[j] <= 0) continue;
     const Slip sl = slip(k.constraints[j], x, x_start, h);
@@ -181,19 +180,19 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
     total_force(body, forces, f);
     potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
     project_free(fixed, ws.grad);
-    const double g_norm = std::sqrt(dot(ws.grad, ws.grad));
+    const double g_norm = std::sqrt(points_dot(ws.grad, ws.grad));
     if (it == 0) {
       // force_scale = |S M g| + |S f_elastic(x^0)| + |S M v~| / h (see the header), with
       // M v~ = M (x^ - x(n)) / h.
       ws.scratch = mass * body.gravity.transpose();
       project_free(fixed, ws.scratch);
-      force_scale = std::sqrt(dot(ws.scratch, ws.scratch));
+      force_scale = std::sqrt(points_dot(ws.scratch, ws.scratch));
       ws.scratch = f - mass * body.gravity.transpose();
       project_free(fixed, ws.scratch);
-      force_scale += std::sqrt(dot(ws.scratch, ws.scratch));
+      force_scale += std::sqrt(points_dot(ws.scratch, ws.scratch));
       ws.scratch = mass.asDiagonal() * (ws.x_hat - x_start);
       project_free(fixed, ws.scratch);
-      force_scale += std::sqrt(dot(ws.scratch, ws.scratch)) / (h * h);
+      force_scale += std::sqrt(points_dot(ws.scratch, ws.scratch)) / (h * h);
       g0 = g_norm;
     }
     stats.newton_residual = force_scale > 0 ? g_norm / (h * h) / force_scale : 0.0;
@@ -216,7 +215,7 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
 
     // Backtracking line search on E (Armijo with c = 1e-4): A is definite, so d is a descent
     // direction of E.
-    const double slope = dot(ws.grad, ws.dir);
+    const double slope = points_dot(ws.grad, ws.dir);
     if (!(slope < 0)) return;  // no descent left: stop, reported as not converged
     const double E0 = incremental_potential(body, forces, k, x, x_start, h, ws);
     double alpha = 1;
@@ -235,7 +234,7 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
       total_force(body, forces, f);
       potential_gradient(body, k, ws.x_trial, x_start, f, h, ws, ws.grad_trial);
       project_free(fixed, ws.grad_trial);
-      if (std::sqrt(dot(ws.grad_trial, ws.grad_trial)) <= (1 - 1e-4 * alpha) * g_norm) {
+      if (std::sqrt(points_dot(ws.grad_trial, ws.grad_trial)) <= (1 - 1e-4 * alpha) * g_norm) {
         accepted = true;
         break;
       }

@@ -28,10 +28,6 @@ void impose(const NodeConstraints& constraints, Points& v) {
   }
 }
 
-double dot(const Points& a, const Points& b) {
-  // Flat, sequential: deterministic.
-  return a.reshaped().dot(b.reshaped());
-}
 }  // namespace
 
 CGResult projected_pcg(const std::function<void(const Points&, Points&)>& apply_A,
@@ -46,14 +42,14 @@ CGResult projected_pcg(const std::function<void(const Points&, Points&)>& apply_
   project_free(constraints, r);
   ws.Sb = b;
   project_free(constraints, ws.Sb);
-  const double b_norm = std::sqrt(dot(ws.Sb, ws.Sb));
+  const double b_norm = std::sqrt(points_dot(ws.Sb, ws.Sb));
   const double tol = settings.relative_tolerance * b_norm + 1e-300;
 
   CGResult res;
   apply_P(r, z);
   p = z;
-  double rz = dot(r, z);
-  res.residual = std::sqrt(dot(r, r));
+  double rz = points_dot(r, z);
+  res.residual = std::sqrt(points_dot(r, r));
   if (res.residual <= tol) {
     res.converged = true;
     return res;
@@ -61,19 +57,19 @@ CGResult projected_pcg(const std::function<void(const Points&, Points&)>& apply_
   for (int it = 1; it <= settings.max_iterations; ++it) {
     apply_A(p, Ap);
     project_free(constraints, Ap);
-    const double pAp = dot(p, Ap);
+    const double pAp = points_dot(p, Ap);
     if (!(pAp > 0)) break;  // not SPD on the free subspace (or p = 0): stop with what we have
     const double alpha = rz / pAp;
     v += alpha * p;
     r -= alpha * Ap;
     res.iterations = it;
-    res.residual = std::sqrt(dot(r, r));
+    res.residual = std::sqrt(points_dot(r, r));
     if (res.residual <= tol) {
       res.converged = true;
       break;
     }
     apply_P(r, z);
-    const double rz_new = dot(r, z);
+    const double rz_new = points_dot(r, z);
     p = z + (rz_new / rz) * p;
     rz = rz_new;
   }

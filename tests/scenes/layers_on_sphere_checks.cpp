@@ -21,23 +21,32 @@ TEST(LayersOnSphere, SelfCollisionLayerWorkedWithoutFailSafeFailures) {
 }
 
 TEST(LayersOnSphere, LayersStayInTheirOrderOverTheTopOfTheSphere) {
-  // Above the sphere's top, each cloth's highest point near the axis: bottom < middle < top,
-  // at least the repulsion thickness apart.
-  auto height_at_top = [&](const std::string& cloth) {
+  // Each cloth's height where the sphere's vertical axis (x = z = 0) passes through it (the
+  // highest crossing, should a cloth fold over itself): bottom < middle < top. Measured on the
+  // surfaces, not at the vertex nearest the axis: on the quick meshes that vertex can sit 3 cm
+  // off the axis on a wrinkle, higher than the layer above it at its own nearest vertex.
+  auto height_on_axis = [&](const std::string& cloth) {
     const TriangleSurface s = frame(cloth, kLastFrame);
-    double best = 1e9, y = 0;
-    for (Eigen::Index i = 0; i < s.x.rows(); ++i) {
-      const double r = std::hypot(s.x(i, 0), s.x(i, 2));
-      if (r < best) {
-        best = r;
-        y = s.x(i, 1);
-      }
+    double y = -1e9;
+    for (Eigen::Index t = 0; t < s.tris.rows(); ++t) {
+      const Vec3 a = s.x.row(s.tris(t, 0)).transpose(), b = s.x.row(s.tris(t, 1)).transpose(),
+                 c = s.x.row(s.tris(t, 2)).transpose();
+      // Barycentric coordinates of the axis point (0, 0) in the triangle projected onto xz.
+      const double d = (b.x() - a.x()) * (c.z() - a.z()) - (c.x() - a.x()) * (b.z() - a.z());
+      if (d == 0) continue;
+      const double u = ((0 - a.x()) * (c.z() - a.z()) - (c.x() - a.x()) * (0 - a.z())) / d;
+      const double v = ((b.x() - a.x()) * (0 - a.z()) - (0 - a.x()) * (b.z() - a.z())) / d;
+      if (u < 0 || v < 0 || u + v > 1) continue;
+      y = std::max(y, a.y() + u * (b.y() - a.y()) + v * (c.y() - a.y()));
     }
+    EXPECT_GT(y, -1e9) << cloth << " does not cover the sphere's axis";
     return y;
   };
-  const double bottom = height_at_top("bottom"), middle = height_at_top("middle"), top = height_at_top("top");
-  EXPECT_GE(bottom, kCenter.y() + kRadius - 1e-4);
-  EXPECT_LT(bottom, kCenter.y() + kRadius + 0.02);  // resting on the sphere
+  const double bottom = height_on_axis("bottom"), middle = height_on_axis("middle"), top = height_on_axis("top");
+  // Resting on the sphere: its vertices stay outside (NoVertexEntersTheSphere), but a flat
+  // triangle over the apex cuts below it by its sagitta, (5 cm)^2 / (8 R) = 1.6 mm on the quick mesh.
+  EXPECT_GE(bottom, kCenter.y() + kRadius - 2e-3);
+  EXPECT_LT(bottom, kCenter.y() + kRadius + 0.02);
   EXPECT_GT(middle, bottom);
   EXPECT_GT(top, middle);
 }

@@ -8,6 +8,7 @@
 
 #include "../union_find.hpp"
 #include "invfem/collisions/ccd/candidate_ccd.hpp"
+#include "invfem/collisions/response/zone_following.hpp"
 #include "invfem/core/parallel.hpp"
 
 namespace invfem::collisions {
@@ -76,8 +77,13 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
   const auto n = static_cast<std::size_t>(m.num_vertices());
   UnionFind zones(n);
   std::vector<char> in_zone(n, 0);
-  // A pair needs no test when its four vertices are one zone of movable vertices (it moves
-  // rigidly).
+  // Per vertex, set for all of a zone at each move: follows: the zone was carried by its kinematic
+  // triangles (response/zone_following.hpp); rigid: the zone's own pairs collided while it was,
+  // so it moves rigidly from then on (the old rule: at worst what BFA02's zone does).
+  std::vector<char> follows(n, 0), rigid(n, 0);
+  const VertexTriangles incident = vertex_triangles(m);
+  // A pair needs no test when its four vertices are one zone of movable vertices that moves
+  // rigidly (a zone that follows deforming triangles may bring its own vertices together).
   auto zone_lists = [&]() {
     std::map<int, std::vector<int>> members;
     for (std::size_t i = 0; i < n; ++i)
@@ -100,7 +106,8 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
         const int root = frozen.parent[static_cast<std::size_t>(ids[0])];
         for (int i : ids)
           inside = inside && m.movable(i) && in_zone[static_cast<std::size_t>(i)] &&
-                   frozen.parent[static_cast<std::size_t>(i)] == root && m.level(i) == m.level(ids[0]);
+                   frozen.parent[static_cast<std::size_t>(i)] == root && m.level(i) == m.level(ids[0]) &&
+                   !follows[static_cast<std::size_t>(i)];
         double toi = 0;
         hit[k] = !inside && candidate_ccd(m, list[k], v, dt, s, toi) ? 1 : 0;
       });
@@ -108,11 +115,19 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
     test(c.vf, vf_hit);
     test(c.ee, ee_hit);
     bool any = false;
+    const std::vector<char> zoned_before = in_zone;
     auto merge = [&](const auto& list, const std::vector<char>& hit) {
       for (std::size_t k = 0; k < list.size(); ++k) {
         if (!hit[k]) continue;
         any = true;
         const auto ids = candidate_vertices(m, list[k]);
+        // A hit among the vertices of one following zone: following its triangles did not clear
+        // it, and merging cannot change that zone's motion: it turns rigid.
+        bool own = follows[static_cast<std::size_t>(ids[0])] != 0;
+        for (int i : ids)
+          own = own && zoned_before[static_cast<std::size_t>(i)] &&
+                frozen.parent[static_cast<std::size_t>(i)] == frozen.parent[static_cast<std::size_t>(ids[0])];
+        if (own) rigid[static_cast<std::size_t>(ids[0])] = 1;
         for (int i : ids) in_zone[static_cast<std::size_t>(i)] = 1;
         for (int j = 1; j < 4; ++j) zones.unite(ids[0], ids[static_cast<std::size_t>(j)]);
       }
@@ -133,9 +148,20 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
       zones.unite(ids[0], ids[1]);
       zones.unite(ids[0], ids[2]);
     }
-    // Every zone moves rigidly (zones in ascending order of their smallest vertex).
+    // Every zone moves: one holding kinematic triangles follows them, unless it turned rigid;
+    // the others rigidly (zones in ascending order of their smallest vertex; each writes only its
+    // own vertices' entries).
     const std::vector<std::vector<int>> list = zone_lists();
-    parallel_for_each(list.size(), 16, [&](std::size_t z) { rigidify_zone(m, list[z], dt, v); });
+    parallel_for_each(list.size(), 16, [&](std::size_t z) {
+      const std::vector<int>& zone = list[z];
+      const bool was_rigid = std::any_of(zone.begin(), zone.end(), [&](int i) { return rigid[static_cast<std::size_t>(i)]; });
+      const bool follow = !was_rigid && follow_kinematic_triangles(m, incident, zone, dt, v);
+      if (!follow) rigidify_zone(m, zone, dt, v);
+      for (int i : zone) {
+        follows[static_cast<std::size_t>(i)] = follow ? 1 : 0;
+        rigid[static_cast<std::size_t>(i)] = was_rigid ? 1 : 0;
+      }
+    });
   }
   report.resolved = report.iterations < max_iterations;
   std::map<int, int> sizes;

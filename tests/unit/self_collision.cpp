@@ -473,7 +473,7 @@ TEST(ImpactZones, ManyFollowingZonesGiveTheSameBitsOnAnyThreadCount) {
   EXPECT_EQ(one.iterations, four.iterations);
 }
 
-TEST(ImpactZones, AFollowingZoneLeavesRigidBodiesToTheRigidRule) {
+TEST(ImpactZones, FollowingATranslatingBodyIsItsRigidFit) {
   // A body that only translates: following its triangles is exactly that translation, as the
   // rigid fit was.
   CollisionMesh m;

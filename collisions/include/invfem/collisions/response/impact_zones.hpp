@@ -6,13 +6,14 @@
 //   M = sum m_i, x_cm = sum m_i x0_i / M, v_cm = sum m_i v_i / M, r_i = x0_i - x_cm,
 //   L = sum m_i r_i x (v_i - v_cm), I = sum m_i (|r_i|^2 Id - r_i r_i^T), omega = I^+ L,
 //   x_i(n+1) = x_cm + dt v_cm + R(omega dt) r_i,  v_i = (x_i(n+1) - x0_i) / dt
-// (I^+: the pseudo-inverse, for collinear zones). A zone that holds kinematic triangles (infinite
-// mass: colliders, animated bodies, a solid's boundary under one-way coupling) is carried by them
-// instead, each movable vertex by its nearest such triangle, so that it follows a body that bends
-// and stretches (response/zone_following.hpp); its own pairs are then tested too, and should one
-// of them still collide the zone turns rigid. A rigid zone that holds kinematic vertices (pins, or
-// one turned rigid) follows their motion: the formulas above over its kinematic vertices alone,
-// with equal weights, then applied to its movable vertices.
+// (I^+: the pseudo-inverse, for collinear zones). A zone that holds kinematic vertices (infinite
+// mass: colliders, animated bodies, pins) follows their motion: the formulas above over its
+// kinematic vertices alone, with equal weights, then applied to its movable vertices. When such
+// a zone's own pairs still collide after a quarter of the rounds (no rigid motion follows a body
+// that bends and stretches), it is carried by its kinematic triangles instead, each movable vertex
+// by its nearest one (response/zone_following.hpp); its own pairs are then tested too, those
+// still colliding get impulses for some rounds, then the zone turns rigid for good (the rules and
+// their order: impact_zones.cpp).
 // A weld (a garment's stitch) with a vertex in a zone brings its other vertices into it, so seams
 // move rigidly with their zone. In a zone holding surfaces of several levels
 // (CollisionMesh::Range::level: a solid's boundary and a cloth), the vertices above the zone's

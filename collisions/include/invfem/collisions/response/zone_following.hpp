@@ -19,9 +19,10 @@
 // is (p1 - p) / dt. A vertex that lies over the interior of its triangle thus keeps its height
 // above it and its barycentric place however the body bends or stretches around it; the vertices
 // sharing one triangle move by one affine map (no crossing among them). Vertices embedded in
-// different triangles may still meet: the zone loop tests every pair of such a zone (not only
-// the pairs that reach outside it) and falls back to the rigid rule for a zone whose own pairs
-// still collide (impact_zones.cpp).
+// different triangles may still meet, and a second body part may sweep past the cloth: the zone
+// loop tests every pair of such a zone (not only the pairs that reach outside it), gives the
+// zone's own colliding pairs impulses for some rounds, then falls back to the rigid rule
+// (impact_zones.cpp says when each rule applies).
 //
 // Which triangles: those of the mesh whose three vertices are each either kinematic (inverse
 // mass 0) or a vertex of the zone that is fixed in it (fixed_in_zone: a higher level's surface

@@ -99,7 +99,7 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
   std::vector<char> mode(n, 0), follows(n, 0);
   std::vector<int> tries(n, 0), moved_size(n, 0);
   constexpr int kImpulseRounds = 10;
-  const VertexTriangles incident = vertex_triangles(m);
+  VertexTriangles incident;  // built when a zone first follows
   // A pair needs no test when its four vertices are one zone of movable vertices that moves
   // rigidly (a zone that follows deforming triangles may bring its own vertices together).
   auto zone_lists = [&]() {
@@ -180,6 +180,7 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
     // only its own vertices' entries).
     const std::vector<std::vector<int>> list = zone_lists();
     std::vector<char> keep(list.size(), 0);
+    if (incident.offsets.empty() && std::find(mode.begin(), mode.end(), 1) != mode.end()) incident = vertex_triangles(m);
     parallel_for_each(list.size(), 16, [&](std::size_t z) {
       const std::vector<int>& zone = list[z];
       const auto first = static_cast<std::size_t>(zone.front());  // its root (unions keep the smaller)

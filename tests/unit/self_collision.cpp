@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <tbb/global_control.h>
 
 #include <random>
 #include <set>
@@ -15,6 +16,7 @@
 #include "invfem/collisions/response/pair_impulse.hpp"
 #include "invfem/collisions/response/repulsion.hpp"
 #include "invfem/collisions/response/seams.hpp"
+#include "invfem/collisions/response/zone_following.hpp"
 #include "invfem/collisions/self_collision_pass.hpp"
 
 using namespace invfem;
@@ -394,6 +396,101 @@ TEST(ImpactZones, ResolveEveryCollisionOfAFastCrossing) {
   EXPECT_TRUE(r.resolved);
   EXPECT_GE(r.zones, 1);
   EXPECT_EQ(colliding_pairs(m, v, dt, 1e-5), 0);
+}
+
+TEST(ImpactZones, AZoneOnABendingStretchingBodyFollowsItWithoutCrossing) {
+  // A kinematic sheet (an animated body's skin) bends into a valley y = k x^2 and stretches by
+  // 10% along x within one step, under a cloth patch resting 0.5 mm above it (the cloth's own
+  // velocity: at rest). No rigid motion follows the body (the zone's old rule: the body's best
+  // rigid fit, which leaves the cloth through the rising sides: unresolved at the cap); the cloth
+  // carried by its nearest body triangles stays off it (response/zone_following.hpp).
+  CollisionMesh m;
+  append_grid(m, "body", 10, 1.0, 0.0, Vec3::Zero(), true);
+  append_grid(m, "cloth", 7, 0.6, 5e-4, Vec3::Zero());
+  const double dt = 0.01, k = 0.2, stretch = 0.1;
+  const int body_vertices = 11 * 11;
+  for (int i = 0; i < body_vertices; ++i) {
+    const double x = m.x0(i, 0);
+    m.v.row(i) << stretch * x / dt, k * x * x / dt, 0.0;
+  }
+  ASSERT_GT(colliding_pairs(m, m.v, dt, 1e-5), 0);
+  CcdSettings s;
+  s.min_distance = 1e-5;
+  BroadPhase bp;
+  Points v = m.v;
+  const ImpactZoneReport r = resolve_impact_zones(m, bp, 2e-5, dt, s, 100, v);
+  EXPECT_TRUE(r.resolved) << r.iterations << " rounds, largest zone " << r.largest;
+  EXPECT_EQ(colliding_pairs(m, v, dt, 1e-5), 0);
+  for (int i = 0; i < body_vertices; ++i) EXPECT_EQ(v.row(i), m.v.row(i)) << "body vertex " << i;
+  // Each cloth vertex ends above the body's end surface at its place (y = k x0^2 at the body
+  // point that started below it, x = (1 + stretch) x0), by about its start height.
+  for (int i = body_vertices; i < m.num_vertices(); ++i) {
+    const Vec3 p1 = m.x0.row(i).transpose() + dt * v.row(i).transpose();
+    const double x0 = p1(0) / (1 + stretch);
+    EXPECT_GT(p1(1) - k * x0 * x0, 2.5e-4) << "cloth vertex " << i;
+    EXPECT_LT(p1(1) - k * x0 * x0, 1e-3) << "cloth vertex " << i;
+  }
+}
+
+TEST(ImpactZones, ManyFollowingZonesGiveTheSameBitsOnAnyThreadCount) {
+  // 64 separate cloth triangles 0.5 mm over a kinematic sheet that bends and stretches: 64 zones,
+  // moved in parallel (more than one grain of zones), each carried by the sheet.
+  CollisionMesh m;
+  append_grid(m, "body", 16, 1.0, 0.0, Vec3::Zero(), true);
+  const int body_vertices = 17 * 17;
+  const double dt = 0.01, k = 0.3, stretch = 0.05;
+  for (int i = 0; i < body_vertices; ++i) {
+    const double x = m.x0(i, 0), z = m.x0(i, 2);
+    m.v.row(i) << stretch * x / dt, k * (x * x + 0.5 * z * z) / dt, 0.0;
+  }
+  Points x(3 * 64, 3);
+  Tris t(64, 3);
+  for (int f = 0; f < 64; ++f) {
+    const double cx = -0.42 + 0.12 * (f % 8), cz = -0.42 + 0.12 * (f / 8);
+    x.row(3 * f) << cx, 5e-4, cz;
+    x.row(3 * f + 1) << cx + 0.03, 5e-4, cz;
+    x.row(3 * f + 2) << cx, 5e-4, cz + 0.03;
+    t.row(f) << 3 * f, 3 * f + 1, 3 * f + 2;
+  }
+  append_surface(m, "patches", t, x, Points::Zero(x.rows(), 3), Eigen::VectorXd::Ones(x.rows()), false);
+  ASSERT_GT(colliding_pairs(m, m.v, dt, 1e-5), 0);
+  CcdSettings s;
+  s.min_distance = 1e-5;
+  auto resolve = [&](int threads, ImpactZoneReport& r) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    BroadPhase bp;
+    Points v = m.v;
+    r = resolve_impact_zones(m, bp, 2e-5, dt, s, 100, v);
+    return v;
+  };
+  ImpactZoneReport one, four;
+  const Points v1 = resolve(1, one), v4 = resolve(4, four);
+  EXPECT_TRUE(one.resolved);
+  EXPECT_GT(one.zones, 16);
+  EXPECT_EQ(colliding_pairs(m, v1, dt, 1e-5), 0);
+  EXPECT_EQ(v1, v4);
+  EXPECT_EQ(one.zones, four.zones);
+  EXPECT_EQ(one.iterations, four.iterations);
+  EXPECT_GE(one.iterations, 100 / 4) << "the rigid rule did not clear the zones: they followed the sheet";
+}
+
+TEST(ImpactZones, FollowingATranslatingBodyIsItsRigidFit) {
+  // A body that only translates: following its triangles is exactly that translation, as the
+  // rigid fit was.
+  CollisionMesh m;
+  append_grid(m, "body", 4, 1.0, 0.0, Vec3(0.3, 2.0, -0.1), true);
+  append_grid(m, "cloth", 3, 0.6, 5e-4, Vec3(0, -1.0, 0));
+  std::vector<int> zone(static_cast<std::size_t>(m.num_vertices()));
+  for (int i = 0; i < m.num_vertices(); ++i) zone[static_cast<std::size_t>(i)] = i;
+  Points followed = m.v, fitted = m.v;
+  ASSERT_TRUE(follow_kinematic_triangles(m, vertex_triangles(m), zone, 0.01, followed));
+  rigidify_zone(m, zone, 0.01, fitted);
+  EXPECT_LT((followed - fitted).cwiseAbs().maxCoeff(), 1e-9);
+  // A zone without kinematic triangles is left to the rigid rule.
+  const std::vector<int> cloth_only(zone.begin() + 25, zone.end());
+  Points unchanged = m.v;
+  EXPECT_FALSE(follow_kinematic_triangles(m, vertex_triangles(m), cloth_only, 0.01, unchanged));
+  EXPECT_EQ(unchanged, m.v);
 }
 
 namespace {

@@ -7,14 +7,19 @@
 //   L = sum m_i r_i x (v_i - v_cm), I = sum m_i (|r_i|^2 Id - r_i r_i^T), omega = I^+ L,
 //   x_i(n+1) = x_cm + dt v_cm + R(omega dt) r_i,  v_i = (x_i(n+1) - x0_i) / dt
 // (I^+: the pseudo-inverse, for collinear zones). A zone that holds kinematic vertices (infinite
-// mass: colliders, animated bodies, pins) follows their motion instead: the same formulas over
-// its kinematic vertices alone, with equal weights, then applied to its movable vertices.
+// mass: colliders, animated bodies, pins) follows their motion: the formulas above over its
+// kinematic vertices alone, with equal weights, then applied to its movable vertices. When such
+// a zone's own pairs still collide after a quarter of the rounds (no rigid motion follows a body
+// that bends and stretches), it is carried by its kinematic triangles instead, each movable vertex
+// by its nearest one (response/zone_following.hpp); its own pairs are then tested too, those
+// still colliding get impulses for some rounds, then the zone turns rigid for good (the rules and
+// their order: impact_zones.cpp).
 // A weld (a garment's stitch) with a vertex in a zone brings its other vertices into it, so seams
 // move rigidly with their zone. In a zone holding surfaces of several levels
 // (CollisionMesh::Range::level: a solid's boundary and a cloth), the vertices above the zone's
 // lowest level count as kinematic (one-way coupling).
-// Pairs within one zone of movable vertices move rigidly from an intersection-free start and
-// are not tested again. Each round re-detects its candidates with the broad phase on the
+// Pairs within one rigid zone of movable vertices move rigidly from an intersection-free start
+// and are not tested again. Each round re-detects its candidates with the broad phase on the
 // current velocities (a zone's motion can carry a vertex out of its first swept box).
 #include <functional>
 #include <vector>
@@ -53,7 +58,7 @@ inline bool fixed_in_zone(const CollisionMesh& mesh, int i, int lowest) {
 }
 
 // The rigid velocities of one zone (vertex ids, all movable or some kinematic, as above),
-// written into v. Exposed for the tests.
+// written into v. Exposed for the tests; the loop's other rule is follow_kinematic_triangles.
 void rigidify_zone(const CollisionMesh& mesh, const std::vector<int>& zone, double dt, Points& v);
 
 }  // namespace invfem::collisions

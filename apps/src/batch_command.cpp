@@ -16,6 +16,7 @@
 #include "cli_args.hpp"
 #include "invfem/renders/image.hpp"
 #include "invfem/renders/image_compare.hpp"
+#include "input_check.hpp"
 #include "json_fields.hpp"
 #include "preview.hpp"
 #include "run_output.hpp"
@@ -94,7 +95,8 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
 
   std::vector<std::filesystem::path> scenes;
   for (const auto& s : args.positional) {
-    if (!std::filesystem::is_regular_file(s)) throw InputError(s + ": no such scene file");
+    if (const std::string problem = input_file_problem(s); !problem.empty())
+      throw InputError(s + ": no such scene file (" + problem + ")");
     scenes.push_back(std::filesystem::absolute(s));
   }
   std::sort(scenes.begin(), scenes.end());
@@ -107,7 +109,7 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
   const auto [shard, shards] = args.has("--shard") ? parse_shard(args.value("--shard")) : std::pair<int, int>{0, 1};
   for (std::size_t k = 0; k < scenes.size(); ++k)
     if (static_cast<int>(k % shards) == shard) todo.push_back({scenes[k], scenes[k].stem().string()});
-  std::filesystem::create_directories(out);
+  prepare_output_dir(out, "--out");
   const bool mp4 = args.flag("--mp4");
   if (mp4 && !have_ffmpeg()) std::cerr << "warning: --mp4: ffmpeg is not installed; no videos will be written\n";
 

@@ -8,8 +8,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 
@@ -47,7 +49,18 @@ struct Job {
   std::string name;  // folder under DIR: the scene file's stem
   pid_t pid = -1;
   int status = -1;
+  std::string failure = {};  // "exit code 1", "killed by signal 9 (SIGKILL: Killed)"
 };
+
+// "9 (SIGKILL: Killed)": the number, its name where the C library knows it, and its description.
+std::string signal_name(int sig) {
+  std::string s = std::to_string(sig) + " (";
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 32))
+  if (const char* abbrev = sigabbrev_np(sig)) s += std::string("SIG") + abbrev + ": ";
+#endif
+  const char* description = strsignal(sig);
+  return s + (description ? description : "unknown signal") + ")";
+}
 
 pid_t spawn(const std::vector<std::string>& argv, const std::filesystem::path& log) {
   posix_spawn_file_actions_t actions;
@@ -139,8 +152,19 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
     live.erase(it);
     --running;
     ++done;
-    std::printf("%s %s (%zu/%zu); log: %s\n", j.status == 0 ? "finished" : "FAILED", j.name.c_str(), done,
-                todo.size(), (out / j.name / "log.txt").string().c_str());
+    const auto log = out / j.name / "log.txt";
+    std::string how;  // why it failed, when the log cannot say: a signal ends the child without a word
+    if (WIFSIGNALED(status)) {
+      how = " (killed by signal " + signal_name(WTERMSIG(status)) + ")";
+      std::ofstream(log, std::ios::app) << "invfem batch: the run was killed by signal " << signal_name(WTERMSIG(status))
+                                        << (WCOREDUMP(status) ? ", core dumped" : "") << "\n";
+      j.failure = "killed by signal " + signal_name(WTERMSIG(status));
+    } else if (j.status != 0) {
+      how = " (exit code " + std::to_string(j.status) + ")";
+      j.failure = "exit code " + std::to_string(j.status);
+    }
+    std::printf("%s %s%s (%zu/%zu); log: %s\n", j.status == 0 ? "finished" : "FAILED", j.name.c_str(), how.c_str(),
+                done, todo.size(), log.string().c_str());
     std::fflush(stdout);
   }
 
@@ -150,7 +174,7 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
   std::vector<std::string> failed;
   for (const auto& j : todo) {
     if (j.status != 0) {
-      failed.push_back(j.name);
+      failed.push_back(j.name + " (" + j.failure + ")");
       continue;
     }
     const auto dir = out / j.name;

@@ -99,6 +99,10 @@ int run_command(const std::vector<std::string>& raw) {
     throw InputError("--frames: frame " + std::to_string(last) + " is past the scene's last frame " +
                      std::to_string(scene.frames));
   prepare_output_dir(out_dir, "--out");
+  // A run killed mid-write left NNNN.obj.tmp and the like: no run writes into this folder now.
+  if (const int n = remove_stale_temporaries(out_dir); n > 0 && !quiet)
+    std::printf("removed %d stale temporary file%s (*.tmp) left by a stopped run in %s\n", n, n == 1 ? "" : "s",
+                out_dir.string().c_str());
   World world = build_world(scene);
 
   // Where to start: the newest checkpoint at or before the first frame asked for.

@@ -156,8 +156,9 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
     std::string how;  // why it failed, when the log cannot say: a signal ends the child without a word
     if (WIFSIGNALED(status)) {
       how = " (killed by signal " + signal_name(WTERMSIG(status)) + ")";
-      std::ofstream(log, std::ios::app) << "invfem batch: the run was killed by signal " << signal_name(WTERMSIG(status))
-                                        << (WCOREDUMP(status) ? ", core dumped" : "") << "\n";
+      std::ofstream(log, std::ios::app) << "invfem batch: the run was killed by signal "
+                                        << signal_name(WTERMSIG(status)) << (WCOREDUMP(status) ? ", core dumped" : "")
+                                        << "\n";
       j.failure = "killed by signal " + signal_name(WTERMSIG(status));
     } else if (j.status != 0) {
       how = " (exit code " + std::to_string(j.status) + ")";

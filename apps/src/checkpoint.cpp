@@ -123,13 +123,15 @@ CheckpointInfo load_checkpoint(const std::filesystem::path& file, const Scene& s
     if (std::memcmp(magic, kMagic, 8) != 0) throw fail("is not an invfem checkpoint");
     if (const auto version = r.pod<std::uint32_t>("the version"); version != kVersion)
       throw fail("has format version " + std::to_string(version) + ", this invfem reads version " +
-                 std::to_string(kVersion) + (version < kVersion ? " (an older file, without a checksum: rerun from frame 0)" : ""));
+                 std::to_string(kVersion) +
+                 (version < kVersion ? " (an older file, without a checksum: rerun from frame 0)" : ""));
     // The checksum before any field is trusted: the scene hash, frame and time are covered by it.
     if (bytes.size() < kTailBytes + 12) throw fail("is damaged (truncated)");
     const std::size_t body = bytes.size() - kTailBytes;
     std::uint64_t stored = 0;
     std::memcpy(&stored, bytes.data() + body, sizeof stored);
-    if (std::memcmp(bytes.data() + body + sizeof stored, kMagic, 8) != 0) throw fail("is damaged (truncated, or bad trailer)");
+    if (std::memcmp(bytes.data() + body + sizeof stored, kMagic, 8) != 0)
+      throw fail("is damaged (truncated, or bad trailer)");
     if (stored != fnv1a64(std::string_view(bytes).substr(0, body)))
       throw fail("is damaged (its checksum does not match its content)");
     if (r.pod<std::uint64_t>("the scene hash") != scene_hash(scene)) {
@@ -143,11 +145,11 @@ CheckpointInfo load_checkpoint(const std::filesystem::path& file, const Scene& s
     info.time = r.pod<double>("the time");
     info.csv = r.string("the energies");
     const std::string state = r.string("the world state");
-    r.pod<std::uint64_t>("the checksum");
-    char trailer[8];
-    for (char& c : trailer) c = r.pod<char>("the trailer");
+    r.pod<std::uint64_t>("the checksum");  // both checked above
+    r.pod<std::uint64_t>("the trailer");
     r.expect_end("the file");
-    if (frame < 1 || frame > scene.frames) throw fail("holds frame " + std::to_string(frame) + ", outside this scene's 1-" + std::to_string(scene.frames));
+    if (frame < 1 || frame > scene.frames)
+      throw fail("holds frame " + std::to_string(frame) + ", outside this scene's 1-" + std::to_string(scene.frames));
     info.frame = static_cast<int>(frame);
     if (expected_frame && info.frame != *expected_frame)
       throw fail("holds frame " + std::to_string(info.frame) + ", not the frame its name says");

@@ -216,7 +216,8 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
     std::cerr << "note: " << spec.mesh.string() << ": " << count << " '" << keyword << "' line" << (count > 1 ? "s" : "")
               << " not used\n";
   apply_transform(spec.transform, g.surface.x, where);
-  if (g.initial) apply_transform(spec.initial_transform.value_or(spec.transform), *g.initial, where + ": initial shape");
+  if (g.initial)
+    apply_transform(spec.initial_transform.value_or(spec.transform), *g.initial, where + ": initial shape");
   check_object_size(g.surface.x, spec.transform.scale, where);
   if (g.initial)
     check_object_size(*g.initial, spec.initial_transform.value_or(spec.transform).scale, where + ": initial shape");

@@ -13,7 +13,7 @@ cd "$work" || exit 1
 mkdir adir
 ln -s loop_b loop_a && ln -s loop_a loop_b
 ln -s nowhere.obj dangling.obj
-head -c 3000 /dev/urandom | tr -d '\n' > binary.obj  # no line breaks: assimp gives no reason
+head -c 3000 /dev/zero > binary.obj  # NUL bytes: assimp fails and gives no reason
 touch afile
 cloth() { printf '{"frames": 2, "cloths": [{"name": "c", "mesh": "%s"}]}\n' "$1" > "$2.json"; echo "$work/$2.json"; }
 solid() { printf '{"frames": 2, "solids": [{"name": "s", "mesh": "%s"}]}\n' "$1" > "$2.json"; echo "$work/$2.json"; }

@@ -8,14 +8,17 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 
 #include "cli_args.hpp"
 #include "invfem/renders/image.hpp"
 #include "invfem/renders/image_compare.hpp"
+#include "input_check.hpp"
 #include "json_fields.hpp"
 #include "preview.hpp"
 #include "run_output.hpp"
@@ -46,7 +49,18 @@ struct Job {
   std::string name;  // folder under DIR: the scene file's stem
   pid_t pid = -1;
   int status = -1;
+  std::string failure = {};  // "exit code 1", "killed by signal 9 (SIGKILL: Killed)"
 };
+
+// "9 (SIGKILL: Killed)": the number, its name where the C library knows it, and its description.
+std::string signal_name(int sig) {
+  std::string s = std::to_string(sig) + " (";
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 32))
+  if (const char* abbrev = sigabbrev_np(sig)) s += std::string("SIG") + abbrev + ": ";
+#endif
+  const char* description = strsignal(sig);
+  return s + (description ? description : "unknown signal") + ")";
+}
 
 pid_t spawn(const std::vector<std::string>& argv, const std::filesystem::path& log) {
   posix_spawn_file_actions_t actions;
@@ -94,7 +108,8 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
 
   std::vector<std::filesystem::path> scenes;
   for (const auto& s : args.positional) {
-    if (!std::filesystem::is_regular_file(s)) throw InputError(s + ": no such scene file");
+    if (const std::string problem = input_file_problem(s); !problem.empty())
+      throw InputError(s + ": no such scene file (" + problem + ")");
     scenes.push_back(std::filesystem::absolute(s));
   }
   std::sort(scenes.begin(), scenes.end());
@@ -107,7 +122,7 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
   const auto [shard, shards] = args.has("--shard") ? parse_shard(args.value("--shard")) : std::pair<int, int>{0, 1};
   for (std::size_t k = 0; k < scenes.size(); ++k)
     if (static_cast<int>(k % shards) == shard) todo.push_back({scenes[k], scenes[k].stem().string()});
-  std::filesystem::create_directories(out);
+  prepare_output_dir(out, "--out");
   const bool mp4 = args.flag("--mp4");
   if (mp4 && !have_ffmpeg()) std::cerr << "warning: --mp4: ffmpeg is not installed; no videos will be written\n";
 
@@ -137,8 +152,20 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
     live.erase(it);
     --running;
     ++done;
-    std::printf("%s %s (%zu/%zu); log: %s\n", j.status == 0 ? "finished" : "FAILED", j.name.c_str(), done,
-                todo.size(), (out / j.name / "log.txt").string().c_str());
+    const auto log = out / j.name / "log.txt";
+    std::string how;  // why it failed, when the log cannot say: a signal ends the child without a word
+    if (WIFSIGNALED(status)) {
+      how = " (killed by signal " + signal_name(WTERMSIG(status)) + ")";
+      std::ofstream(log, std::ios::app) << "invfem batch: the run was killed by signal "
+                                        << signal_name(WTERMSIG(status)) << (WCOREDUMP(status) ? ", core dumped" : "")
+                                        << "\n";
+      j.failure = "killed by signal " + signal_name(WTERMSIG(status));
+    } else if (j.status != 0) {
+      how = " (exit code " + std::to_string(j.status) + ")";
+      j.failure = "exit code " + std::to_string(j.status);
+    }
+    std::printf("%s %s%s (%zu/%zu); log: %s\n", j.status == 0 ? "finished" : "FAILED", j.name.c_str(), how.c_str(),
+                done, todo.size(), log.string().c_str());
     std::fflush(stdout);
   }
 
@@ -148,7 +175,7 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
   std::vector<std::string> failed;
   for (const auto& j : todo) {
     if (j.status != 0) {
-      failed.push_back(j.name);
+      failed.push_back(j.name + " (" + j.failure + ")");
       continue;
     }
     const auto dir = out / j.name;

@@ -11,6 +11,7 @@
 
 #include "cli_args.hpp"
 #include "invfem/collisions/ccd/ccd.hpp"
+#include "input_check.hpp"
 #include "json_fields.hpp"
 
 namespace invfem::app {
@@ -101,6 +102,7 @@ int ccd_command(const std::vector<std::string>& raw) {
     settings.min_distance = d;
   }
   const std::string& file = args.positional[0];
+  require_input_file(file, "query file");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError("cannot open the query file " + file);
   std::stringstream buffer;

@@ -23,6 +23,7 @@
 #include "invfem/core/obj_file.hpp"
 #include "invfem/core/surface_io.hpp"
 #include "invfem/core/text_file.hpp"
+#include "input_check.hpp"
 #include "json_fields.hpp"
 #include "run_output.hpp"
 #include "welds_file.hpp"
@@ -214,7 +215,7 @@ std::vector<Source> mesh_sources(const Arguments& a) {
   for (const auto& p : a.paths) ++stems[fs::path(p).stem().string()];
   for (std::size_t i = 0; i < a.paths.size(); ++i) {
     const fs::path p = a.paths[i];
-    if (!fs::is_regular_file(p)) throw InputError(p.string() + ": no such file");
+    require_input_file(p, "mesh");
     Source s;
     s.name = stems[p.stem().string()] > 1 ? p.string() : p.stem().string();
     s.frames[0] = p;

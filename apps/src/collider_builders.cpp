@@ -99,7 +99,7 @@ Colliders build_colliders(const Scene& scene) {
       } else if (c.type == "mesh") {
         if (c.motion.kind != MotionSpec::Kind::Fixed) throw InputError(what + "a mesh collider is static (no motion yet)");
         TriangleSurface mesh = load_triangle_surface(c.mesh.string());
-        apply_transform(c.transform, mesh.x);
+        apply_transform(c.transform, mesh.x, what.substr(0, what.size() - 2));
         MeshSurfaceOptions options;
         options.query_radius = c.query_radius;
         options.offset = c.offset;

@@ -2,8 +2,10 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <optional>
+#include <sstream>
 
 #include "invfem/core/mesh_error.hpp"
 #include "invfem/core/pins.hpp"
@@ -48,7 +50,7 @@ Points initial_positions(const SolidInitialShapeSpec& spec, const TetMesh& mesh,
       return scramble_positions(mesh.X, s);
     }
     Points x = read_initial_positions(spec.file.string(), mesh);
-    apply_transform(spec.transform.value_or(transform), x);
+    apply_transform(spec.transform.value_or(transform), x, "initial_shape file " + spec.file.string());
     return x;
   } catch (const std::exception& e) {
     throw InputError("solid \"" + solid + "\": initial_shape: " + e.what());
@@ -70,10 +72,40 @@ Mat3 rotation_of(const Transform& t) {
       .toRotationMatrix();
 }
 
-void apply_transform(const Transform& t, Points& X) {
+void apply_transform(const Transform& t, Points& X, const std::string& what) {
   const Mat3 R = rotation_of(t);
   const Vec3 shift = to_vec(t.translate);
-  for (Eigen::Index i = 0; i < X.rows(); ++i) X.row(i) = (t.scale * R * X.row(i).transpose() + shift).transpose();
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    const Vec3 p = t.scale * R * X.row(i).transpose() + shift;
+    if (!p.allFinite() || p.cwiseAbs().maxCoeff() > kMaxCoordinate) {
+      std::ostringstream m;
+      m.precision(6);
+      m << what << ": the transform (scale " << t.scale << ", translate [" << t.translate[0] << ", " << t.translate[1]
+        << ", " << t.translate[2] << "]) puts node " << i << " at (" << p.x() << ", " << p.y() << ", " << p.z() << "), "
+        << (p.allFinite() ? "beyond" : "not finite, and not within") << " the " << kMaxCoordinate
+        << " m a scene's coordinates may reach: check its scale and translate";
+      throw InputError(m.str());
+    }
+    X.row(i) = p.transpose();
+  }
+}
+
+void check_object_size(const Points& X, double scale, const std::string& what) {
+  if (X.rows() == 0) return;
+  const double h = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
+  std::ostringstream m;
+  m.precision(6);
+  if (h > kMaxDiagonal)
+    m << what << ": bounding-box diagonal " << h << " m exceeds " << kMaxDiagonal
+      << " m; the mesh is probably in other units (mm?) or its scale is wrong: e.g. \"scale\": "
+      << scale * std::pow(10.0, -std::ceil(std::log10(h)));
+  else if (h < kMinDiagonal)
+    m << what << ": bounding-box diagonal " << h << " m is below " << kMinDiagonal
+      << " m; the mesh is probably in other units or its scale is wrong: e.g. \"scale\": "
+      << scale * std::pow(10.0, std::ceil(std::log10(1.0 / std::max(h, 1e-300))));
+  else
+    return;
+  throw InputError(m.str());
 }
 
 SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
@@ -81,12 +113,12 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
   try {
     if (is_tet_mesh_file(spec.mesh)) {
       mesh = read_tet_mesh(spec.mesh.string());
-      apply_transform(spec.transform, mesh.X);
+      apply_transform(spec.transform, mesh.X, "solid \"" + spec.name + "\"");
     } else {
       // A closed surface: tet-mesh it by the BCC lattice (after the transform, so the
       // resolution is in world units of the object's own size).
       TriangleSurface surface = load_triangle_surface(spec.mesh.string());
-      apply_transform(spec.transform, surface.x);
+      apply_transform(spec.transform, surface.x, "solid \"" + spec.name + "\"");
       BccMeshOptions options;
       options.resolution = spec.mesh_resolution;
       BccMeshResult r = bcc_mesh(surface, options);
@@ -183,8 +215,12 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
   for (const auto& [keyword, count] : g.ignored)
     std::cerr << "note: " << spec.mesh.string() << ": " << count << " '" << keyword << "' line" << (count > 1 ? "s" : "")
               << " not used\n";
-  apply_transform(spec.transform, g.surface.x);
-  if (g.initial) apply_transform(spec.initial_transform.value_or(spec.transform), *g.initial);
+  apply_transform(spec.transform, g.surface.x, where);
+  if (g.initial)
+    apply_transform(spec.initial_transform.value_or(spec.transform), *g.initial, where + ": initial shape");
+  check_object_size(g.surface.x, spec.transform.scale, where);
+  if (g.initial)
+    check_object_size(*g.initial, spec.initial_transform.value_or(spec.transform).scale, where + ": initial shape");
   const Points& x0 = g.initial ? *g.initial : g.surface.x;
   const int n = static_cast<int>(x0.rows());
   const auto& m = spec.material;

@@ -12,7 +12,20 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene);
 // The transform's rotation: about x, then y, then z, by rotate_degrees.
 Mat3 rotation_of(const Transform& t);
 
-// Scale, rotate (rotation_of), translate: applied to every row of X.
-void apply_transform(const Transform& t, Points& X);
+// Coordinates a placed object may have, in metres: 1000 km is far past any shot, and a double
+// there still resolves 1e-10 m. Beyond it (translate 1e300, scale 1e30) the rest shape's
+// differences are lost to round-off, and the mesh would be blamed for zero-volume elements.
+inline constexpr double kMaxCoordinate = 1e6;
+
+// Scale, rotate (rotation_of), translate: applied to every row of X. Throws InputError
+// "<what>: the transform (...) puts node i at (x, y, z), ..." when a result is not finite or
+// beyond kMaxCoordinate, naming the transform rather than the mesh.
+void apply_transform(const Transform& t, Points& X, const std::string& what);
+
+// Throws InputError "<what>: bounding-box diagonal D m ..." when the placed surface's size is
+// outside the solids' plausible sizes [kMinDiagonal, kMaxDiagonal] (tet_mesh_checks.hpp), with
+// the transform's scale that would fix it (`scale` is the one applied): cloth gets the checks
+// solids have.
+void check_object_size(const Points& X, double scale, const std::string& what);
 
 }  // namespace invfem::app

@@ -1,12 +1,14 @@
 #include "render_command.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
 #include "cli_args.hpp"
+#include "input_check.hpp"
 #include "json_fields.hpp"
 #include "preview.hpp"
 
@@ -35,6 +37,12 @@ CameraSpec parse_camera(const std::string& text) {
   }
   if (v.size() != 6 && v.size() != 7)
     throw InputError("--camera: expected PX,PY,PZ,TX,TY,TZ[,FOV], found " + std::to_string(v.size()) + " numbers");
+  // stod accepts "nan" and "inf"; a camera needs finite coordinates, and a view direction.
+  for (std::size_t k = 0; k < v.size(); ++k)
+    if (!std::isfinite(v[k]))
+      throw InputError("--camera: number " + std::to_string(k + 1) + " (\"" + text + "\") is not finite");
+  if (v[0] == v[3] && v[1] == v[4] && v[2] == v[5])
+    throw InputError("--camera: the position equals the target, so there is no view direction");
   CameraSpec c;
   c.automatic = false;
   c.position = {v[0], v[1], v[2]};
@@ -55,6 +63,9 @@ int render_command(const std::vector<std::string>& raw) {
   if (args.positional.size() != 1) throw InputError("render: expected one output folder (see invfem render --help)");
   const std::filesystem::path dir = args.positional[0];
   const std::filesystem::path scene_file = dir / "scene.json";
+  if (const std::string problem = input_file_problem(scene_file); !problem.empty())
+    throw InputError(scene_file.string() + ": cannot open (" + problem + "; is " + dir.string() +
+                     " the output of invfem run?)");
   std::ifstream in(scene_file);
   if (!in) throw InputError(scene_file.string() + ": cannot open (is " + dir.string() + " the output of invfem run?)");
   nlohmann::json j;

@@ -12,6 +12,7 @@
 
 #include "checkpoint.hpp"
 #include "cli_args.hpp"
+#include "input_check.hpp"
 #include "json_fields.hpp"
 #include "preview.hpp"
 #include "run_output.hpp"
@@ -97,6 +98,11 @@ int run_command(const std::vector<std::string>& raw) {
   if (last > scene.frames)
     throw InputError("--frames: frame " + std::to_string(last) + " is past the scene's last frame " +
                      std::to_string(scene.frames));
+  prepare_output_dir(out_dir, "--out");
+  // A run killed mid-write left NNNN.obj.tmp and the like: no run writes into this folder now.
+  if (const int n = remove_stale_temporaries(out_dir); n > 0 && !quiet)
+    std::printf("removed %d stale temporary file%s (*.tmp) left by a stopped run in %s\n", n, n == 1 ? "" : "s",
+                out_dir.string().c_str());
   World world = build_world(scene);
 
   // Where to start: the newest checkpoint at or before the first frame asked for.

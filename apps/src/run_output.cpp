@@ -63,6 +63,21 @@ std::set<std::string> parse_formats(const std::string& list) {
   return out;
 }
 
+int remove_stale_temporaries(const std::filesystem::path& out_dir) {
+  namespace fs = std::filesystem;
+  int removed = 0;
+  std::error_code ec;
+  // No symbolic links followed: only the run's own folders are cleaned.
+  for (fs::recursive_directory_iterator it(out_dir, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code type_ec;
+    if (it->path().extension() == ".tmp" && it->is_regular_file(type_ec) && !it->is_symlink(type_ec)) {
+      std::error_code rm_ec;
+      if (fs::remove(it->path(), rm_ec)) ++removed;
+    }
+  }
+  return removed;
+}
+
 RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World& world, std::set<std::string> formats,
                      int first_frame, const std::string& resume_csv)
     : dir_(std::move(dir)), formats_(std::move(formats)) {

@@ -31,6 +31,11 @@ struct FrameTimings {
 // The formats a run writes per frame; "obj" by default.
 std::set<std::string> parse_formats(const std::string& list);  // "obj,ply,vtu,usd"
 
+// Removes the temporaries atomic_write leaves when a run is killed mid-write: every regular file
+// named *.tmp in `out_dir` and its folders (frames/<object>/, checkpoints/, png/). Called at the
+// start of every run and resume, before anything is written. Returns how many were removed.
+int remove_stale_temporaries(const std::filesystem::path& out_dir);
+
 class RunOutput {
  public:
   // Creates folders and writes scene.json. `resume_csv` is the energies.csv content of a

@@ -6,6 +6,7 @@
 
 #include "invfem/collisions/body_sequence.hpp"
 #include "invfem/solids/scramble.hpp"
+#include "input_check.hpp"
 #include "json_fields.hpp"
 #include "scene_parts.hpp"
 
@@ -99,8 +100,9 @@ PinBox parse_pin_box(const Fields& b) {
 std::filesystem::path parse_mesh_path(const Fields& f, const std::string& key, const std::filesystem::path& dir,
                                       bool check_files) {
   const std::filesystem::path p = std::filesystem::absolute(dir / f.string(key)).lexically_normal();
-  if (check_files && !std::filesystem::exists(p))
-    f.fail(key, "an existing mesh file", "\"" + p.string() + "\", which does not exist");
+  if (check_files)
+    if (const std::string problem = input_file_problem(p); !problem.empty())
+      f.fail(key, "an existing mesh file", "\"" + p.string() + "\", which " + as_clause(problem));
   return p;
 }
 
@@ -253,18 +255,20 @@ SequenceSpec parse_sequence(const Fields& f, const std::filesystem::path& dir, b
     }
     if (check_files)
       for (std::size_t k = 0; k < q.files.size(); ++k)
-        if (!std::filesystem::exists(q.files[k]))
+        if (const std::string problem = input_file_problem(q.files[k]); !problem.empty())
           fr.fail("pattern", "existing frame files",
                   "\"" + q.files[k].string() + "\" (frame " + std::to_string(q.first + static_cast<int>(k)) +
-                      "), which does not exist");
+                      "), which " + as_clause(problem));
   } else {
     const auto& v = f.raw("files");
     if (!v.is_array() || v.empty()) f.fail("files", "a non-empty array of frame file names");
     for (std::size_t k = 0; k < v.size(); ++k) {
       if (!v[k].is_string()) f.fail("files", "file names (strings)", "element " + std::to_string(k) + ": " + describe(v[k]));
       const std::filesystem::path p = std::filesystem::absolute(dir / v[k].get<std::string>()).lexically_normal();
-      if (check_files && !std::filesystem::exists(p))
-        f.fail("files", "existing frame files", "\"" + p.string() + "\" (element " + std::to_string(k) + "), which does not exist");
+      if (check_files)
+        if (const std::string problem = input_file_problem(p); !problem.empty())
+          f.fail("files", "existing frame files",
+                 "\"" + p.string() + "\" (element " + std::to_string(k) + "), which " + as_clause(problem));
       q.files.push_back(p);
     }
   }
@@ -560,6 +564,7 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
 }
 
 Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides, bool quick) {
+  require_input_file(file, "scene file", kMaxSceneBytes);
   std::ifstream in(file);
   if (!in) throw InputError(file.string() + ": cannot open the scene file");
   nlohmann::json j;

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "invfem/core/obj_file.hpp"
+#include "input_check.hpp"
 #include "json_fields.hpp"
 
 namespace invfem::app {
@@ -39,6 +40,7 @@ std::string welds_text(const std::string& object, const certificate::SurfaceWeld
 }
 
 certificate::SurfaceWelds read_welds_file(const std::string& path) {
+  require_input_file(path, "welds file");
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot read the welds file");
   certificate::SurfaceWelds w;

@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "invfem/core/input_file.hpp"
 #include "ply_check.hpp"
 
 namespace invfem {
@@ -82,9 +83,7 @@ void gather(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent,
 }  // namespace
 
 TriangleSurface load_triangle_surface(const std::string& path, SurfaceLoadReport* report) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw std::runtime_error(path + ": no such file");
+  check_input_file(path);
   if (lower_extension(path) == ".ply") detail::check_ply_structure(path);
 
   Assimp::Importer importer;
@@ -102,9 +101,16 @@ TriangleSurface load_triangle_surface(const std::string& path, SurfaceLoadReport
   } catch (const std::exception& e) {
     throw std::runtime_error(path + ": assimp failed: " + e.what());
   }
-  if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
+  if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
+    // assimp leaves its reason empty for some damaged files (binary bytes in an OBJ).
+    const std::string reason = importer.GetErrorString();
     throw std::runtime_error(path + ": assimp could not read the file: " +
-                             importer.GetErrorString());
+                             (reason.empty() ? "no reason given (the file is damaged, or is not a valid " +
+                                                   (lower_extension(path).empty() ? std::string("mesh")
+                                                                                  : lower_extension(path)) +
+                                                   " file)"
+                                             : reason));
+  }
 
   Gather g;
   gather(scene, scene->mRootNode, aiMatrix4x4(), g, path);

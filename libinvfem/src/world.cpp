@@ -4,6 +4,7 @@
 #include <cmath>
 #include <set>
 #include <stdexcept>
+#include <utility>
 
 namespace invfem {
 
@@ -248,6 +249,13 @@ void World::apply_state(StateReader& in) {
     Points x(o.body.x.rows(), 3), v(o.body.v.rows(), 3);
     in.doubles(x.data(), static_cast<std::size_t>(x.size()), "the positions of \"" + o.name + "\"");
     in.doubles(v.data(), static_cast<std::size_t>(v.size()), "the velocities of \"" + o.name + "\"");
+    // A state that was saved was finite (runs stop at a non-finite one): anything else is damage,
+    // caught here rather than as a non-finite F deep in the next step.
+    for (const auto& [m, what] : {std::pair<const Points*, const char*>{&x, "position"}, {&v, "velocity"}})
+      for (Eigen::Index i = 0; i < m->rows(); ++i)
+        if (!m->row(i).allFinite())
+          throw StateError("the " + std::string(what) + " of node " + std::to_string(i) + " of \"" + o.name +
+                           "\" is not finite");
     if (in.count("the force count of \"" + o.name + "\"") != o.forces.size())
       throw StateError("the state holds another number of forces for \"" + o.name + "\"");
     for (std::size_t k = 0; k < o.forces.size(); ++k) {

@@ -202,7 +202,8 @@ class World {
   // The whole state for checkpoints: positions, velocities and every force's own state.
   void save_state(StateWriter& out) const;
   // Reads what save_state wrote and puts the world at `time`. Throws StateError naming the object
-  // or force when the stream does not fit this world; the world is then left as it was.
+  // or force when the stream does not fit this world or holds a non-finite position, velocity or
+  // force state (naming the node or element); the world is then left as it was.
   void restore_state(StateReader& in, double time);
 
  private:

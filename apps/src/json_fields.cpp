@@ -12,10 +12,88 @@ const nlohmann::json& empty_object() {
 }
 }  // namespace
 
+namespace {
+
+constexpr std::size_t kDescribeLength = 80;  // characters of a value shown in a message
+constexpr int kDescribeDepth = 3;           // levels of arrays and objects shown
+
+// Appends a rendering of v to out, `depth` levels deep at most; stops adding once out holds more
+// than kDescribeLength characters (the caller cuts it there). Recursion is bounded by depth.
+void render(const nlohmann::json& v, int depth, std::string& out) {
+  constexpr auto replace = nlohmann::json::error_handler_t::replace;
+  if (out.size() > kDescribeLength) return;
+  if (v.is_array() || v.is_object()) {
+    const bool array = v.is_array();
+    out += array ? '[' : '{';
+    if (depth <= 0 && !v.empty()) {
+      out += "...";
+    } else {
+      bool first = true;
+      for (auto it = v.begin(); it != v.end() && out.size() <= kDescribeLength; ++it) {
+        if (!first) out += ", ";
+        first = false;
+        if (!array) out += nlohmann::json(it.key()).dump(-1, ' ', false, replace) + ": ";
+        render(*it, depth - 1, out);
+      }
+    }
+    out += array ? ']' : '}';
+    return;
+  }
+  if (v.is_string()) {  // only the head of a long string is escaped and shown
+    const auto& s = v.get_ref<const std::string&>();
+    out += nlohmann::json(s.substr(0, kDescribeLength + 1)).dump(-1, ' ', false, replace);
+    return;
+  }
+  out += v.dump(-1, ' ', false, replace);
+}
+
+// Parses `input` (a stream or a string) with the nesting bound; throws InputError for the depth,
+// nlohmann's exceptions for anything else.
+template <class Input>
+nlohmann::json parse_bounded(Input&& input, const std::string& origin) {
+  const auto bound = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
+    // depth counts the containers already open around this one (0 for the outermost).
+    if ((event == nlohmann::json::parse_event_t::object_start ||
+         event == nlohmann::json::parse_event_t::array_start) &&
+        depth >= kMaxJsonDepth)
+      throw InputError(origin + ": JSON nested more than " + std::to_string(kMaxJsonDepth) +
+                       " levels deep (arrays or objects within one another)");
+    return true;
+  };
+  return nlohmann::json::parse(std::forward<Input>(input), bound);
+}
+
+}  // namespace
+
 std::string describe(const nlohmann::json& value) {
-  std::string s = value.dump();
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  std::string s;
+  render(value, kDescribeDepth, s);
+  if (s.size() > kDescribeLength) s = s.substr(0, kDescribeLength - 3) + "...";
   return std::string(value.type_name()) + " " + s;
+}
+
+nlohmann::json parse_json(std::istream& in, const std::string& origin) {
+  try {
+    return parse_bounded(in, origin);
+  } catch (const nlohmann::json::exception& e) {  // parse errors, and numbers out of range (1e309)
+    throw InputError(origin + ": not valid JSON: " + e.what());
+  }
+}
+
+nlohmann::json parse_json(const std::string& text, const std::string& origin) {
+  try {
+    return parse_bounded(text, origin);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(origin + ": not valid JSON: " + e.what());
+  }
+}
+
+std::optional<nlohmann::json> try_parse_json(const std::string& text, const std::string& origin) {
+  try {
+    return parse_bounded(text, origin);
+  } catch (const nlohmann::json::exception&) {
+    return std::nullopt;
+  }
 }
 
 Fields::Fields(const nlohmann::json& j, std::string file, std::string path)

@@ -4,7 +4,10 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <cstdint>
 #include <initializer_list>
+#include <istream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -49,6 +52,23 @@ class Fields {
   std::string path_;
 };
 
+// A JSON value as error messages echo it: its type and a rendering at most 80 characters long
+// and 3 levels deep ("[[[...]]]" below that), never recursing further, so that a hostile value
+// (70,000 nested arrays, a megabyte string) neither overflows the stack nor floods the terminal.
+// Invalid UTF-8 in strings is shown replaced, never thrown.
 std::string describe(const nlohmann::json& value);
+
+// Arrays and objects nested deeper than this are refused when parsing (scene files, --set
+// values, a run's scene.json): no scene needs more than a handful of levels, and every later
+// walk over a parsed value (dump, copy, compare) recurses once per level.
+constexpr int kMaxJsonDepth = 64;
+
+// Parses JSON text, refusing nesting deeper than kMaxJsonDepth. Throws InputError naming
+// `origin` (a file name, "--set frames") for a syntax error, a number out of range or the depth.
+nlohmann::json parse_json(std::istream& in, const std::string& origin);
+nlohmann::json parse_json(const std::string& text, const std::string& origin);
+// The same, but text that is not JSON gives nullopt (a --set value is then taken as plain text);
+// nesting too deep still throws.
+std::optional<nlohmann::json> try_parse_json(const std::string& text, const std::string& origin);
 
 }  // namespace invfem::app

@@ -369,12 +369,17 @@ RenderSpec parse_render(const Fields& f) {
 
 // Parse the value of a --set assignment: JSON if it parses (numbers, arrays, true, "text"),
 // otherwise the raw text as a string.
-nlohmann::json parse_override_value(const std::string& text) {
+// Text is kept only if it is valid UTF-8 (JSON strings are; the scene is written back out as
+// JSON). Nesting deeper than kMaxJsonDepth is an error, not plain text.
+nlohmann::json parse_override_value(const std::string& text, const std::string& origin) {
+  if (auto value = try_parse_json(text, origin)) return std::move(*value);
+  nlohmann::json plain = text;
   try {
-    return nlohmann::json::parse(text);
+    (void)plain.dump();  // throws for invalid UTF-8
   } catch (const nlohmann::json::exception&) {
-    return text;
+    throw InputError(origin + ": the value is neither JSON nor valid UTF-8 text");
   }
+  return plain;
 }
 
 // Apply "a.b.0.c=value" to j. Objects get missing keys created; arrays take an index.
@@ -411,7 +416,7 @@ void apply_override(nlohmann::json& j, const std::string& assignment, const std:
     if (dot == std::string::npos) break;
     start = dot + 1;
   }
-  *node = parse_override_value(assignment.substr(eq + 1));
+  *node = parse_override_value(assignment.substr(eq + 1), origin + ": " + path);
 }
 
 }  // namespace scene_detail
@@ -562,12 +567,7 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
 Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides, bool quick) {
   std::ifstream in(file);
   if (!in) throw InputError(file.string() + ": cannot open the scene file");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {  // parse errors, and numbers out of range (1e309)
-    throw InputError(file.string() + ": not valid JSON: " + e.what());
-  }
+  nlohmann::json j = parse_json(in, file.string());
   if (quick && j.is_object() && j.contains("quick") && j["quick"].is_object()) {
     const nlohmann::json q = j["quick"];
     for (auto it = q.begin(); it != q.end(); ++it)

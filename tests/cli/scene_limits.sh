@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Hostile scene values (issue 12): each class of input that once crashed, wrote inf or escaped
+# its folder is rejected or stopped with its documented exit code and a message naming it.
+#   scene_limits.sh INVFEM SOURCE_DIR WORKDIR
+set -uo pipefail
+invfem="$1" src="$2" work="$3"
+rm -rf "$work" && mkdir -p "$work"
+torus="$src/apps/scenes/torus_puddle.json"
+drape="$src/apps/scenes/cloth_drape.json"
+fail=0
+source "$(dirname "$0")/lib.sh"
+
+nested() { python3 -c "import sys; n = int(sys.argv[1]); print('[' * n + ']' * n)" "$1"; }
+
+# 1. Deeply nested values: the parser bounds the depth (naming the file or the --set), and a
+#    value echoed in a message is cut to a few levels and characters.
+printf '{"fps": %s, "solids": []}\n' "$(nested 70000)" > "$work/deep.json"
+expect 2 "deep.json: JSON nested more than 64 levels deep" -- check-scene "$work/deep.json"
+expect 2 "deep.json: JSON nested more than 64 levels deep" -- run "$work/deep.json" --out "$work/o"
+expect 2 "--set: fps: JSON nested more than 64 levels deep" -- check-scene "$torus" --set "fps=$(nested 65000)"
+expect 2 "--set: fps: JSON nested more than 64 levels deep" -- run "$torus" --quick --out "$work/o" --set "fps=$(nested 65000)"
+# 64 levels parse; the message shows four of them.
+expect 2 '$.fps: expected a number, found array [[[[...]]]]' -- check-scene "$torus" --set "fps=$(nested 64)"
+long=$(python3 -c "print('\"' + 'a' * 100000 + '\"')")
+err=$("$invfem" check-scene "$torus" --set "fps=$long" 2>&1)
+if [ $? -ne 2 ] || [ "${#err}" -gt 300 ]; then echo "FAIL: a 100,000-character value: ${#err} characters of message"; fail=1; fi
+expect 2 "--set: name: the value is neither JSON nor valid UTF-8 text" -- check-scene "$torus" --set $'name=\xff\xfe'
+
+exit $fail

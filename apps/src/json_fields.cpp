@@ -172,6 +172,27 @@ std::array<double, 3> Fields::vec3(const std::string& key, std::array<double, 3>
   return out;
 }
 
+std::string object_name_problem(const std::string& name) {
+  constexpr std::size_t kMaxNameBytes = 100;  // well below a file name's 255, with room for suffixes
+  if (name.empty()) return "it is empty";
+  if (name.size() > kMaxNameBytes) return "it is longer than " + std::to_string(kMaxNameBytes) + " bytes";
+  if (name == "." || name == "..") return "\"" + name + "\" names a folder, not an object";
+  for (const char c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) return "it holds a control character (byte " + std::to_string(u) + ")";
+    if (c == '/' || c == '\\') return "it holds a path separator '" + std::string(1, c) + "'";
+  }
+  return "";
+}
+
+std::string Fields::object_name(const std::string& key) const {
+  const std::string name = string(key);
+  if (const std::string problem = object_name_problem(name); !problem.empty())
+    fail(key, "a name that can be a folder name (printable, no '/' or '\\', not \".\" or \"..\")",
+         describe(j_.at(key)) + ": " + problem);
+  return name;
+}
+
 Fields Fields::object(const std::string& key) const {
   if (!j_.contains(key)) fail(key, "an object");
   return Fields(j_.at(key), file_, path_of(key));

@@ -32,6 +32,8 @@ class Fields {
   bool boolean(const std::string& key, bool fallback) const;
   std::string string(const std::string& key, const std::string& fallback) const;
   std::string string(const std::string& key) const;  // required
+  // A required object name (solids, cloths, colliders): see object_name_problem.
+  std::string object_name(const std::string& key) const;
   std::array<double, 3> vec3(const std::string& key, std::array<double, 3> fallback) const;
   Fields object(const std::string& key) const;  // required object; {} if absent and optional
   Fields object_or_empty(const std::string& key) const;
@@ -57,6 +59,12 @@ class Fields {
 // (70,000 nested arrays, a megabyte string) neither overflows the stack nor floods the terminal.
 // Invalid UTF-8 in strings is shown replaced, never thrown.
 std::string describe(const nlohmann::json& value);
+
+// Why `name` cannot name a scene object, "" when it can. An object's name is the folder of its
+// frames (OUT/frames/<name>/) and the stem of its other files, so it must be one plain path
+// component: not empty, at most 100 bytes, printable (no control characters, NUL included), no
+// '/' or '\\', and not "." or "..".
+std::string object_name_problem(const std::string& name);
 
 // Arrays and objects nested deeper than this are refused when parsing (scene files, --set
 // values, a run's scene.json): no scene needs more than a handful of levels, and every later

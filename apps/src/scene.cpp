@@ -294,7 +294,7 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
                     "outer_radius", "root_radius", "thickness", "clearance", "mesh", "query_radius", "offset", "transform",
                     "motion", "friction", "frames", "files", "fps", "start_time", "start_frame", "after_end"});
   ColliderSpec c;
-  c.name = f.string("name");
+  c.name = f.object_name("name");
   c.type = f.string("type", c.type);
   static const std::set<std::string> types{"plane", "sphere", "box", "cylinder", "gears", "mesh", "sequence"};
   if (!types.count(c.type)) f.fail("type", "one of plane, sphere, box, cylinder, gears, mesh, sequence");
@@ -465,9 +465,8 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
 
   const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
   std::set<std::string> names;
+  // Each name is checked where it is read (Fields::object_name), then for uniqueness here.
   auto unique_name = [&](const Fields& f, const std::string& name) {
-    if (name.empty()) f.fail("name", "a non-empty name");
-    if (name.find_first_of("/\\") != std::string::npos) f.fail("name", "a name without slashes");
     if (!names.insert(name).second) f.fail("name", "a name unique in the scene", "a second \"" + name + "\"");
   };
 
@@ -495,7 +494,7 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
           }
         }
       }
-      solid.name = f.string("name");
+      solid.name = f.object_name("name");
       solid.self_collision = f.boolean("self_collision", solid.self_collision);
       unique_name(f, solid.name);
       solid.mesh = parse_mesh_path(f, "mesh", dir, check_files);

@@ -118,7 +118,7 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
                     "material", "plasticity", "bending_plasticity", "inversion_test", "stitches", "pin_vertices",
                     "pin_boxes", "pins", "self_collision", "attachments"});
   ClothSpec c;
-  c.name = f.string("name");
+  c.name = f.object_name("name");
   c.self_collision = f.boolean("self_collision", c.self_collision);
   const int shapes = int(f.has("mesh")) + int(f.has("grid")) + int(f.has("half_torus"));
   if (shapes > 1) f.fail("mesh", "one of \"mesh\", \"grid\" or \"half_torus\", not several");

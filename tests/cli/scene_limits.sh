@@ -26,4 +26,18 @@ err=$("$invfem" check-scene "$torus" --set "fps=$long" 2>&1)
 if [ $? -ne 2 ] || [ "${#err}" -gt 300 ]; then echo "FAIL: a 100,000-character value: ${#err} characters of message"; fail=1; fi
 expect 2 "--set: name: the value is neither JSON nor valid UTF-8 text" -- check-scene "$torus" --set $'name=\xff\xfe'
 
+# 4. Object names are one plain path component: every named kind goes through one validator.
+for name in . .. a/b 'a\\b' ''; do
+  expect 2 '$.solids[0].name: expected a name that can be a folder name' -- \
+    check-scene "$torus" --quick --set "solids.0.name=\"$name\""
+done
+expect 2 "it holds a control character (byte 0)" -- check-scene "$torus" --set 'solids.0.name="a\u0000b"'
+expect 2 "it holds a control character (byte 10)" -- check-scene "$torus" --set 'solids.0.name="a\nb"'
+expect 2 "it is longer than 100 bytes" -- check-scene "$torus" --set "solids.0.name=$(printf 'n%.0s' {1..101})"
+expect 2 '$.cloths[0].name: expected a name that can be a folder name' -- check-scene "$drape" --set cloths.0.name=..
+expect 2 '$.colliders[0].name: expected a name that can be a folder name' -- check-scene "$drape" --set colliders.0.name=.
+expect 2 '".." names a folder' -- run "$torus" --quick --out "$work/names" --set solids.0.name=..
+if [ -e "$work/names" ] && [ -n "$(ls -A "$work/names")" ]; then echo "FAIL: a refused name wrote $(ls "$work/names")"; fail=1; fi
+expect_output 0 "valid (1 objects" -- check-scene "$torus" --quick --set 'solids.0.name="torus 2 (draft)"'
+
 exit $fail

@@ -1,6 +1,7 @@
 #include "json_fields.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace invfem::app {
@@ -136,13 +137,43 @@ double Fields::number_in(const std::string& key, double fallback, double lo, dou
   return x;
 }
 
+std::optional<std::int64_t> json_int64(const nlohmann::json& v) {
+  if (v.is_number_unsigned()) {
+    const auto u = v.get<std::uint64_t>();
+    if (u > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) return std::nullopt;
+    return static_cast<std::int64_t>(u);
+  }
+  if (v.is_number_integer()) return v.get<std::int64_t>();
+  return std::nullopt;
+}
+
+int index_in_range(std::int64_t index, std::int64_t count, const std::string& what) {
+  if (index < 0 || index >= count)
+    throw InputError(what + ": vertex " + std::to_string(index) + " but the mesh has " + std::to_string(count) +
+                     " vertices");
+  return static_cast<int>(index);  // count is a mesh size, an int
+}
+
 int Fields::integer(const std::string& key, int fallback, int lo, int hi) const {
   if (!j_.contains(key)) return fallback;
+  const auto x = json_int64(j_.at(key));
+  const std::string range = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  if (!x) fail(key, j_.at(key).is_number_integer() ? range : "an integer");
+  if (*x < lo || *x > hi) fail(key, range);
+  return static_cast<int>(*x);
+}
+
+std::vector<std::int64_t> Fields::index_list(const std::string& key) const {
+  if (!j_.contains(key) || !j_.at(key).is_array()) fail(key, "an array of vertex indices");
   const auto& v = j_.at(key);
-  if (!v.is_number_integer()) fail(key, "an integer");
-  const long long x = v.get<long long>();
-  if (x < lo || x > hi) fail(key, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  return static_cast<int>(x);
+  std::vector<std::int64_t> out;
+  out.reserve(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const auto x = json_int64(v[i]);
+    if (!x || *x < 0) fail(key, "vertex indices (integers >= 0)", "element " + std::to_string(i) + ": " + describe(v[i]));
+    out.push_back(*x);
+  }
+  return out;
 }
 
 bool Fields::boolean(const std::string& key, bool fallback) const {

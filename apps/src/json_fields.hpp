@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace invfem::app {
 
@@ -28,7 +29,11 @@ class Fields {
   double number(const std::string& key) const;  // required
   // A number in [lo, hi] (inclusive unless open_* is set).
   double number_in(const std::string& key, double fallback, double lo, double hi) const;
+  // An integer in [lo, hi], checked in 64 bits before it is narrowed (4294967297 is not 1).
   int integer(const std::string& key, int fallback, int lo, int hi) const;
+  // A required array of indices >= 0 (mesh vertices), kept in 64 bits: the caller checks them
+  // against the mesh before narrowing (index_in_range).
+  std::vector<std::int64_t> index_list(const std::string& key) const;
   bool boolean(const std::string& key, bool fallback) const;
   std::string string(const std::string& key, const std::string& fallback) const;
   std::string string(const std::string& key) const;  // required
@@ -59,6 +64,14 @@ class Fields {
 // (70,000 nested arrays, a megabyte string) neither overflows the stack nor floods the terminal.
 // Invalid UTF-8 in strings is shown replaced, never thrown.
 std::string describe(const nlohmann::json& value);
+
+// The exact value of an integer JSON number, nullopt for anything else: a float (3.0 included,
+// as JSON writes no integer that way) or an unsigned number above 2^63 - 1. Every integer of a
+// scene is read through it, so none is truncated or wrapped.
+std::optional<std::int64_t> json_int64(const nlohmann::json& v);
+// An index of a list of `count` (a mesh's vertices) as an int, once checked in 64 bits to lie in
+// [0, count). Throws InputError "WHAT: vertex I but the mesh has COUNT vertices" otherwise.
+int index_in_range(std::int64_t index, std::int64_t count, const std::string& what);
 
 // Why `name` cannot name a scene object, "" when it can. An object's name is the folder of its
 // frames (OUT/frames/<name>/) and the stem of its other files, so it must be one plain path

@@ -40,4 +40,21 @@ expect 2 '".." names a folder' -- run "$torus" --quick --out "$work/names" --set
 if [ -e "$work/names" ] && [ -n "$(ls -A "$work/names")" ]; then echo "FAIL: a refused name wrote $(ls "$work/names")"; fail=1; fi
 expect_output 0 "valid (1 objects" -- check-scene "$torus" --quick --set 'solids.0.name="torus 2 (draft)"'
 
+# 5. Indices and integers are read in 64 bits and checked (against the mesh for vertices) before
+#    they are narrowed: 4294967297 is not vertex 1, 99999999999 is not vertex 1215752191.
+for v in 4294967297 99999999999; do
+  expect 2 "cloth \"cloth\": pin_vertices: vertex $v but the mesh has 289 vertices" -- \
+    check-scene "$drape" --quick --set "cloths.0.pin_vertices=[$v]"
+done
+expect 2 'pins[0]: vertex 4294967297 but the mesh has 289 vertices' -- \
+  check-scene "$drape" --quick --set 'cloths.0.pins=[{"vertices": [4294967297]}]'
+expect 2 'stitches.list[0]: vertex 4294967298 but the mesh has 289 vertices' -- \
+  check-scene "$drape" --quick --set 'cloths.0.stitches.list=[[0, 1, 4294967298, 0.5]]'
+expect 2 'expected vertex indices (integers >= 0), found element 0: number 18446744073709551615' -- \
+  check-scene "$drape" --quick --set 'cloths.0.pin_vertices=[18446744073709551615]'
+expect 2 '$.frames: expected an integer in [0, 1000000], found number 4294967297' -- check-scene "$drape" --set frames=4294967297
+expect 2 '$.frames: expected an integer in [0, 1000000], found number 18446744073709551615' -- \
+  check-scene "$drape" --set frames=18446744073709551615
+expect_output 0 "valid (1 objects, 289 nodes" -- check-scene "$drape" --quick --set 'cloths.0.pin_vertices=[288]'
+
 exit $fail

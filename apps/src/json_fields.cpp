@@ -191,16 +191,30 @@ std::string Fields::string(const std::string& key, const std::string& fallback) 
   return j_.contains(key) ? string(key) : fallback;
 }
 
-std::array<double, 3> Fields::vec3(const std::string& key, std::array<double, 3> fallback) const {
-  if (!j_.contains(key)) return fallback;
-  const auto& v = j_.at(key);
-  if (!v.is_array() || v.size() != 3) fail(key, "an array of 3 numbers");
+std::optional<std::array<double, 3>> bounded_vec3(const nlohmann::json& v, double max_norm) {
+  if (!v.is_array() || v.size() != 3) return std::nullopt;
   std::array<double, 3> out{};
-  for (int i = 0; i < 3; ++i) {
-    if (!v[i].is_number() || !std::isfinite(v[i].get<double>())) fail(key, "an array of 3 finite numbers");
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (!v[i].is_number()) return std::nullopt;
     out[i] = v[i].get<double>();
+    if (!std::isfinite(out[i])) return std::nullopt;
   }
+  // hypot: no overflow in the norm of finite components near 1e308.
+  if (!(std::hypot(out[0], out[1], out[2]) <= max_norm)) return std::nullopt;
   return out;
+}
+
+std::string vec3_expected(double max_norm) {
+  std::ostringstream s;
+  s << "an array of 3 finite numbers of magnitude <= " << max_norm;
+  return s.str();
+}
+
+std::array<double, 3> Fields::vec3(const std::string& key, std::array<double, 3> fallback, double max_norm) const {
+  if (!j_.contains(key)) return fallback;
+  const auto v = bounded_vec3(j_.at(key), max_norm);
+  if (!v) fail(key, vec3_expected(max_norm));
+  return *v;
 }
 
 std::string object_name_problem(const std::string& name) {

@@ -20,6 +20,21 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The physical ranges of a scene's quantities (apps/scenes/README.md, "Ranges"). Far beyond any
+// real scene, they keep every product the simulator forms (m v^2, m g y, positions plus
+// velocity times dt) finite: a velocity of 1e300 m/s once gave an infinite kinetic energy and a
+// gravity of 1e300 m/s^2 froze every object.
+namespace limits {
+constexpr double kLength = 1e6;        // [m] positions, translations, extents, pin boxes
+constexpr double kSpeed = 1e4;         // [m/s] initial and collider velocities
+constexpr double kAcceleration = 1e4;  // [m/s^2] gravity
+constexpr double kAngularSpeed = 1e4;  // [rad/s] collider spin rates
+constexpr double kDegrees = 1e6;       // [degrees] rotations
+constexpr double kDirection = 1e6;     // axes and directions (normalized when used)
+constexpr double kTime = 1e9;          // [s] key times
+constexpr double kScale = 1e6;         // transform scales and per-axis factors
+}  // namespace limits
+
 class Fields {
  public:
   Fields(const nlohmann::json& j, std::string file, std::string path);
@@ -39,7 +54,8 @@ class Fields {
   std::string string(const std::string& key) const;  // required
   // A required object name (solids, cloths, colliders): see object_name_problem.
   std::string object_name(const std::string& key) const;
-  std::array<double, 3> vec3(const std::string& key, std::array<double, 3> fallback) const;
+  // Three finite numbers whose Euclidean norm is at most max_norm (a physical range, `limits`).
+  std::array<double, 3> vec3(const std::string& key, std::array<double, 3> fallback, double max_norm) const;
   Fields object(const std::string& key) const;  // required object; {} if absent and optional
   Fields object_or_empty(const std::string& key) const;
   const nlohmann::json& raw(const std::string& key) const { return j_.at(key); }
@@ -64,6 +80,11 @@ class Fields {
 // (70,000 nested arrays, a megabyte string) neither overflows the stack nor floods the terminal.
 // Invalid UTF-8 in strings is shown replaced, never thrown.
 std::string describe(const nlohmann::json& value);
+
+// [x, y, z] with finite components and a norm <= max_norm; nullopt otherwise (keyframe lists
+// read their elements with it, Fields::vec3 its fields). vec3_expected: the message's "expected".
+std::optional<std::array<double, 3>> bounded_vec3(const nlohmann::json& v, double max_norm);
+std::string vec3_expected(double max_norm);
 
 // The exact value of an integer JSON number, nullopt for anything else: a float (3.0 included,
 // as JSON writes no integer that way) or an unsigned number above 2^63 - 1. Every integer of a

@@ -116,10 +116,18 @@ int run_command(const std::vector<std::string>& raw) {
   auto clock = [] { return std::chrono::steady_clock::now(); };
   auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
 
-  // Writes frame f (files only inside --frames) and its energies/stats rows.
+  // Writes frame f (files only inside --frames) and its energies/stats rows, once its state is
+  // checked: a non-finite position, velocity or energy stops the run (exit 1) before it is written.
   auto emit = [&](int frame, FrameReport& r, FrameTimings& t) {
     auto t0 = clock();
     world.measure(r);
+    std::string bad = world.non_finite_state();
+    if (bad.empty() && !std::isfinite(r.kinetic + r.elastic + r.gravity)) bad = "the total energy";
+    if (!bad.empty())
+      throw std::runtime_error(scene_path + ": the simulation produced a non-finite state in frame " +
+                               std::to_string(frame) + " (t = " + std::to_string(world.time()) + " s): " + bad +
+                               (frame > 0 ? "; frames up to " + std::to_string(frame - 1) + " are in " + out_dir.string()
+                                          : std::string("; no frame was written")));
     auto t1 = clock();
     t.measure = seconds(t0, t1);
     if (frame >= first_out) output.write_frame(frame, world, r);
@@ -153,12 +161,6 @@ int run_command(const std::vector<std::string>& raw) {
                        std::to_string(frame - 1) + " are in " + out_dir.string());
     }
     t.simulate = seconds(t0, clock());
-    if (!world.state_is_finite()) {
-      std::cerr << "error: " << scene_path << ": the simulation produced a non-finite state in frame " << frame
-                << " (t = " << world.time() << " s); frames up to " << frame - 1 << " are in " << out_dir.string()
-                << "\n";
-      return 1;
-    }
     emit(frame, r, t);
     // ETA from a moving average of recent frames: the cost per frame changes over a shot
     // (the torus puddle's collapse is cheap, its recovery is not).

@@ -141,7 +141,7 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
     if (i.has("transform")) c.initial_transform = parse_transform(i.object("transform"));
   }
   c.transform = parse_transform(f.object_or_empty("transform"));
-  c.velocity = f.vec3("velocity", c.velocity);
+  c.velocity = f.vec3("velocity", c.velocity, limits::kSpeed);
   c.material = parse_cloth_material(f.object_or_empty("material"));
   if (f.has("plasticity")) c.plasticity = parse_plasticity(f.object("plasticity"));
   if (f.has("bending_plasticity")) {
@@ -158,7 +158,7 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
       c.inversion_test = v.get<std::string>();
     } else if (v.is_array()) {
       c.inversion_test = "direction";
-      c.inversion_direction = f.vec3("inversion_test", c.inversion_direction);
+      c.inversion_direction = f.vec3("inversion_test", c.inversion_direction, limits::kDirection);
       if (std::hypot(c.inversion_direction[0], c.inversion_direction[1], c.inversion_direction[2]) < 1e-12)
         f.fail("inversion_test", "a non-zero direction");
     } else {

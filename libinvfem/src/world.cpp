@@ -206,13 +206,29 @@ void World::measure(FrameReport& r) const {
   }
 }
 
-bool World::state_is_finite() const {
+std::string World::non_finite_state() const {
+  double kinetic = 0, gravity = 0, elastic = 0;
   for (const auto& o : objects_) {
-    if (!o.body.x.allFinite() || !o.body.v.allFinite()) return false;
-    for (const auto& f : o.forces)
-      if (!std::isfinite(f->elastic_energy())) return false;
+    const std::string what = "object \"" + o.name + "\": ";
+    const Body& b = o.body;
+    if (!b.x.allFinite()) return what + "positions";
+    if (!b.v.allFinite()) return what + "velocities";
+    const double k = 0.5 * (b.mass.asDiagonal() * b.v).cwiseProduct(b.v).sum();  // as measure() sums it
+    if (!std::isfinite(k)) return what + "kinetic energy";
+    const double g = -((b.mass.transpose() * b.x) * b.gravity).value();
+    if (!std::isfinite(g)) return what + "gravity potential energy";
+    for (std::size_t f = 0; f < o.forces.size(); ++f) {
+      const double e = o.forces[f]->elastic_energy();
+      if (!std::isfinite(e)) return what + "elastic energy of force " + std::to_string(f);
+      elastic += e;
+    }
+    kinetic += k;
+    gravity += g;
   }
-  return true;
+  if (!std::isfinite(kinetic)) return "the total kinetic energy";
+  if (!std::isfinite(gravity)) return "the total gravity potential energy";
+  if (!std::isfinite(elastic)) return "the total elastic energy";
+  return "";
 }
 
 void World::resynchronize(double time) {

@@ -57,4 +57,26 @@ expect 2 '$.frames: expected an integer in [0, 1000000], found number 1844674407
   check-scene "$drape" --set frames=18446744073709551615
 expect_output 0 "valid (1 objects, 289 nodes" -- check-scene "$drape" --quick --set 'cloths.0.pin_vertices=[288]'
 
+# 2. Every vector and scalar has a physical range (json_fields.hpp `limits`): what once wrote inf
+#    with exit 0 (a velocity of 1e300 m/s) or froze the scene (gravity 1e300) is refused. The
+#    state check after each frame (World::non_finite_state, unit test World.NonFiniteState...)
+#    names the object when a run goes non-finite anyway.
+magnitude='expected an array of 3 finite numbers of magnitude <= 10000'
+expect 2 "\$.solids[0].velocity: $magnitude" -- run "$torus" --quick --out "$work/inf" --set 'solids.0.velocity=[1e300,0,0]'
+if [ -e "$work/inf/energies.csv" ]; then echo "FAIL: a refused velocity wrote energies"; fail=1; fi
+expect 2 "\$.cloths[0].velocity: $magnitude" -- check-scene "$drape" --quick --set 'cloths.0.velocity=[0,0,-1e300]'
+expect 2 "\$.gravity: $magnitude" -- check-scene "$torus" --quick --set 'gravity=[0,-1e300,0]'
+expect 2 "\$.solids[0].velocity: $magnitude" -- check-scene "$torus" --quick --set 'solids.0.velocity=[8000,8000,0]'
+expect 2 '$.solids[0].transform.translate: expected an array of 3 finite numbers of magnitude <= 1e+06' -- \
+  check-scene "$torus" --quick --set 'solids.0.transform.translate=[1e300,0,0]'
+expect 2 '$.colliders[0].point: expected an array of 3 finite numbers of magnitude <= 1e+06' -- \
+  check-scene "$torus" --quick --set 'colliders.0.point=[0,-1e7,0]'
+expect 2 '$.solids[0].material.density: expected a density > 0 and <= 1e6' -- \
+  check-scene "$torus" --quick --set solids.0.material.density=1e300
+expect 2 '$.colliders[0].motion.spin_rate: expected a number in [-10000, 10000]' -- \
+  check-scene "$drape" --quick --set 'colliders.0.motion={"spin_rate": 1e300}'
+expect 2 '$.colliders[0].motion.translate_keys: expected positions: an array of 3 finite numbers of magnitude <= 1e+06' -- \
+  check-scene "$drape" --quick --set 'colliders.0.motion={"translate_keys": [[0, [0, 0, 0]], [1, [1e300, 0, 0]]]}'
+expect_output 0 "valid (1 objects" -- check-scene "$torus" --quick --set 'solids.0.velocity=[0,-9999,0]'
+
 exit $fail

@@ -3,7 +3,10 @@
 // with its rollback on a stream that does not fit.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -152,6 +155,27 @@ TEST(World, MeasureSumsEnergiesOfEveryObject) {
   // -m g.x: three unit masses at y = 1 and three at y = 2 under g = -9.81 y.
   EXPECT_NEAR(r.gravity, 9.81 * (3 * 1.0 + 3 * 2.0), 1e-12);
   EXPECT_TRUE(world.state_is_finite());
+}
+
+// The state check names the object and the quantity; a finite but huge velocity is caught by its
+// kinetic energy (m v^2 overflows), a NaN position by the positions, a huge position by gravity.
+TEST(World, NonFiniteStateNamesTheObjectAndTheQuantity) {
+  const auto world_with = [](const std::function<void(Body&)>& edit) {
+    std::vector<SimObject> objects;
+    objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+    objects.push_back(make_object("solid", ObjectKind::Solid, 1.0));
+    edit(objects[1].body);
+    return World(WorldSettings{}, std::move(objects), {}, nullptr);
+  };
+  EXPECT_EQ(world_with([](Body&) {}).non_finite_state(), "");
+  const World fast = world_with([](Body& b) { b.v(0, 0) = 1e300; });
+  EXPECT_EQ(fast.non_finite_state(), "object \"solid\": kinetic energy");
+  EXPECT_FALSE(fast.state_is_finite());
+  EXPECT_EQ(world_with([](Body& b) { b.v(1, 2) = std::numeric_limits<double>::infinity(); }).non_finite_state(),
+            "object \"solid\": velocities");
+  EXPECT_EQ(world_with([](Body& b) { b.x(2, 1) = std::nan(""); }).non_finite_state(), "object \"solid\": positions");
+  EXPECT_EQ(world_with([](Body& b) { b.x(0, 1) = 1e308; b.x(1, 1) = 1e308; }).non_finite_state(),
+            "object \"solid\": gravity potential energy");
 }
 
 TEST(World, SaveRestoreRoundTripsAndABadStreamLeavesTheWorldUnchanged) {

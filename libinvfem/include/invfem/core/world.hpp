@@ -196,8 +196,13 @@ class World {
   void advance_to(double t_end, FrameReport& report);
   // Energies and element figures at the current state.
   void measure(FrameReport& report) const;
-  // Every position, velocity and energy finite.
-  bool state_is_finite() const;
+  // What is not finite in the current state, "" when nothing is: the first object whose
+  // positions, velocities, kinetic or gravity energy or a force's elastic energy is not finite
+  // (`object "torus": kinetic energy`), then the sums over objects (`the total kinetic energy`).
+  // Finite velocities can still give an infinite energy (m v^2 with v = 1e300 m/s).
+  std::string non_finite_state() const;
+  // non_finite_state() is "".
+  bool state_is_finite() const { return non_finite_state().empty(); }
 
   // The whole state for checkpoints: positions, velocities and every force's own state.
   void save_state(StateWriter& out) const;

@@ -162,7 +162,7 @@ SolidInitialShapeSpec parse_solid_initial_shape(const Fields& f, const std::file
   if (*kind == ScrambleKind::Box) {
     if (!f.has("size")) f.fail("size", "the box's edge [m] (a box scramble needs a size)");
     s.size = f.number("size");
-    if (!(s.size > 0 && s.size <= limits::kLength)) f.fail("size", "a box edge in (0, 1e6] [m]");
+    if (!(s.size > 0 && s.size <= limits::kLength)) f.fail("size", "a box edge > 0 [m], at most 1e6");
   } else if (f.has("size")) {
     f.fail("size", "no \"size\" on a " + s.scramble + " scramble (only a box has one)");
   }

@@ -248,6 +248,9 @@ struct SolverSpec {
   int cg_max_iterations = 1000;
   double newton_tolerance = 1e-4;   // implicit: |S grad E| relative to the forces at play
   int newton_max_iterations = 12;   // implicit: a step that hits it is reported
+  // A frame that would take more steps stops the run (exit 1) instead of running for days; the
+  // run prints its step size and estimate at the start when a frame needs over 1000.
+  int max_substeps_per_frame = 100000;
 };
 
 // The self-collision layer (collisions/self_collision_pass.hpp), run after every step on every

@@ -79,4 +79,32 @@ expect 2 '$.colliders[0].motion.translate_keys: expected positions: an array of 
   check-scene "$drape" --quick --set 'colliders.0.motion={"translate_keys": [[0, [0, 0, 0]], [1, [1e300, 0, 0]]]}'
 expect_output 0 "valid (1 objects" -- check-scene "$torus" --quick --set 'solids.0.velocity=[0,-9999,0]'
 
+# 6. Parameters that would make a run crawl: the start reports the step size and substeps a frame
+#    and refuses past solver.max_substeps_per_frame (exit 1, nothing written); a frame that
+#    reaches the limit later (the strength ramps up) stops the run naming the frame.
+for s in solids.0.material.young=1e12 solids.0.material.density=1e-12; do
+  rm -rf "$work/stiff"
+  expect 1 "more than solver.max_substeps_per_frame (100000); the itf04 step is limited" -- \
+    run "$torus" --quick --out "$work/stiff" --set "$s" --set solids.0.material.strength=1
+  if [ -e "$work/stiff/frames" ]; then echo "FAIL: $s: frames written before the refusal"; fail=1; fi
+done
+expect 1 'solver.integrator "implicit" takes steps of max_dt instead' -- \
+  run "$torus" --quick --out "$work/stiff" --set solids.0.material.young=1e9 --set solids.0.material.strength=1 \
+  --set solver.max_substeps_per_frame=5000
+expect_output 0 "substeps per frame; the itf04 step is limited" -- run "$torus" --quick --out "$work/note" --frames 0-0 \
+  --set solids.0.material.young=1e9 --set solids.0.material.strength=1
+rm -rf "$work/ramp"
+expect 1 "more than solver.max_substeps_per_frame (100); the itf04" -- \
+  run "$torus" --quick --out "$work/ramp" --set solids.0.material.young=1e7 --set solver.max_substeps_per_frame=100
+err=$("$invfem" run "$torus" --quick --out "$work/ramp" --quiet --set solids.0.material.young=1e7 \
+  --set solver.max_substeps_per_frame=100 2>&1)
+frame=$(sed -n 's/.*: frame \([0-9]*\) (t = .*/\1/p' <<<"$err")
+if [ -z "$frame" ] || [ "$frame" -lt 2 ] || ! grep -qF "frames up to $((frame - 1)) are in $work/ramp" <<<"$err" ||
+   [ ! -e "$work/ramp/frames/torus/$(printf %04d $((frame - 1))).obj" ] ||
+   [ -e "$work/ramp/frames/torus/$(printf %04d "$frame").obj" ]; then
+  echo "FAIL: the substep limit reached later in the run: $err"; fail=1
+fi
+expect 2 '$.solver.max_substeps_per_frame: expected an integer in [1, 2147483647]' -- \
+  check-scene "$torus" --set solver.max_substeps_per_frame=0
+
 exit $fail

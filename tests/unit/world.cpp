@@ -178,6 +178,36 @@ TEST(World, NonFiniteStateNamesTheObjectAndTheQuantity) {
             "object \"solid\": gravity potential energy");
 }
 
+// The step estimate and the substep guard: no stiffness limits these springs' step, so a step is
+// max_dt; a frame needing more steps than max_substeps throws before any step is taken.
+TEST(World, SubstepLimitStopsAdvanceBeforeItsSteps) {
+  std::vector<SimObject> objects;
+  objects.push_back(make_object("solid", ObjectKind::Solid, 1.0));
+  WorldSettings settings;
+  settings.max_dt = 0.01;
+  settings.max_substeps = 50;
+  World world(settings, std::move(objects), {}, nullptr);
+  EXPECT_DOUBLE_EQ(world.step_size(), 0.01);
+  EXPECT_DOUBLE_EQ(world.substeps_for(0.5), 50);
+  EXPECT_DOUBLE_EQ(world.substeps_for(1.0), 100);
+  FrameReport r;
+  world.advance_to(0.5, r);  // exactly at the limit: allowed
+  EXPECT_EQ(r.substeps, 50);
+  const Points x = world.objects()[0].body.x;
+  FrameReport r2;
+  try {
+    world.advance_to(1.5, r2);
+    ADD_FAILURE() << "no SubstepLimitError";
+  } catch (const SubstepLimitError& e) {
+    EXPECT_DOUBLE_EQ(e.substeps, 100);
+    EXPECT_DOUBLE_EQ(e.dt, 0.01);
+    EXPECT_EQ(e.limit, 50);
+  }
+  EXPECT_EQ(r2.substeps, 0);
+  EXPECT_DOUBLE_EQ(world.time(), 0.5);
+  EXPECT_EQ(world.objects()[0].body.x, x);
+}
+
 TEST(World, SaveRestoreRoundTripsAndABadStreamLeavesTheWorldUnchanged) {
   World world = make_world();
   FrameReport r;

@@ -158,9 +158,8 @@ std::vector<Source> run_sources(const fs::path& out, const ParsedArgs& args) {
   if (fs::exists(out / "scene.json")) {
     nlohmann::json scene;
     try {
-      scene = nlohmann::json::parse(read_text_file((out / "scene.json").string(), 1u << 26, "invfem check"));
-    } catch (const nlohmann::json::exception& e) {
-      throw InputError((out / "scene.json").string() + ": not JSON (" + e.what() + ")");
+      scene = parse_json(read_text_file((out / "scene.json").string(), 1u << 26, "invfem check"),
+                         (out / "scene.json").string());
     } catch (const MeshError& e) {
       throw InputError(e.what());
     }

@@ -1,6 +1,7 @@
 #include "json_fields.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace invfem::app {
@@ -12,10 +13,88 @@ const nlohmann::json& empty_object() {
 }
 }  // namespace
 
+namespace {
+
+constexpr std::size_t kDescribeLength = 80;  // characters of a value shown in a message
+constexpr int kDescribeDepth = 3;           // levels of arrays and objects shown
+
+// Appends a rendering of v to out, `depth` levels deep at most; stops adding once out holds more
+// than kDescribeLength characters (the caller cuts it there). Recursion is bounded by depth.
+void render(const nlohmann::json& v, int depth, std::string& out) {
+  constexpr auto replace = nlohmann::json::error_handler_t::replace;
+  if (out.size() > kDescribeLength) return;
+  if (v.is_array() || v.is_object()) {
+    const bool array = v.is_array();
+    out += array ? '[' : '{';
+    if (depth <= 0 && !v.empty()) {
+      out += "...";
+    } else {
+      bool first = true;
+      for (auto it = v.begin(); it != v.end() && out.size() <= kDescribeLength; ++it) {
+        if (!first) out += ", ";
+        first = false;
+        if (!array) out += nlohmann::json(it.key()).dump(-1, ' ', false, replace) + ": ";
+        render(*it, depth - 1, out);
+      }
+    }
+    out += array ? ']' : '}';
+    return;
+  }
+  if (v.is_string()) {  // only the head of a long string is escaped and shown
+    const auto& s = v.get_ref<const std::string&>();
+    out += nlohmann::json(s.substr(0, kDescribeLength + 1)).dump(-1, ' ', false, replace);
+    return;
+  }
+  out += v.dump(-1, ' ', false, replace);
+}
+
+// Parses `input` (a stream or a string) with the nesting bound; throws InputError for the depth,
+// nlohmann's exceptions for anything else.
+template <class Input>
+nlohmann::json parse_bounded(Input&& input, const std::string& origin) {
+  const auto bound = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
+    // depth counts the containers already open around this one (0 for the outermost).
+    if ((event == nlohmann::json::parse_event_t::object_start ||
+         event == nlohmann::json::parse_event_t::array_start) &&
+        depth >= kMaxJsonDepth)
+      throw InputError(origin + ": JSON nested more than " + std::to_string(kMaxJsonDepth) +
+                       " levels deep (arrays or objects within one another)");
+    return true;
+  };
+  return nlohmann::json::parse(std::forward<Input>(input), bound);
+}
+
+}  // namespace
+
 std::string describe(const nlohmann::json& value) {
-  std::string s = value.dump();
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  std::string s;
+  render(value, kDescribeDepth, s);
+  if (s.size() > kDescribeLength) s = s.substr(0, kDescribeLength - 3) + "...";
   return std::string(value.type_name()) + " " + s;
+}
+
+nlohmann::json parse_json(std::istream& in, const std::string& origin) {
+  try {
+    return parse_bounded(in, origin);
+  } catch (const nlohmann::json::exception& e) {  // parse errors, and numbers out of range (1e309)
+    throw InputError(origin + ": not valid JSON: " + e.what());
+  }
+}
+
+nlohmann::json parse_json(const std::string& text, const std::string& origin) {
+  try {
+    return parse_bounded(text, origin);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(origin + ": not valid JSON: " + e.what());
+  }
+}
+
+std::optional<nlohmann::json> try_parse_json(const std::string& text, const std::string& origin) {
+  try {
+    return parse_bounded(text, origin);
+  } catch (const nlohmann::json::exception&) {
+    return std::nullopt;
+  }
 }
 
 Fields::Fields(const nlohmann::json& j, std::string file, std::string path)
@@ -58,13 +137,43 @@ double Fields::number_in(const std::string& key, double fallback, double lo, dou
   return x;
 }
 
+std::optional<std::int64_t> json_int64(const nlohmann::json& v) {
+  if (v.is_number_unsigned()) {
+    const auto u = v.get<std::uint64_t>();
+    if (u > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) return std::nullopt;
+    return static_cast<std::int64_t>(u);
+  }
+  if (v.is_number_integer()) return v.get<std::int64_t>();
+  return std::nullopt;
+}
+
+int index_in_range(std::int64_t index, std::int64_t count, const std::string& what) {
+  if (index < 0 || index >= count)
+    throw InputError(what + ": vertex " + std::to_string(index) + " but the mesh has " + std::to_string(count) +
+                     " vertices");
+  return static_cast<int>(index);  // count is a mesh size, an int
+}
+
 int Fields::integer(const std::string& key, int fallback, int lo, int hi) const {
   if (!j_.contains(key)) return fallback;
+  const auto x = json_int64(j_.at(key));
+  const std::string range = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  if (!x) fail(key, j_.at(key).is_number_integer() ? range : "an integer");
+  if (*x < lo || *x > hi) fail(key, range);
+  return static_cast<int>(*x);
+}
+
+std::vector<std::int64_t> Fields::index_list(const std::string& key) const {
+  if (!j_.contains(key) || !j_.at(key).is_array()) fail(key, "an array of vertex indices");
   const auto& v = j_.at(key);
-  if (!v.is_number_integer()) fail(key, "an integer");
-  const long long x = v.get<long long>();
-  if (x < lo || x > hi) fail(key, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  return static_cast<int>(x);
+  std::vector<std::int64_t> out;
+  out.reserve(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const auto x = json_int64(v[i]);
+    if (!x || *x < 0) fail(key, "vertex indices (integers >= 0)", "element " + std::to_string(i) + ": " + describe(v[i]));
+    out.push_back(*x);
+  }
+  return out;
 }
 
 bool Fields::boolean(const std::string& key, bool fallback) const {
@@ -82,16 +191,51 @@ std::string Fields::string(const std::string& key, const std::string& fallback) 
   return j_.contains(key) ? string(key) : fallback;
 }
 
-std::array<double, 3> Fields::vec3(const std::string& key, std::array<double, 3> fallback) const {
-  if (!j_.contains(key)) return fallback;
-  const auto& v = j_.at(key);
-  if (!v.is_array() || v.size() != 3) fail(key, "an array of 3 numbers");
+std::optional<std::array<double, 3>> bounded_vec3(const nlohmann::json& v, double max_norm) {
+  if (!v.is_array() || v.size() != 3) return std::nullopt;
   std::array<double, 3> out{};
-  for (int i = 0; i < 3; ++i) {
-    if (!v[i].is_number() || !std::isfinite(v[i].get<double>())) fail(key, "an array of 3 finite numbers");
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (!v[i].is_number()) return std::nullopt;
     out[i] = v[i].get<double>();
+    if (!std::isfinite(out[i])) return std::nullopt;
   }
+  // hypot: no overflow in the norm of finite components near 1e308.
+  if (!(std::hypot(out[0], out[1], out[2]) <= max_norm)) return std::nullopt;
   return out;
+}
+
+std::string vec3_expected(double max_norm) {
+  std::ostringstream s;
+  s << "an array of 3 finite numbers of magnitude <= " << max_norm;
+  return s.str();
+}
+
+std::array<double, 3> Fields::vec3(const std::string& key, std::array<double, 3> fallback, double max_norm) const {
+  if (!j_.contains(key)) return fallback;
+  const auto v = bounded_vec3(j_.at(key), max_norm);
+  if (!v) fail(key, vec3_expected(max_norm));
+  return *v;
+}
+
+std::string object_name_problem(const std::string& name) {
+  constexpr std::size_t kMaxNameBytes = 100;  // well below a file name's 255, with room for suffixes
+  if (name.empty()) return "it is empty";
+  if (name.size() > kMaxNameBytes) return "it is longer than " + std::to_string(kMaxNameBytes) + " bytes";
+  if (name == "." || name == "..") return "\"" + name + "\" names a folder, not an object";
+  for (const char c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) return "it holds a control character (byte " + std::to_string(u) + ")";
+    if (c == '/' || c == '\\') return "it holds a path separator '" + std::string(1, c) + "'";
+  }
+  return "";
+}
+
+std::string Fields::object_name(const std::string& key) const {
+  const std::string name = string(key);
+  if (const std::string problem = object_name_problem(name); !problem.empty())
+    fail(key, "a name that can be a folder name (printable, no '/' or '\\', not \".\" or \"..\")",
+         describe(j_.at(key)) + ": " + problem);
+  return name;
 }
 
 Fields Fields::object(const std::string& key) const {

@@ -168,6 +168,16 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
 
 namespace {
 
+// Vertex indices of a scene (64 bits) as the mesh's ints, each checked against its vertex count
+// before it is narrowed.
+std::vector<int> checked_vertices(const std::vector<std::int64_t>& indices, Eigen::Index count,
+                                  const std::string& what) {
+  std::vector<int> out;
+  out.reserve(indices.size());
+  for (const std::int64_t i : indices) out.push_back(index_in_range(i, count, what));
+  return out;
+}
+
 // Pinned vertices of one PinSpec over the garment's vertices (boxes select by position at the
 // start of the run).
 std::vector<int> pinned_vertices(const PinSpec& p, const Garment& g, const Points& x0, const std::string& what) {
@@ -179,11 +189,7 @@ std::vector<int> pinned_vertices(const PinSpec& p, const Garment& g, const Point
       throw InputError(what + ": " + e.what());
     }
   }
-  for (int i : p.vertices)
-    if (i >= x0.rows())
-      throw InputError(what + ": vertex " + std::to_string(i) + " but the mesh has " + std::to_string(x0.rows()) +
-                       " vertices");
-  return p.vertices;
+  return checked_vertices(p.vertices, x0.rows(), what);
 }
 
 Garment load_cloth_geometry(const ClothSpec& spec) {
@@ -242,18 +248,19 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
   }
   if (!spec.stitches.from_mesh) g.stitches.clear();
   params.stitch = StitchParams{spec.stitches.stiffness, spec.stitches.damping};
-  for (const auto& s : spec.stitches.list)
-    params.extra_stitches.push_back(Stitch{int(s[0]), int(s[1]), int(s[2]), s[3]});
+  for (std::size_t k = 0; k < spec.stitches.list.size(); ++k) {
+    const auto& s = spec.stitches.list[k];
+    const std::vector<int> v = checked_vertices({s.vertices.begin(), s.vertices.end()}, n,
+                                                where + ": stitches.list[" + std::to_string(k) + "]");
+    params.extra_stitches.push_back(Stitch{v[0], v[1], v[2], s.r});
+  }
   params.velocity = to_vec(spec.velocity);
   params.gravity = to_vec(scene.gravity);
-  for (int i : spec.pin_vertices)
-    if (i >= n)
-      throw InputError(where + ": pin_vertices has vertex " + std::to_string(i) + " but the mesh has " +
-                       std::to_string(n) + " vertices");
+  const std::vector<int> pin_vertices = checked_vertices(spec.pin_vertices, n, where + ": pin_vertices");
   try {
     params.model = make_model(m);
-    if (!spec.pin_vertices.empty())
-      params.pins.push_back(make_pin_group(x0, spec.pin_vertices, std::nullopt, what + ": pin_vertices"));
+    if (!pin_vertices.empty())
+      params.pins.push_back(make_pin_group(x0, pin_vertices, std::nullopt, what + ": pin_vertices"));
     for (auto& pin : pins_in_boxes(x0, spec.pin_boxes, where)) params.pins.push_back(std::move(pin));
     for (std::size_t k = 0; k < spec.pins.size(); ++k) {
       const PinSpec& p = spec.pins[k];

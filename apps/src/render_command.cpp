@@ -68,12 +68,7 @@ int render_command(const std::vector<std::string>& raw) {
                      " the output of invfem run?)");
   std::ifstream in(scene_file);
   if (!in) throw InputError(scene_file.string() + ": cannot open (is " + dir.string() + " the output of invfem run?)");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(scene_file.string() + ": not valid JSON: " + e.what());
-  }
+  const nlohmann::json j = parse_json(in, scene_file.string());
   const Scene scene = parse_scene(j, scene_file, /*check_files=*/false);
 
   PreviewOptions options;

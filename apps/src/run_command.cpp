@@ -54,6 +54,19 @@ const char* const kRunHelp =
 
 namespace {
 
+// Substeps a frame above which the run says so at its start (a quick scene takes tens).
+constexpr double kManySubsteps = 1000;
+
+// What to do about a scene that needs too many steps a frame.
+std::string substep_advice(const Scene& scene) {
+  std::string a = scene.solver.integrator == "itf04"
+                      ? "the itf04 step is limited by the stiffest, lightest element (young, strength, density, "
+                        "poisson near 0.5): solver.integrator \"implicit\" takes steps of max_dt instead"
+                      : "solver.max_dt sets the implicit step: raise it";
+  return a + "; solver.max_substeps_per_frame (now " + std::to_string(scene.solver.max_substeps_per_frame) +
+         ") is the limit";
+}
+
 std::string format_duration(double s) {
   char buf[32];
   if (s < 60)
@@ -117,15 +130,38 @@ int run_command(const std::vector<std::string>& raw) {
       std::printf("no usable checkpoint in %s: starting from frame 0\n", out_dir.string().c_str());
     }
   }
+  // The step size now, and what a frame costs at it: said when large, refused past the limit
+  // (advance_to enforces it on every frame, as the strength tracks and the state change it).
+  {
+    const double dt = world.step_size(), substeps = world.substeps_for(1 / scene.fps);
+    if (substeps > scene.solver.max_substeps_per_frame) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "a frame needs about %.3g substeps of %.3g s, more than solver.max_substeps_per_frame",
+                    substeps, dt);
+      throw std::runtime_error(scene_path + ": " + buf + " (" + std::to_string(scene.solver.max_substeps_per_frame) +
+                               "); " + substep_advice(scene) + "; no frame was written");
+    }
+    if (substeps > kManySubsteps)
+      std::fprintf(stderr, "note: %s: step size %.3g s, about %.0f substeps per frame; %s\n", scene_path.c_str(), dt,
+                   substeps, substep_advice(scene).c_str());
+  }
   RunOutput output(out_dir, scene, world, formats, start_frame > 0 ? start_frame + 1 : 0, resume_csv);
   std::unique_ptr<PreviewRenderer> preview;
   auto clock = [] { return std::chrono::steady_clock::now(); };
   auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
 
-  // Writes frame f (files only inside --frames) and its energies/stats rows.
+  // Writes frame f (files only inside --frames) and its energies/stats rows, once its state is
+  // checked: a non-finite position, velocity or energy stops the run (exit 1) before it is written.
   auto emit = [&](int frame, FrameReport& r, FrameTimings& t) {
     auto t0 = clock();
     world.measure(r);
+    std::string bad = world.non_finite_state();
+    if (bad.empty() && !std::isfinite(r.kinetic + r.elastic + r.gravity)) bad = "the total energy";
+    if (!bad.empty())
+      throw std::runtime_error(scene_path + ": the simulation produced a non-finite state in frame " +
+                               std::to_string(frame) + " (t = " + std::to_string(world.time()) + " s): " + bad +
+                               (frame > 0 ? "; frames up to " + std::to_string(frame - 1) + " are in " + out_dir.string()
+                                          : std::string("; no frame was written")));
     auto t1 = clock();
     t.measure = seconds(t0, t1);
     if (frame >= first_out) output.write_frame(frame, world, r);
@@ -154,17 +190,17 @@ int run_command(const std::vector<std::string>& raw) {
     FrameTimings t;
     try {
       world.advance_to(frame / scene.fps, r);
+    } catch (const SubstepLimitError& e) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "frame %d (t = %.4g s) needs about %.3g substeps of %.3g s, more than "
+                    "solver.max_substeps_per_frame", frame, world.time(), e.substeps, e.dt);
+      throw std::runtime_error(scene_path + ": " + buf + " (" + std::to_string(e.limit) + "); " + substep_advice(scene) +
+                               "; frames up to " + std::to_string(frame - 1) + " are in " + out_dir.string());
     } catch (const MeshError& e) {  // a body sequence's frame, read when the run reaches it
       throw InputError(scene_path + ": frame " + std::to_string(frame) + ": " + e.what() + "; frames up to " +
                        std::to_string(frame - 1) + " are in " + out_dir.string());
     }
     t.simulate = seconds(t0, clock());
-    if (!world.state_is_finite()) {
-      std::cerr << "error: " << scene_path << ": the simulation produced a non-finite state in frame " << frame
-                << " (t = " << world.time() << " s); frames up to " << frame - 1 << " are in " << out_dir.string()
-                << "\n";
-      return 1;
-    }
     emit(frame, r, t);
     // ETA from a moving average of recent frames: the cost per frame changes over a shot
     // (the torus puddle's collapse is cheap, its recovery is not).

@@ -27,8 +27,8 @@ ScalarTrack parse_track(const Fields& f, const std::string& key, double fallback
     if (!k.is_array() || k.size() != 2 || !k[0].is_number() || !k[1].is_number())
       f.fail(key, "[time, value] pairs of numbers", "element " + std::to_string(i) + ": " + describe(k));
     const double t = k[0].get<double>(), x = k[1].get<double>();
-    if (!std::isfinite(t) || !std::isfinite(x) || x < 0)
-      f.fail(key, "finite times and values >= 0", "element " + std::to_string(i) + ": " + describe(k));
+    if (!(std::abs(t) <= limits::kTime) || !std::isfinite(x) || x < 0)
+      f.fail(key, "times in [-1e9, 1e9] s and finite values >= 0", "element " + std::to_string(i) + ": " + describe(k));
     if (t < last_t) f.fail(key, "keys sorted by time", "element " + std::to_string(i) + ": " + describe(k));
     last_t = t;
     track.keys.emplace_back(t, x);
@@ -46,7 +46,7 @@ MaterialSpec parse_material(const Fields& f) {
   if (!(m.poisson > -1 && m.poisson < 0.5))
     f.fail("poisson", "a Poisson's ratio in (-1, 0.5) (0.5 is incompressible: use 0.49 or less)");
   m.density = f.number("density", m.density);
-  if (!(m.density > 0)) f.fail("density", "a density > 0 [kg/m^3]");
+  if (!(m.density > 0 && m.density <= 1e6)) f.fail("density", "a density > 0 and <= 1e6 [kg/m^3]");
   m.damping = f.number_in("damping", m.damping, 0, 10);
   m.damping_model = f.string("damping_model", m.damping_model);
   if (m.damping_model != "rotated" && m.damping_model != "spin_free")
@@ -71,9 +71,9 @@ Transform parse_transform(const Fields& f) {
   f.reject_unknown({"scale", "rotate_degrees", "translate"});
   Transform t;
   t.scale = f.number("scale", t.scale);
-  if (!(t.scale > 0)) f.fail("scale", "a scale > 0");
-  t.rotate_degrees = f.vec3("rotate_degrees", t.rotate_degrees);
-  t.translate = f.vec3("translate", t.translate);
+  if (!(t.scale > 0 && t.scale <= limits::kScale)) f.fail("scale", "a scale in (0, 1e6]");
+  t.rotate_degrees = f.vec3("rotate_degrees", t.rotate_degrees, limits::kDegrees);
+  t.translate = f.vec3("translate", t.translate, limits::kLength);
   return t;
 }
 
@@ -90,8 +90,8 @@ std::vector<PinBox> parse_pin_boxes(const Fields& f) {
 PinBox parse_pin_box(const Fields& b) {
   b.reject_unknown({"min", "max"});
   PinBox box;
-  box.min = b.vec3("min", box.min);
-  box.max = b.vec3("max", box.max);
+  box.min = b.vec3("min", box.min, limits::kLength);
+  box.max = b.vec3("max", box.max, limits::kLength);
   for (int k = 0; k < 3; ++k)
     if (box.min[k] > box.max[k]) b.fail("max", "a box with min <= max in every coordinate");
   return box;
@@ -114,24 +114,24 @@ PlasticitySpec parse_plasticity(const Fields& f) {
   p.deviatoric_only = f.boolean("deviatoric_only", p.deviatoric_only);
   p.preserve_volume = f.boolean("preserve_volume", p.preserve_volume);
   p.max_stretch = f.number("max_stretch", p.max_stretch);
-  if (!(p.max_stretch > 1)) f.fail("max_stretch", "a stretch limit > 1");
+  if (!(p.max_stretch > 1 && p.max_stretch <= 1e6)) f.fail("max_stretch", "a stretch limit in (1, 1e6]");
   return p;
 }
 
 PlasticGoalSpec parse_plastic_goal(const Fields& f) {
   f.reject_unknown({"scale", "center"});
   PlasticGoalSpec g;
-  g.scale = f.vec3("scale", g.scale);
+  g.scale = f.vec3("scale", g.scale, limits::kScale);
   for (double x : g.scale)
     if (!(x > 0)) f.fail("scale", "per-axis scales > 0 (a goal must not be flat or inverted)");
-  g.center = f.vec3("center", g.center);
+  g.center = f.vec3("center", g.center, limits::kLength);
   return g;
 }
 
 FiberSpec parse_fiber(const Fields& f) {
   f.reject_unknown({"direction", "k_passive", "k_active", "max_contraction", "activation"});
   FiberSpec fb;
-  fb.direction = f.vec3("direction", fb.direction);
+  fb.direction = f.vec3("direction", fb.direction, limits::kDirection);
   if (std::hypot(fb.direction[0], fb.direction[1], fb.direction[2]) < 1e-12) f.fail("direction", "a non-zero vector");
   fb.k_passive = f.number_in("k_passive", fb.k_passive, 0, 1e12);
   fb.k_active = f.number_in("k_active", fb.k_active, 0, 1e12);
@@ -164,7 +164,7 @@ SolidInitialShapeSpec parse_solid_initial_shape(const Fields& f, const std::file
   if (*kind == ScrambleKind::Box) {
     if (!f.has("size")) f.fail("size", "the box's edge [m] (a box scramble needs a size)");
     s.size = f.number("size");
-    if (!(s.size > 0)) f.fail("size", "a box edge > 0 [m]");
+    if (!(s.size > 0 && s.size <= limits::kLength)) f.fail("size", "a box edge > 0 [m], at most 1e6");
   } else if (f.has("size")) {
     f.fail("size", "no \"size\" on a " + s.scramble + " scramble (only a box has one)");
   }
@@ -180,10 +180,10 @@ MotionSpec parse_motion(const Fields& f) {
     f.fail("translate_keys", "either keyframes or a constant velocity/spin, not both");
   if (constant) {
     m.kind = MotionSpec::Kind::ConstantVelocity;
-    m.velocity = f.vec3("velocity", m.velocity);
-    m.spin_axis = f.vec3("spin_axis", m.spin_axis);
+    m.velocity = f.vec3("velocity", m.velocity, limits::kSpeed);
+    m.spin_axis = f.vec3("spin_axis", m.spin_axis, limits::kDirection);
     if (std::hypot(m.spin_axis[0], m.spin_axis[1], m.spin_axis[2]) < 1e-12) f.fail("spin_axis", "a non-zero axis");
-    m.spin_rate = f.number("spin_rate", m.spin_rate);
+    m.spin_rate = f.number_in("spin_rate", m.spin_rate, -limits::kAngularSpeed, limits::kAngularSpeed);
   }
   if (keyed) {
     m.kind = MotionSpec::Kind::Keyframed;
@@ -195,15 +195,15 @@ MotionSpec parse_motion(const Fields& f) {
         const auto& k = v[i];
         if (!k.is_array() || k.size() != 2 || !k[0].is_number() || !k[1].is_array() || k[1].size() != 3)
           f.fail("translate_keys", "[time, [x, y, z]] keys", "element " + std::to_string(i) + ": " + describe(k));
-        std::array<double, 3> p{};
-        for (int c = 0; c < 3; ++c) {
-          if (!k[1][c].is_number()) f.fail("translate_keys", "numbers", "element " + std::to_string(i) + ": " + describe(k));
-          p[c] = k[1][c].get<double>();
-        }
+        const auto p = bounded_vec3(k[1], limits::kLength);
+        if (!p)
+          f.fail("translate_keys", "positions: " + vec3_expected(limits::kLength),
+                 "element " + std::to_string(i) + ": " + describe(k));
         const double t = k[0].get<double>();
-        if (!std::isfinite(t) || t < last) f.fail("translate_keys", "finite times in increasing order", "element " + std::to_string(i));
+        if (!(std::abs(t) <= limits::kTime) || t < last)
+          f.fail("translate_keys", "times in [-1e9, 1e9] s in increasing order", "element " + std::to_string(i));
         last = t;
-        m.translate_keys.emplace_back(t, p);
+        m.translate_keys.emplace_back(t, *p);
       }
     }
     last = -INFINITY;
@@ -216,13 +216,16 @@ MotionSpec parse_motion(const Fields& f) {
             !k[2].is_number())
           f.fail("rotate_keys", "[time, [ax, ay, az], degrees] keys", "element " + std::to_string(i) + ": " + describe(k));
         MotionSpec::RotateKey key{k[0].get<double>(), {}, k[2].get<double>()};
-        for (int c = 0; c < 3; ++c) {
-          if (!k[1][c].is_number()) f.fail("rotate_keys", "numbers", "element " + std::to_string(i));
-          key.axis[c] = k[1][c].get<double>();
-        }
+        const auto axis = bounded_vec3(k[1], limits::kDirection);
+        if (!axis)
+          f.fail("rotate_keys", "axes: " + vec3_expected(limits::kDirection), "element " + std::to_string(i) + ": " + describe(k));
+        key.axis = *axis;
+        if (!(std::abs(key.degrees) <= limits::kDegrees))
+          f.fail("rotate_keys", "angles in [-1e6, 1e6] degrees", "element " + std::to_string(i) + ": " + describe(k));
         if (std::hypot(key.axis[0], key.axis[1], key.axis[2]) < 1e-12)
           f.fail("rotate_keys", "non-zero axes", "element " + std::to_string(i));
-        if (!std::isfinite(key.t) || key.t < last) f.fail("rotate_keys", "finite times in increasing order", "element " + std::to_string(i));
+        if (!(std::abs(key.t) <= limits::kTime) || key.t < last)
+          f.fail("rotate_keys", "times in [-1e9, 1e9] s in increasing order", "element " + std::to_string(i));
         last = key.t;
         m.rotate_keys.push_back(key);
       }
@@ -298,7 +301,7 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
                     "outer_radius", "root_radius", "thickness", "clearance", "mesh", "query_radius", "offset", "transform",
                     "motion", "friction", "frames", "files", "fps", "start_time", "start_frame", "after_end"});
   ColliderSpec c;
-  c.name = f.string("name");
+  c.name = f.object_name("name");
   c.type = f.string("type", c.type);
   static const std::set<std::string> types{"plane", "sphere", "box", "cylinder", "gears", "mesh", "sequence"};
   if (!types.count(c.type)) f.fail("type", "one of plane, sphere, box, cylinder, gears, mesh, sequence");
@@ -319,13 +322,13 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
   if (c.type == "plane") {
     for (const char* k : {"radius", "half_extents", "half_height", "teeth", "mesh", "transform", "motion"})
       if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a plane (a plane is static: point and normal)");
-    c.point = f.vec3("point", c.point);
-    c.normal = f.vec3("normal", c.normal);
+    c.point = f.vec3("point", c.point, limits::kLength);
+    c.normal = f.vec3("normal", c.normal, limits::kDirection);
     if (std::hypot(c.normal[0], c.normal[1], c.normal[2]) < 1e-12) f.fail("normal", "a non-zero vector");
     return c;
   }
   c.radius = f.number_in("radius", c.radius, 1e-6, 1e4);
-  c.half_extents = f.vec3("half_extents", c.half_extents);
+  c.half_extents = f.vec3("half_extents", c.half_extents, limits::kLength);
   for (double h : c.half_extents)
     if (!(h > 0)) f.fail("half_extents", "three half extents > 0");
   c.half_height = f.number_in("half_height", c.half_height, 1e-6, 1e4);
@@ -360,8 +363,8 @@ RenderSpec parse_render(const Fields& f) {
     const Fields c = f.object("camera");
     c.reject_unknown({"position", "target", "fov_degrees"});
     r.camera.automatic = false;
-    r.camera.position = c.vec3("position", r.camera.position);
-    r.camera.target = c.vec3("target", r.camera.target);
+    r.camera.position = c.vec3("position", r.camera.position, limits::kLength);
+    r.camera.target = c.vec3("target", r.camera.target, limits::kLength);
     r.camera.fov_degrees = c.number_in("fov_degrees", r.camera.fov_degrees, 1, 170);
     const auto& p = r.camera.position;
     const auto& t = r.camera.target;
@@ -373,12 +376,17 @@ RenderSpec parse_render(const Fields& f) {
 
 // Parse the value of a --set assignment: JSON if it parses (numbers, arrays, true, "text"),
 // otherwise the raw text as a string.
-nlohmann::json parse_override_value(const std::string& text) {
+// Text is kept only if it is valid UTF-8 (JSON strings are; the scene is written back out as
+// JSON). Nesting deeper than kMaxJsonDepth is an error, not plain text.
+nlohmann::json parse_override_value(const std::string& text, const std::string& origin) {
+  if (auto value = try_parse_json(text, origin)) return std::move(*value);
+  nlohmann::json plain = text;
   try {
-    return nlohmann::json::parse(text);
+    (void)plain.dump();  // throws for invalid UTF-8
   } catch (const nlohmann::json::exception&) {
-    return text;
+    throw InputError(origin + ": the value is neither JSON nor valid UTF-8 text");
   }
+  return plain;
 }
 
 // Apply "a.b.0.c=value" to j. Objects get missing keys created; arrays take an index.
@@ -415,7 +423,7 @@ void apply_override(nlohmann::json& j, const std::string& assignment, const std:
     if (dot == std::string::npos) break;
     start = dot + 1;
   }
-  *node = parse_override_value(assignment.substr(eq + 1));
+  *node = parse_override_value(assignment.substr(eq + 1), origin + ": " + path);
 }
 
 }  // namespace scene_detail
@@ -432,11 +440,11 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   s.name = root.string("name", file.stem().string());
   s.fps = root.number_in("fps", s.fps, 1, 10000);
   s.frames = root.integer("frames", s.frames, 0, 1000000);
-  s.gravity = root.vec3("gravity", s.gravity);
+  s.gravity = root.vec3("gravity", s.gravity, limits::kAcceleration);
 
   const Fields solver = root.object_or_empty("solver");
   solver.reject_unknown({"integrator", "cfl", "max_dt", "cg_tolerance", "cg_max_iterations", "newton_tolerance",
-                         "newton_max_iterations"});
+                         "newton_max_iterations", "max_substeps_per_frame"});
   s.solver.integrator = solver.string("integrator", "");
   if (!s.solver.integrator.empty() && s.solver.integrator != "itf04" && s.solver.integrator != "implicit")
     solver.fail("integrator", "\"itf04\" or \"implicit\"");
@@ -447,6 +455,8 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   s.solver.cg_max_iterations = solver.integer("cg_max_iterations", s.solver.cg_max_iterations, 1, 100000);
   s.solver.newton_tolerance = solver.number_in("newton_tolerance", s.solver.newton_tolerance, 1e-12, 1);
   s.solver.newton_max_iterations = solver.integer("newton_max_iterations", s.solver.newton_max_iterations, 1, 1000);
+  s.solver.max_substeps_per_frame =
+      solver.integer("max_substeps_per_frame", s.solver.max_substeps_per_frame, 1, 2147483647);
 
   const Fields sc = root.object_or_empty("self_collision");
   sc.reject_unknown({"enabled", "thickness", "ccd_distance", "friction", "impulse_passes", "max_zone_iterations",
@@ -464,9 +474,8 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
 
   const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
   std::set<std::string> names;
+  // Each name is checked where it is read (Fields::object_name), then for uniqueness here.
   auto unique_name = [&](const Fields& f, const std::string& name) {
-    if (name.empty()) f.fail("name", "a non-empty name");
-    if (name.find_first_of("/\\") != std::string::npos) f.fail("name", "a name without slashes");
     if (!names.insert(name).second) f.fail("name", "a name unique in the scene", "a second \"" + name + "\"");
   };
 
@@ -494,12 +503,12 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
           }
         }
       }
-      solid.name = f.string("name");
+      solid.name = f.object_name("name");
       solid.self_collision = f.boolean("self_collision", solid.self_collision);
       unique_name(f, solid.name);
       solid.mesh = parse_mesh_path(f, "mesh", dir, check_files);
       solid.transform = parse_transform(f.object_or_empty("transform"));
-      solid.velocity = f.vec3("velocity", solid.velocity);
+      solid.velocity = f.vec3("velocity", solid.velocity, limits::kSpeed);
       solid.mesh_resolution = f.integer("mesh_resolution", solid.mesh_resolution, 2, 1000);
       solid.material = parse_material(f.object_or_empty("material"));
       solid.pin_boxes = parse_pin_boxes(f);
@@ -567,12 +576,7 @@ Scene load_scene(const std::filesystem::path& file, const std::vector<std::strin
   require_input_file(file, "scene file", kMaxSceneBytes);
   std::ifstream in(file);
   if (!in) throw InputError(file.string() + ": cannot open the scene file");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {  // parse errors, and numbers out of range (1e309)
-    throw InputError(file.string() + ": not valid JSON: " + e.what());
-  }
+  nlohmann::json j = parse_json(in, file.string());
   if (quick && j.is_object() && j.contains("quick") && j["quick"].is_object()) {
     const nlohmann::json q = j["quick"];
     for (auto it = q.begin(); it != q.end(); ++it)
@@ -723,7 +727,8 @@ nlohmann::json to_json(const Scene& s) {
                  {"cg_tolerance", s.solver.cg_tolerance},
                  {"cg_max_iterations", s.solver.cg_max_iterations},
                  {"newton_tolerance", s.solver.newton_tolerance},
-                 {"newton_max_iterations", s.solver.newton_max_iterations}};
+                 {"newton_max_iterations", s.solver.newton_max_iterations},
+                 {"max_substeps_per_frame", s.solver.max_substeps_per_frame}};
   j["self_collision"] = {{"enabled", s.self_collision.enabled},
                          {"thickness", s.self_collision.thickness},
                          {"ccd_distance", s.self_collision.ccd_distance},

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <filesystem>
 #include <string>
@@ -145,14 +146,20 @@ struct BendingPlasticitySpec {     // ITF04 8: plastic rest angles
 
 struct StitchSpec {
   bool from_mesh = true;                    // use the mesh file's `stitch` lines
-  std::vector<std::array<double, 4>> list;  // more stitches [i, j, k, r], 0-based vertices
+  // More stitches [i, j, k, r], 0-based vertices, read in 64 bits and checked against the mesh
+  // when the cloth is built (a scene file knows no vertex count).
+  struct Extra {
+    std::array<std::int64_t, 3> vertices{0, 0, 0};
+    double r = 0;
+  };
+  std::vector<Extra> list;
   double stiffness = 1e3;                   // [N/m]
   double damping = 0;                       // [N s/m]
 };
 
 // Pinned vertices, chosen by index list, box (rest positions) or group, held still or moved.
 struct PinSpec {
-  std::vector<int> vertices;
+  std::vector<std::int64_t> vertices;  // checked against the mesh when the cloth is built
   std::optional<PinBox> box;
   std::string group;
   MotionSpec motion;  // Fixed: held still; else carried by the motion about their rest positions
@@ -184,7 +191,7 @@ struct ClothSpec {
   std::string inversion_test = "none";                     // none | rest | direction
   std::array<double, 3> inversion_direction{0, 1, 0};
   StitchSpec stitches;
-  std::vector<int> pin_vertices;  // vertex indices of the mesh, held in place
+  std::vector<std::int64_t> pin_vertices;  // vertex indices of the mesh, held in place (checked when built)
   std::vector<PinBox> pin_boxes;  // every vertex whose world rest position lies in a box
   std::vector<PinSpec> pins;      // general pins (with groups and motions)
 };
@@ -241,6 +248,9 @@ struct SolverSpec {
   int cg_max_iterations = 1000;
   double newton_tolerance = 1e-4;   // implicit: |S grad E| relative to the forces at play
   int newton_max_iterations = 12;   // implicit: a step that hits it is reported
+  // A frame that would take more steps stops the run (exit 1) instead of running for days; the
+  // run prints its step size and estimate at the start when a frame needs over 1000.
+  int max_substeps_per_frame = 100000;
 };
 
 // The self-collision layer (collisions/self_collision_pass.hpp), run after every step on every

@@ -25,37 +25,24 @@ ClothMaterialSpec parse_cloth_material(const Fields& f) {
   return m;
 }
 
-// A vertex index in [0, 2^31), checked in 64 bits before narrowing (4294967297 must not pass as
-// vertex 1); -1 when `e` is not one.
-int vertex_index(const nlohmann::json& e) {
-  if (!e.is_number_integer() || e.get<long long>() < 0 || e.get<long long>() > 2147483647LL) return -1;
-  return static_cast<int>(e.get<long long>());
-}
-
-std::vector<int> parse_vertex_list(const Fields& f, const std::string& key) {
-  const auto& v = f.raw(key);
-  if (!v.is_array()) f.fail(key, "an array of vertex indices");
-  std::vector<int> out;
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    const int index = vertex_index(v[i]);
-    if (index < 0) f.fail(key, "vertex indices in [0, 2^31)", "element " + std::to_string(i) + ": " + describe(v[i]));
-    out.push_back(index);
-  }
-  return out;
-}
-
 // The vertices a pin or an attachment selects: exactly one of "vertices", "box" or "group".
 PinSpec parse_selection(const Fields& f) {
   PinSpec p;
   const int ways = int(f.has("vertices")) + int(f.has("box")) + int(f.has("group"));
   if (ways != 1) f.fail("vertices", "exactly one of \"vertices\", \"box\" or \"group\"");
-  if (f.has("vertices")) p.vertices = parse_vertex_list(f, "vertices");
+  if (f.has("vertices")) p.vertices = f.index_list("vertices");
   if (f.has("box")) p.box = parse_pin_box(f.object("box"));
   if (f.has("group")) {
     p.group = f.string("group");
     if (p.group.empty()) f.fail("group", "a group name");
   }
   return p;
+}
+
+nlohmann::json stitch_list_json(const StitchSpec& s) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const auto& e : s.list) a.push_back({e.vertices[0], e.vertices[1], e.vertices[2], e.r});
+  return a;
 }
 
 nlohmann::json selection_json(const PinSpec& p) {
@@ -97,14 +84,14 @@ StitchSpec parse_stitches(const Fields& f) {
       const bool ok = e.is_array() && e.size() == 4 && e[0].is_number_integer() && e[1].is_number_integer() &&
                       e[2].is_number_integer() && e[3].is_number();
       if (!ok) f.fail("list", "[i, j, k, r] with integer vertices and a number r", "element " + std::to_string(i) + ": " + describe(e));
-      std::array<double, 4> st{};
-      for (int a = 0; a < 3; ++a) {
-        const int idx = vertex_index(e[a]);
-        if (idx < 0) f.fail("list", "vertex indices in [0, 2^31)", "element " + std::to_string(i) + ": " + describe(e));
-        st[a] = idx;
+      StitchSpec::Extra st;
+      for (std::size_t a = 0; a < 3; ++a) {
+        const auto idx = json_int64(e[a]);
+        if (!idx || *idx < 0) f.fail("list", "vertex indices >= 0", "element " + std::to_string(i) + ": " + describe(e));
+        st.vertices[a] = *idx;
       }
-      st[3] = e[3].get<double>();
-      if (!(st[3] >= 0 && st[3] <= 1)) f.fail("list", "r in [0, 1]", "element " + std::to_string(i) + ": " + describe(e));
+      st.r = e[3].get<double>();
+      if (!(st.r >= 0 && st.r <= 1)) f.fail("list", "r in [0, 1]", "element " + std::to_string(i) + ": " + describe(e));
       s.list.push_back(st);
     }
   }
@@ -118,7 +105,7 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
                     "material", "plasticity", "bending_plasticity", "inversion_test", "stitches", "pin_vertices",
                     "pin_boxes", "pins", "self_collision", "attachments"});
   ClothSpec c;
-  c.name = f.string("name");
+  c.name = f.object_name("name");
   c.self_collision = f.boolean("self_collision", c.self_collision);
   const int shapes = int(f.has("mesh")) + int(f.has("grid")) + int(f.has("half_torus"));
   if (shapes > 1) f.fail("mesh", "one of \"mesh\", \"grid\" or \"half_torus\", not several");
@@ -154,7 +141,7 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
     if (i.has("transform")) c.initial_transform = parse_transform(i.object("transform"));
   }
   c.transform = parse_transform(f.object_or_empty("transform"));
-  c.velocity = f.vec3("velocity", c.velocity);
+  c.velocity = f.vec3("velocity", c.velocity, limits::kSpeed);
   c.material = parse_cloth_material(f.object_or_empty("material"));
   if (f.has("plasticity")) c.plasticity = parse_plasticity(f.object("plasticity"));
   if (f.has("bending_plasticity")) {
@@ -171,7 +158,7 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
       c.inversion_test = v.get<std::string>();
     } else if (v.is_array()) {
       c.inversion_test = "direction";
-      c.inversion_direction = f.vec3("inversion_test", c.inversion_direction);
+      c.inversion_direction = f.vec3("inversion_test", c.inversion_direction, limits::kDirection);
       if (std::hypot(c.inversion_direction[0], c.inversion_direction[1], c.inversion_direction[2]) < 1e-12)
         f.fail("inversion_test", "a non-zero direction");
     } else {
@@ -179,7 +166,7 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
     }
   }
   c.stitches = parse_stitches(f.object_or_empty("stitches"));
-  if (f.has("pin_vertices")) c.pin_vertices = parse_vertex_list(f, "pin_vertices");
+  if (f.has("pin_vertices")) c.pin_vertices = f.index_list("pin_vertices");
   c.pin_boxes = parse_pin_boxes(f);
   if (f.has("pins")) {
     const auto& v = f.raw("pins");
@@ -210,7 +197,7 @@ nlohmann::json cloth_json(const ClothSpec& c) {
                                  {"hardening_strength", m.hardening_strength}, {"density", m.density},
                                  {"thickness", m.thickness}, {"damping", m.damping},
                                  {"bending_stiffness", m.bending_stiffness}, {"bending_damping", m.bending_damping}}},
-                   {"stitches", {{"from_mesh", c.stitches.from_mesh}, {"list", c.stitches.list},
+                   {"stitches", {{"from_mesh", c.stitches.from_mesh}, {"list", stitch_list_json(c.stitches)},
                                  {"stiffness", c.stitches.stiffness}, {"damping", c.stitches.damping}}},
                    {"pin_vertices", c.pin_vertices},
                    {"pin_boxes", pin_boxes_json(c.pin_boxes)}};

@@ -36,6 +36,7 @@ World build_world(const Scene& scene) {
   Colliders colliders = build_colliders(scene);
   WorldSettings settings;
   settings.max_dt = scene.solver.max_dt;
+  settings.max_substeps = scene.solver.max_substeps_per_frame;
   settings.cg = CGSettings{scene.solver.cg_tolerance, scene.solver.cg_max_iterations};
   settings.integrator = scene.solver.integrator == "implicit" ? Integrator::Implicit : Integrator::ITF04;
   settings.implicit.tolerance = scene.solver.newton_tolerance;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <stdexcept>
 #include <utility>
@@ -127,17 +128,42 @@ NodeConstraints World::constraints_of(std::size_t k, double dt) const {
   return out;
 }
 
+namespace {
+std::string substep_message(double dt, double substeps, long long limit) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "about %.3g steps of %.3g s, more than the limit of %lld", substeps, dt, limit);
+  return buf;
+}
+}  // namespace
+
+SubstepLimitError::SubstepLimitError(double dt_, double substeps_, long long limit_)
+    : std::runtime_error(substep_message(dt_, substeps_, limit_)), dt(dt_), substeps(substeps_), limit(limit_) {}
+
+double World::step_size() const {
+  double dt = settings_.max_dt;
+  if (settings_.integrator == Integrator::ITF04)
+    for (const auto& o : objects_) dt = std::min(dt, stable_time_step(o.body, o.force_pointers()));
+  return dt;
+}
+
+double World::substeps_for(double duration) const {
+  return std::max(1.0, std::ceil(duration / step_size() - 1e-9));
+}
+
 void World::advance_to(double t_end, FrameReport& report) {
   const std::vector<ObjectKind> stage_order = {ObjectKind::Solid, ObjectKind::Cloth};
   std::vector<Points> x_start, kinematic_start, x_before_passes;
+  long long taken = 0;
   // Land exactly on t_end: the steps of a frame are equal, each within every object's stable
   // step (ITF04's scheme takes a variable dt).
   while (time_ < t_end - 1e-12 * std::max(1.0, t_end)) {
-    double dt = std::min(settings_.max_dt, t_end - time_);
-    if (settings_.integrator == Integrator::ITF04)
-      for (const auto& o : objects_) dt = std::min(dt, stable_time_step(o.body, o.force_pointers()));
     const double left = t_end - time_;
-    dt = left / std::ceil(left / dt - 1e-9);
+    double dt = std::min(step_size(), left);
+    const double steps = std::ceil(left / dt - 1e-9);  // +inf for dt = 0
+    if (settings_.max_substeps > 0 && static_cast<double>(taken) + steps > static_cast<double>(settings_.max_substeps))
+      throw SubstepLimitError(dt, static_cast<double>(taken) + steps, settings_.max_substeps);
+    dt = left / steps;
+    ++taken;
     report.colliding_nodes = 0;
     if (!passes_.empty()) {
       x_start.clear();
@@ -207,13 +233,29 @@ void World::measure(FrameReport& r) const {
   }
 }
 
-bool World::state_is_finite() const {
+std::string World::non_finite_state() const {
+  double kinetic = 0, gravity = 0, elastic = 0;
   for (const auto& o : objects_) {
-    if (!o.body.x.allFinite() || !o.body.v.allFinite()) return false;
-    for (const auto& f : o.forces)
-      if (!std::isfinite(f->elastic_energy())) return false;
+    const std::string what = "object \"" + o.name + "\": ";
+    const Body& b = o.body;
+    if (!b.x.allFinite()) return what + "positions";
+    if (!b.v.allFinite()) return what + "velocities";
+    const double k = 0.5 * (b.mass.asDiagonal() * b.v).cwiseProduct(b.v).sum();  // as measure() sums it
+    if (!std::isfinite(k)) return what + "kinetic energy";
+    const double g = -((b.mass.transpose() * b.x) * b.gravity).value();
+    if (!std::isfinite(g)) return what + "gravity potential energy";
+    for (std::size_t f = 0; f < o.forces.size(); ++f) {
+      const double e = o.forces[f]->elastic_energy();
+      if (!std::isfinite(e)) return what + "elastic energy of force " + std::to_string(f);
+      elastic += e;
+    }
+    kinetic += k;
+    gravity += g;
   }
-  return true;
+  if (!std::isfinite(kinetic)) return "the total kinetic energy";
+  if (!std::isfinite(gravity)) return "the total gravity potential energy";
+  if (!std::isfinite(elastic)) return "the total elastic energy";
+  return "";
 }
 
 void World::resynchronize(double time) {

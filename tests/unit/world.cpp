@@ -3,7 +3,10 @@
 // with its rollback on a stream that does not fit.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -152,6 +155,57 @@ TEST(World, MeasureSumsEnergiesOfEveryObject) {
   // -m g.x: three unit masses at y = 1 and three at y = 2 under g = -9.81 y.
   EXPECT_NEAR(r.gravity, 9.81 * (3 * 1.0 + 3 * 2.0), 1e-12);
   EXPECT_TRUE(world.state_is_finite());
+}
+
+// The state check names the object and the quantity; a finite but huge velocity is caught by its
+// kinetic energy (m v^2 overflows), a NaN position by the positions, a huge position by gravity.
+TEST(World, NonFiniteStateNamesTheObjectAndTheQuantity) {
+  const auto world_with = [](const std::function<void(Body&)>& edit) {
+    std::vector<SimObject> objects;
+    objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+    objects.push_back(make_object("solid", ObjectKind::Solid, 1.0));
+    edit(objects[1].body);
+    return World(WorldSettings{}, std::move(objects), {}, nullptr);
+  };
+  EXPECT_EQ(world_with([](Body&) {}).non_finite_state(), "");
+  const World fast = world_with([](Body& b) { b.v(0, 0) = 1e300; });
+  EXPECT_EQ(fast.non_finite_state(), "object \"solid\": kinetic energy");
+  EXPECT_FALSE(fast.state_is_finite());
+  EXPECT_EQ(world_with([](Body& b) { b.v(1, 2) = std::numeric_limits<double>::infinity(); }).non_finite_state(),
+            "object \"solid\": velocities");
+  EXPECT_EQ(world_with([](Body& b) { b.x(2, 1) = std::nan(""); }).non_finite_state(), "object \"solid\": positions");
+  EXPECT_EQ(world_with([](Body& b) { b.x(0, 1) = 1e308; b.x(1, 1) = 1e308; }).non_finite_state(),
+            "object \"solid\": gravity potential energy");
+}
+
+// The step estimate and the substep guard: no stiffness limits these springs' step, so a step is
+// max_dt; a frame needing more steps than max_substeps throws before any step is taken.
+TEST(World, SubstepLimitStopsAdvanceBeforeItsSteps) {
+  std::vector<SimObject> objects;
+  objects.push_back(make_object("solid", ObjectKind::Solid, 1.0));
+  WorldSettings settings;
+  settings.max_dt = 0.01;
+  settings.max_substeps = 50;
+  World world(settings, std::move(objects), {}, nullptr);
+  EXPECT_DOUBLE_EQ(world.step_size(), 0.01);
+  EXPECT_DOUBLE_EQ(world.substeps_for(0.5), 50);
+  EXPECT_DOUBLE_EQ(world.substeps_for(1.0), 100);
+  FrameReport r;
+  world.advance_to(0.5, r);  // exactly at the limit: allowed
+  EXPECT_EQ(r.substeps, 50);
+  const Points x = world.objects()[0].body.x;
+  FrameReport r2;
+  try {
+    world.advance_to(1.5, r2);
+    ADD_FAILURE() << "no SubstepLimitError";
+  } catch (const SubstepLimitError& e) {
+    EXPECT_DOUBLE_EQ(e.substeps, 100);
+    EXPECT_DOUBLE_EQ(e.dt, 0.01);
+    EXPECT_EQ(e.limit, 50);
+  }
+  EXPECT_EQ(r2.substeps, 0);
+  EXPECT_DOUBLE_EQ(world.time(), 0.5);
+  EXPECT_EQ(world.objects()[0].body.x, x);
 }
 
 TEST(World, SaveRestoreRoundTripsAndABadStreamLeavesTheWorldUnchanged) {

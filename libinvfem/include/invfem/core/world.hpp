@@ -22,6 +22,7 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -153,6 +154,20 @@ struct WorldSettings {
   CGSettings cg;          // the ITF04 step's damping solves
   Integrator integrator = Integrator::ITF04;
   ImplicitSettings implicit;
+  // advance_to throws SubstepLimitError rather than take more steps than this in one call (a
+  // frame); 0: no limit. A stiff or light ITF04 scene (young 1e12, density 1e-12, poisson near
+  // 0.5) can otherwise need millions of CFL-limited steps a frame and run for days.
+  long long max_substeps = 0;
+};
+
+// advance_to would take more than WorldSettings::max_substeps steps to reach its end time. Thrown
+// before the step that would pass the limit (the world is at a step boundary, still valid).
+class SubstepLimitError : public std::runtime_error {
+ public:
+  SubstepLimitError(double dt, double substeps, long long limit);
+  double dt;          // [s] the step size when the limit was seen
+  double substeps;    // the steps advance_to would have taken in all, at that size
+  long long limit;
 };
 
 // Per-frame figures, summed over objects.
@@ -192,12 +207,25 @@ class World {
   const std::vector<std::shared_ptr<KinematicBody>>& kinematic_bodies() const { return kinematic_; }
   void add_pass(std::unique_ptr<StepPass> pass) { passes_.push_back(std::move(pass)); }
 
-  // Substeps from time() to t_end; fills the step counts of `report`.
+  // Substeps from time() to t_end; fills the step counts of `report`. Throws SubstepLimitError
+  // (see WorldSettings::max_substeps) before a step past the limit.
   void advance_to(double t_end, FrameReport& report);
+  // The step size advance_to would take now, before it is shortened to land on its end time:
+  // max_dt, with the ITF04 integrator also every object's stable step at the current state
+  // (stable_time_step; it depends on the state and on the strength tracks).
+  double step_size() const;
+  // The steps advance_to(time() + duration) would take at step_size() (a double: a degenerate
+  // stiffness can ask for more than any integer holds, or +inf).
+  double substeps_for(double duration) const;
   // Energies and element figures at the current state.
   void measure(FrameReport& report) const;
-  // Every position, velocity and energy finite.
-  bool state_is_finite() const;
+  // What is not finite in the current state, "" when nothing is: the first object whose
+  // positions, velocities, kinetic or gravity energy or a force's elastic energy is not finite
+  // (`object "torus": kinetic energy`), then the sums over objects (`the total kinetic energy`).
+  // Finite velocities can still give an infinite energy (m v^2 with v = 1e300 m/s).
+  std::string non_finite_state() const;
+  // non_finite_state() is "".
+  bool state_is_finite() const { return non_finite_state().empty(); }
 
   // The whole state for checkpoints: positions, velocities and every force's own state.
   void save_state(StateWriter& out) const;

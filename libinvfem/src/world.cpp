@@ -269,7 +269,8 @@ void World::resynchronize(double time) {
 
 void World::save_state(StateWriter& out) const {
   out.count(objects_.size());
-  for (const auto& o : objects_) {
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    const SimObject& o = objects_[k];
     out.string(o.name);
     out.doubles(o.body.x.data(), static_cast<std::size_t>(o.body.x.size()));
     out.doubles(o.body.v.data(), static_cast<std::size_t>(o.body.v.size()));
@@ -279,13 +280,20 @@ void World::save_state(StateWriter& out) const {
       f->save_state(w);
       out.string(w.bytes());
     }
+    // The implicit step's lagged contact forces (friction's normal force of the next step): state
+    // that carries over between steps, so a resumed run must have it to give the same bits.
+    const Eigen::VectorXd& lagged = implicit_[k].normal_force;
+    out.count(static_cast<std::size_t>(lagged.size()));
+    out.doubles(lagged.data(), static_cast<std::size_t>(lagged.size()));
   }
 }
 
 void World::apply_state(StateReader& in) {
   if (in.count("the object count") != objects_.size()) throw StateError("the state holds another number of objects");
   // Positions and velocities are read into copies first; forces restore themselves one by one.
-  for (auto& o : objects_) {
+  std::vector<Eigen::VectorXd> lagged(objects_.size());
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    SimObject& o = objects_[k];
     const std::string name = in.string("an object name");
     if (name != o.name) throw StateError("the state has object \"" + name + "\" where \"" + o.name + "\" is");
     Points x(o.body.x.rows(), 3), v(o.body.v.rows(), 3);
@@ -306,10 +314,20 @@ void World::apply_state(StateReader& in) {
       o.forces[k]->restore_state(blob);
       blob.expect_end(what);
     }
+    const std::size_t n = in.count("the contact forces of \"" + o.name + "\"");
+    if (n != 0 && n != static_cast<std::size_t>(o.body.x.rows()))
+      throw StateError("the state holds contact forces for another number of nodes of \"" + o.name + "\"");
+    lagged[k].resize(static_cast<Eigen::Index>(n));
+    in.doubles(lagged[k].data(), n, "the contact forces of \"" + o.name + "\"");
+    for (Eigen::Index i = 0; i < lagged[k].size(); ++i)
+      if (!(lagged[k](i) >= 0) || !std::isfinite(lagged[k](i)))
+        throw StateError("the contact force of node " + std::to_string(i) + " of \"" + o.name +
+                         "\" is not a finite non-negative number");
     o.body.x = std::move(x);
     o.body.v = std::move(v);
   }
   in.expect_end("the world state");
+  for (std::size_t k = 0; k < objects_.size(); ++k) implicit_[k].normal_force = std::move(lagged[k]);
 }
 
 void World::restore_state(StateReader& in, double time) {

@@ -69,6 +69,8 @@ expect 2 "\$.gravity: $magnitude" -- check-scene "$torus" --quick --set 'gravity
 expect 2 "\$.solids[0].velocity: $magnitude" -- check-scene "$torus" --quick --set 'solids.0.velocity=[8000,8000,0]'
 expect 2 '$.solids[0].transform.translate: expected an array of 3 finite numbers of magnitude <= 1e+06' -- \
   check-scene "$torus" --quick --set 'solids.0.transform.translate=[1e300,0,0]'
+expect 2 '$.cloths[0].transform.scale: expected a scale in (0, 1e6]' -- \
+  check-scene "$drape" --quick --set cloths.0.transform.scale=1e30
 expect 2 '$.colliders[0].point: expected an array of 3 finite numbers of magnitude <= 1e+06' -- \
   check-scene "$torus" --quick --set 'colliders.0.point=[0,-1e7,0]'
 expect 2 '$.solids[0].material.density: expected a density > 0 and <= 1e6' -- \

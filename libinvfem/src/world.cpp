@@ -223,11 +223,18 @@ void World::advance_to(double t_end, FrameReport& report) {
   for (auto& o : objects_) o.refresh_surface();
 }
 
+namespace {
+// A body's kinetic energy 1/2 sum m_i |v_i|^2 and gravity potential -sum m_i g . x_i [J], the
+// figures of measure() and what non_finite_state() checks.
+double kinetic_energy(const Body& b) { return 0.5 * (b.mass.asDiagonal() * b.v).cwiseProduct(b.v).sum(); }
+double gravity_energy(const Body& b) { return -((b.mass.transpose() * b.x) * b.gravity).value(); }
+}  // namespace
+
 void World::measure(FrameReport& r) const {
   for (const auto& o : objects_) {
     const Body& b = o.body;
-    r.kinetic += 0.5 * (b.mass.asDiagonal() * b.v).cwiseProduct(b.v).sum();
-    r.gravity -= ((b.mass.transpose() * b.x) * b.gravity).value();
+    r.kinetic += kinetic_energy(b);
+    r.gravity += gravity_energy(b);
     for (const auto& f : o.forces) r.elastic += f->elastic_energy();
     for (const auto& f : o.forces) f->add_element_stats(r.elements);
   }
@@ -240,9 +247,9 @@ std::string World::non_finite_state() const {
     const Body& b = o.body;
     if (!b.x.allFinite()) return what + "positions";
     if (!b.v.allFinite()) return what + "velocities";
-    const double k = 0.5 * (b.mass.asDiagonal() * b.v).cwiseProduct(b.v).sum();  // as measure() sums it
+    const double k = kinetic_energy(b);
     if (!std::isfinite(k)) return what + "kinetic energy";
-    const double g = -((b.mass.transpose() * b.x) * b.gravity).value();
+    const double g = gravity_energy(b);
     if (!std::isfinite(g)) return what + "gravity potential energy";
     for (std::size_t f = 0; f < o.forces.size(); ++f) {
       const double e = o.forces[f]->elastic_energy();

@@ -70,6 +70,12 @@ void BlockSparseMatrix::add_to_diagonal(const Eigen::VectorXd& d) {
     blocks_[static_cast<std::size_t>(diag_[i])].diagonal().array() += d(static_cast<Eigen::Index>(i));
 }
 
+void BlockSparseMatrix::add_scaled(const BlockSparseMatrix& B, double w) {
+  if (B.row_start_ != row_start_ || B.col_ != col_)
+    throw std::logic_error("block-sparse add: the matrices have different patterns");
+  parallel_for_each(blocks_.size(), 16 * kRowGrain, [&](std::size_t s) { blocks_[s] += w * B.blocks_[s]; });
+}
+
 ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatrix& A) : stride_(em.size()) {
   const std::size_t nb = A.block_count();
   std::vector<int> slot(static_cast<std::size_t>(em.count()) * static_cast<std::size_t>(em.arity * em.arity));

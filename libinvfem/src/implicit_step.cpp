@@ -143,8 +143,8 @@ void assemble(const Body& body, const std::vector<Force*>& forces, const Contact
   for (std::size_t f = 0; f < forces.size(); ++f) {
     forces[f]->stiffness_matrices(ws.stiffness[f]);
     ws.stiffness_scatter[f].add(ws.stiffness[f], h * h, ws.A);
-    ws.damping_scatter[f].add(ws.damping[f], h, ws.A);
   }
+  ws.A.add_scaled(ws.C, h);  // C is frozen at x(n): assembled once a step, not gathered again
   for (std::size_t j = k.first_contact; j < k.constraints.size(); ++j) {
     if (k.friction[j] <= 0) continue;
     const Slip sl = slip(k.constraints[j], x, x_start, h);

@@ -247,4 +247,29 @@ TEST(BlockSparseMatrix, AssembledProductEqualsDenseSum) {
   EXPECT_EQ(A.find(0, static_cast<int>(n) - 1), -1);  // the bar's far corner is not coupled to node 0
 }
 
+// A += w B with B a refilled copy of A's pattern (the implicit step adds h C this way), and a
+// matrix of another pattern is refused.
+TEST(BlockSparseMatrix, AddScaledCopyOfThePatternEqualsDenseSum) {
+  std::mt19937 rng(11);
+  const Bar bar(rng);
+  TetSolidForce f(make_tet_rest(bar.mesh.X, bar.mesh.T), neo_hookean_material(0.01));
+  f.update_positions(bar.x, 0);
+  ElementMatrices K, C;
+  f.stiffness_matrices(K);
+  f.damping_matrices(C);
+  const Eigen::Index n = bar.x.rows();
+  BlockSparseMatrix A(n, {&K, &C});
+  BlockSparseMatrix B = A;
+  ElementScatter(K, A).add(K, 1.0, A);
+  ElementScatter(C, B).add(C, 1.0, B);
+  A.add_scaled(B, 0.3);
+  const Eigen::MatrixXd expected = dense(K, n) + 0.3 * dense(C, n);
+  const Points p = random_points(n, 1.0, rng);
+  Points Ap;
+  A.multiply(p, Ap);
+  EXPECT_LT((flat(Ap) - expected * flat(p)).norm(), 1e-12 * expected.norm() * flat(p).norm());
+  const BlockSparseMatrix smaller(n - 1, {});
+  EXPECT_THROW(A.add_scaled(smaller, 1.0), std::logic_error);
+}
+
 }  // namespace

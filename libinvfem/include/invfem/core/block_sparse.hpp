@@ -31,6 +31,9 @@ class BlockSparseMatrix {
   const Mat3& diagonal(Eigen::Index i) const { return blocks_[static_cast<std::size_t>(diag_[i])]; }
   // A += diag(d): one weight per node, added to its 3x3 diagonal block (a lumped mass).
   void add_to_diagonal(const Eigen::VectorXd& d);
+  // A += w B for a B with A's pattern (a copy of A, later refilled): block by block, parallel.
+  // Throws std::logic_error when the patterns differ.
+  void add_scaled(const BlockSparseMatrix& B, double w);
 
   std::vector<Mat3>& blocks() { return blocks_; }
   const std::vector<Mat3>& blocks() const { return blocks_; }

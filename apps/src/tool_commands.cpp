@@ -6,9 +6,12 @@
 #include "cli_args.hpp"
 #include "invfem/collisions/body_sequence.hpp"
 #include "invfem/core/mesh_error.hpp"
+#include "invfem/core/surface_io.hpp"
 #include "invfem/solids/bcc_mesher.hpp"
+#include "invfem/solids/tet_mesh_writer.hpp"
 #include "json_fields.hpp"
 #include "scene.hpp"
+#include "solid_surface_check.hpp"
 #include "world_builder.hpp"
 
 namespace invfem::app {
@@ -76,20 +79,37 @@ int mesh_command(const std::vector<std::string>& raw) {
     else if (m == "winding") options.method = InsideMethod::WindingNumber;
     else throw InputError("--inside: expected auto, parity or winding, found \"" + m + "\"");
   }
+  const std::string& surface_file = args.positional[0];
+  const std::string& out_file = args.value("--out");
   BccMeshReport r;
+  SolidSurfaceCheck check;
   try {
-    r = mesh_surface_file(args.positional[0], args.value("--out"), options);
+    const TriangleSurface surface = load_triangle_surface(surface_file);
+    check = check_solid_surface(surface, surface_file);
+    const BccMeshResult result = bcc_mesh(surface, options);
+    write_tet_mesh(out_file, result.mesh);
+    r = result.report;
+  } catch (const InputError&) {
+    throw;
   } catch (const std::invalid_argument& e) {
     throw InputError(e.what());
   } catch (const std::runtime_error& e) {  // MeshError and loader errors name the file
     throw InputError(e.what());
   }
-  std::printf("%s -> %s\n", args.positional[0].c_str(), args.value("--out").c_str());
+  std::printf("%s -> %s\n", surface_file.c_str(), out_file.c_str());
+  const SurfaceDefects& d = check.defects;
+  std::printf("  surface checked in %.3fs: %lld open edges, %lld edges on 4+ triangles, %lld repeated triangles, %lld "
+              "inconsistently oriented edges, %lld intersecting triangle pairs\n",
+              check.seconds, d.open_edges, d.nonmanifold_edges, d.duplicate_triangles, d.misoriented_edges,
+              check.self_intersections);
   std::printf("  tets %d, nodes %d (boundary %d, snapped %d, partly %d), cell %.4g\n", r.tets, r.nodes, r.boundary_nodes,
               r.snapped_nodes, r.partly_snapped_nodes, r.cell_size);
   std::printf("  dihedral angles %.2f to %.2f degrees\n", r.min_dihedral_deg, r.max_dihedral_deg);
-  std::printf("  volume %.6g vs surface %.6g (ratio %.4f), inside test %s, %d open edges, %.2fs\n", r.tet_volume,
-              r.surface_volume, r.volume_ratio, to_string(r.method_used), r.open_edges, r.seconds);
+  if (check.defects.closed_and_oriented())
+    std::printf("  volume %.6g vs surface %.6g (ratio %.4f)", r.tet_volume, r.surface_volume, r.volume_ratio);
+  else
+    std::printf("  volume %.6g (no ratio: the surface is not closed and consistently oriented)", r.tet_volume);
+  std::printf(", inside test %s, %.2fs\n", to_string(r.method_used), r.seconds);
   return 0;
 }
 

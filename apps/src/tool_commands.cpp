@@ -33,7 +33,10 @@ const char* const kMeshHelp =
     "nodes compressed onto the surface unless --no-compress. The inside test is Embree ray parity,\n"
     "or the generalized winding number for surfaces with holes (auto picks). MESH is written as\n"
     "legacy VTK (.vtk) or MEDIT (.mesh), by its extension. Reports tets, dihedral angles and the\n"
-    "tet volume against the surface's volume.\n";
+    "tet volume against the surface's volume.\n"
+    "The surface is checked first: an edge shared by 3 (5, ...) triangles, a fin, is refused (exit 2);\n"
+    "holes, inconsistent orientation, self-intersections and zero-area triangles are warned about\n"
+    "with their count and the first one (apps/scenes/README.md, \"Surfaces that are tet-meshed\").\n";
 
 int check_scene_command(const std::vector<std::string>& raw) {
   const ParsedArgs args = parse_args(raw, "check-scene", {"--set"}, {"--help", "-h", "--quick"});

@@ -21,7 +21,8 @@ const char* const kCheckSceneHelp =
     "\n"
     "Validates the scene without simulating: every field, and every mesh it names (loaded and\n"
     "checked as a run would; every frame of a sequence collider too, which a run reads only when it\n"
-    "reaches it). Prints the scene as it would run, every default filled in.\n"
+    "reaches it). Prints the scene as it would run, every default filled in, and (on stderr) the\n"
+    "step size and the substeps a frame takes at the start, with a note when a run would say so.\n"
     "Exit code 0 when valid, 2 with a message naming the file, field and problem otherwise.\n";
 
 const char* const kMeshHelp =
@@ -57,6 +58,16 @@ int check_scene_command(const std::vector<std::string>& raw) {
       std::fprintf(stderr, "sequence \"%s\": %d frames read and checked\n", k->name().c_str(), sequence->frame_count());
     }
   std::cout << to_json(scene).dump(2) << "\n";
+  // What a run would take a frame, as `invfem run` states it at its start.
+  const StepPlan plan = plan_steps(world, scene);
+  std::fprintf(stderr, "%s: step size %.3g s, about %.0f substeps per frame\n", args.positional[0].c_str(), plan.dt,
+               plan.substeps);
+  if (plan.over_limit())
+    std::fprintf(stderr, "warning: %s: a run would stop before its first frame; %s\n", args.positional[0].c_str(),
+                 substep_advice(scene).c_str());
+  else if (plan.many())
+    std::fprintf(stderr, "note: %s: more than %.0f substeps per frame; %s\n", args.positional[0].c_str(),
+                 StepPlan::kMany, substep_advice(scene).c_str());
   std::size_t nodes = 0;
   for (const auto& o : world.objects()) nodes += o.body.x.rows();
   std::fprintf(stderr, "%s: valid (%zu objects, %zu nodes, %zu colliders)\n", args.positional[0].c_str(),

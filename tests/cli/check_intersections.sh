@@ -5,10 +5,8 @@
 #   check_intersections.sh INVFEM WORKDIR
 set -uo pipefail
 invfem="$1" work="$2"
-rm -rf "$work" && mkdir -p "$work"
-fail=0
-
 source "$(dirname "$0")/lib.sh"
+cli_setup
 
 # tet FILE APEX_Z: tetrahedron B is the unit corner tet; tetrahedron A has its apex at
 # (0.2, 0.2, APEX_Z) and its base at z = -1 (see tests/unit/intersection_certificate.cpp).

@@ -4,11 +4,10 @@
 #   scene_limits.sh INVFEM SOURCE_DIR WORKDIR
 set -uo pipefail
 invfem="$1" src="$2" work="$3"
-rm -rf "$work" && mkdir -p "$work"
+source "$(dirname "$0")/lib.sh"
+cli_setup
 torus="$src/apps/scenes/torus_puddle.json"
 drape="$src/apps/scenes/cloth_drape.json"
-fail=0
-source "$(dirname "$0")/lib.sh"
 
 nested() { python3 -c "import sys; n = int(sys.argv[1]); print('[' * n + ']' * n)" "$1"; }
 

@@ -6,9 +6,8 @@
 #   surface_defects.sh INVFEM SOURCE_DIR WORKDIR
 set -uo pipefail
 invfem="$1" src="$2" work="$3"
-rm -rf "$work" && mkdir -p "$work"
-fail=0
 source "$(dirname "$0")/lib.sh"
+cli_setup
 cd "$work" || exit 1
 
 # box FILE X0 Y0 Z0 X1 Y1 Z1 [FIRST_VERTEX] [DROP_TOP]: the 12 triangles of an axis-aligned box,

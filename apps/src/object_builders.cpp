@@ -23,6 +23,7 @@
 #include "collider_builders.hpp"
 #include "json_fields.hpp"
 #include "material_factory.hpp"
+#include "solid_surface_check.hpp"
 
 namespace invfem::app {
 
@@ -119,13 +120,18 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
       // resolution is in world units of the object's own size).
       TriangleSurface surface = load_triangle_surface(spec.mesh.string());
       apply_transform(spec.transform, surface.x, "solid \"" + spec.name + "\"");
+      const SolidSurfaceCheck check = check_solid_surface(surface, spec.mesh.string());
       BccMeshOptions options;
       options.resolution = spec.mesh_resolution;
       BccMeshResult r = bcc_mesh(surface, options);
       mesh = std::move(r.mesh);
-      std::cerr << "meshed " << spec.mesh.filename().string() << ": " << r.report.tets << " tets, volume ratio "
-                << r.report.volume_ratio << ", dihedral angles " << r.report.min_dihedral_deg << "-"
-                << r.report.max_dihedral_deg << " degrees\n";
+      std::cerr << "meshed " << spec.mesh.filename().string() << ": " << r.report.tets << " tets, volume ratio ";
+      if (check.defects.closed_and_oriented())
+        std::cerr << r.report.volume_ratio;
+      else
+        std::cerr << "n/a (the surface is not closed and consistently oriented)";
+      std::cerr << ", dihedral angles " << r.report.min_dihedral_deg << "-" << r.report.max_dihedral_deg
+                << " degrees\n";
     }
     const TetMeshReport report = validate_and_orient(mesh);
     for (const auto& w : report.warnings) std::cerr << "warning: " << spec.mesh.string() << ": " << w << "\n";

@@ -54,19 +54,6 @@ const char* const kRunHelp =
 
 namespace {
 
-// Substeps a frame above which the run says so at its start (a quick scene takes tens).
-constexpr double kManySubsteps = 1000;
-
-// What to do about a scene that needs too many steps a frame.
-std::string substep_advice(const Scene& scene) {
-  std::string a = scene.solver.integrator == "itf04"
-                      ? "the itf04 step is limited by the stiffest, lightest element (young, strength, density, "
-                        "poisson near 0.5): solver.integrator \"implicit\" takes steps of max_dt instead"
-                      : "solver.max_dt sets the implicit step: raise it";
-  return a + "; solver.max_substeps_per_frame (now " + std::to_string(scene.solver.max_substeps_per_frame) +
-         ") is the limit";
-}
-
 std::string format_duration(double s) {
   char buf[32];
   if (s < 60)
@@ -133,17 +120,17 @@ int run_command(const std::vector<std::string>& raw) {
   // The step size now, and what a frame costs at it: said when large, refused past the limit
   // (advance_to enforces it on every frame, as the strength tracks and the state change it).
   {
-    const double dt = world.step_size(), substeps = world.substeps_for(1 / scene.fps);
-    if (substeps > scene.solver.max_substeps_per_frame) {
+    const StepPlan plan = plan_steps(world, scene);
+    if (plan.over_limit()) {
       char buf[160];
       std::snprintf(buf, sizeof buf, "a frame needs about %.3g substeps of %.3g s, more than solver.max_substeps_per_frame",
-                    substeps, dt);
-      throw std::runtime_error(scene_path + ": " + buf + " (" + std::to_string(scene.solver.max_substeps_per_frame) +
-                               "); " + substep_advice(scene) + "; no frame was written");
+                    plan.substeps, plan.dt);
+      throw std::runtime_error(scene_path + ": " + buf + " (" + std::to_string(plan.limit) + "); " + substep_advice(scene) +
+                               "; no frame was written");
     }
-    if (substeps > kManySubsteps)
-      std::fprintf(stderr, "note: %s: step size %.3g s, about %.0f substeps per frame; %s\n", scene_path.c_str(), dt,
-                   substeps, substep_advice(scene).c_str());
+    if (plan.many())
+      std::fprintf(stderr, "note: %s: step size %.3g s, about %.0f substeps per frame; %s\n", scene_path.c_str(), plan.dt,
+                   plan.substeps, substep_advice(scene).c_str());
   }
   RunOutput output(out_dir, scene, world, formats, start_frame > 0 ? start_frame + 1 : 0, resume_csv);
   std::unique_ptr<PreviewRenderer> preview;

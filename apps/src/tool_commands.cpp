@@ -6,9 +6,12 @@
 #include "cli_args.hpp"
 #include "invfem/collisions/body_sequence.hpp"
 #include "invfem/core/mesh_error.hpp"
+#include "invfem/core/surface_io.hpp"
 #include "invfem/solids/bcc_mesher.hpp"
+#include "invfem/solids/tet_mesh_writer.hpp"
 #include "json_fields.hpp"
 #include "scene.hpp"
+#include "solid_surface_check.hpp"
 #include "world_builder.hpp"
 
 namespace invfem::app {
@@ -18,7 +21,8 @@ const char* const kCheckSceneHelp =
     "\n"
     "Validates the scene without simulating: every field, and every mesh it names (loaded and\n"
     "checked as a run would; every frame of a sequence collider too, which a run reads only when it\n"
-    "reaches it). Prints the scene as it would run, every default filled in.\n"
+    "reaches it). Prints the scene as it would run, every default filled in, and (on stderr) the\n"
+    "step size and the substeps a frame takes at the start, with a note when a run would say so.\n"
     "Exit code 0 when valid, 2 with a message naming the file, field and problem otherwise.\n";
 
 const char* const kMeshHelp =
@@ -30,7 +34,10 @@ const char* const kMeshHelp =
     "nodes compressed onto the surface unless --no-compress. The inside test is Embree ray parity,\n"
     "or the generalized winding number for surfaces with holes (auto picks). MESH is written as\n"
     "legacy VTK (.vtk) or MEDIT (.mesh), by its extension. Reports tets, dihedral angles and the\n"
-    "tet volume against the surface's volume.\n";
+    "tet volume against the surface's volume.\n"
+    "The surface is checked first: an edge shared by 3 (5, ...) triangles, a fin, is refused (exit 2);\n"
+    "holes, inconsistent orientation, self-intersections and zero-area triangles are warned about\n"
+    "with their count and the first one (apps/scenes/README.md, \"Surfaces that are tet-meshed\").\n";
 
 int check_scene_command(const std::vector<std::string>& raw) {
   const ParsedArgs args = parse_args(raw, "check-scene", {"--set"}, {"--help", "-h", "--quick"});
@@ -51,6 +58,16 @@ int check_scene_command(const std::vector<std::string>& raw) {
       std::fprintf(stderr, "sequence \"%s\": %d frames read and checked\n", k->name().c_str(), sequence->frame_count());
     }
   std::cout << to_json(scene).dump(2) << "\n";
+  // What a run would take a frame, as `invfem run` states it at its start.
+  const StepPlan plan = plan_steps(world, scene);
+  std::fprintf(stderr, "%s: step size %.3g s, about %.0f substeps per frame\n", args.positional[0].c_str(), plan.dt,
+               plan.substeps);
+  if (plan.over_limit())
+    std::fprintf(stderr, "warning: %s: a run would stop before its first frame; %s\n", args.positional[0].c_str(),
+                 substep_advice(scene).c_str());
+  else if (plan.many())
+    std::fprintf(stderr, "note: %s: more than %.0f substeps per frame; %s\n", args.positional[0].c_str(),
+                 StepPlan::kMany, substep_advice(scene).c_str());
   std::size_t nodes = 0;
   for (const auto& o : world.objects()) nodes += o.body.x.rows();
   std::fprintf(stderr, "%s: valid (%zu objects, %zu nodes, %zu colliders)\n", args.positional[0].c_str(),
@@ -76,20 +93,37 @@ int mesh_command(const std::vector<std::string>& raw) {
     else if (m == "winding") options.method = InsideMethod::WindingNumber;
     else throw InputError("--inside: expected auto, parity or winding, found \"" + m + "\"");
   }
+  const std::string& surface_file = args.positional[0];
+  const std::string& out_file = args.value("--out");
   BccMeshReport r;
+  SolidSurfaceCheck check;
   try {
-    r = mesh_surface_file(args.positional[0], args.value("--out"), options);
+    const TriangleSurface surface = load_triangle_surface(surface_file);
+    check = check_solid_surface(surface, surface_file);
+    const BccMeshResult result = bcc_mesh(surface, options);
+    write_tet_mesh(out_file, result.mesh);
+    r = result.report;
+  } catch (const InputError&) {
+    throw;
   } catch (const std::invalid_argument& e) {
     throw InputError(e.what());
   } catch (const std::runtime_error& e) {  // MeshError and loader errors name the file
     throw InputError(e.what());
   }
-  std::printf("%s -> %s\n", args.positional[0].c_str(), args.value("--out").c_str());
+  std::printf("%s -> %s\n", surface_file.c_str(), out_file.c_str());
+  const SurfaceDefects& d = check.defects;
+  std::printf("  surface checked in %.3fs: %lld open edges, %lld edges on 4+ triangles, %lld repeated triangles, %lld "
+              "inconsistently oriented edges, %lld intersecting triangle pairs\n",
+              check.seconds, d.open_edges, d.nonmanifold_edges, d.duplicate_triangles, d.misoriented_edges,
+              check.self_intersections);
   std::printf("  tets %d, nodes %d (boundary %d, snapped %d, partly %d), cell %.4g\n", r.tets, r.nodes, r.boundary_nodes,
               r.snapped_nodes, r.partly_snapped_nodes, r.cell_size);
   std::printf("  dihedral angles %.2f to %.2f degrees\n", r.min_dihedral_deg, r.max_dihedral_deg);
-  std::printf("  volume %.6g vs surface %.6g (ratio %.4f), inside test %s, %d open edges, %.2fs\n", r.tet_volume,
-              r.surface_volume, r.volume_ratio, to_string(r.method_used), r.open_edges, r.seconds);
+  if (check.defects.closed_and_oriented())
+    std::printf("  volume %.6g vs surface %.6g (ratio %.4f)", r.tet_volume, r.surface_volume, r.volume_ratio);
+  else
+    std::printf("  volume %.6g (no ratio: the surface is not closed and consistently oriented)", r.tet_volume);
+  std::printf(", inside test %s, %.2fs\n", to_string(r.method_used), r.seconds);
   return 0;
 }
 

@@ -66,4 +66,21 @@ World build_world(const Scene& scene) {
   }
 }
 
+StepPlan plan_steps(const World& world, const Scene& scene) {
+  StepPlan p;
+  p.dt = world.step_size();
+  p.substeps = world.substeps_for(1 / scene.fps);
+  p.limit = scene.solver.max_substeps_per_frame;
+  return p;
+}
+
+std::string substep_advice(const Scene& scene) {
+  std::string a = scene.solver.integrator == "itf04"
+                      ? "the itf04 step is limited by the stiffest, lightest element (young, strength, density, "
+                        "poisson near 0.5): solver.integrator \"implicit\" takes steps of max_dt instead"
+                      : "solver.max_dt sets the implicit step: raise it";
+  return a + "; solver.max_substeps_per_frame (now " + std::to_string(scene.solver.max_substeps_per_frame) +
+         ") is the limit";
+}
+
 }  // namespace invfem::app

@@ -14,7 +14,6 @@
 
 #include "invfem/solids/boundary.hpp"
 #include "invfem/core/mesh_error.hpp"
-#include "invfem/solids/tet_mesh_writer.hpp"
 
 namespace invfem {
 namespace {
@@ -286,14 +285,6 @@ BccMeshResult bcc_mesh(const TriangleSurface& surface, const BccMeshOptions& opt
   rep.method_used = method;
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
-}
-
-BccMeshReport mesh_surface_file(const std::string& surface_path, const std::string& out_path,
-                                const BccMeshOptions& options) {
-  const TriangleSurface surface = load_triangle_surface(surface_path);
-  BccMeshResult r = bcc_mesh(surface, options);
-  write_tet_mesh(out_path, r.mesh);
-  return r.report;
 }
 
 }  // namespace invfem

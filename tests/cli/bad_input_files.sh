@@ -5,10 +5,9 @@
 #   bad_input_files.sh INVFEM SOURCE_DIR WORKDIR
 set -uo pipefail
 invfem="$1" src="$2" work="$3"
-rm -rf "$work" && mkdir -p "$work"
-good="$src/apps/scenes/torus_puddle.json"
-fail=0
 source "$(dirname "$0")/lib.sh"
+cli_setup
+good="$src/apps/scenes/torus_puddle.json"
 cd "$work" || exit 1
 mkdir adir
 ln -s loop_b loop_a && ln -s loop_a loop_b

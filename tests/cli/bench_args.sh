@@ -5,10 +5,8 @@
 #   bench_args.sh INVFEM WORKDIR
 set -uo pipefail
 invfem="$1" work="$2"
-rm -rf "$work" && mkdir -p "$work"
-fail=0
-
 source "$(dirname "$0")/lib.sh"
+cli_setup
 
 expect 2 "--units: unknown unit \"bogus\"" -- bench --units bogus
 expect 2 "the units: force_pass_1t," -- bench --units svd,bogus

@@ -6,10 +6,10 @@
 #   body_sequence.sh INVFEM SOURCE_DIR WORKDIR
 set -uo pipefail
 invfem="$1" src="$2" work="$3"
-rm -rf "$work" && mkdir -p "$work/seq"
-fail=0
-
 source "$(dirname "$0")/lib.sh"
+cli_setup
+mkdir -p "$work/seq"
+
 for k in 0 1 2 3 4 5 6; do cp "$src/apps/scenes/data/moving_box/box$k.obj" "$work/seq/box$k.obj"; done
 # A frame with one vertex more than frame 0, and a frame 0 with a NaN.
 mkdir -p "$work/more" "$work/nan"

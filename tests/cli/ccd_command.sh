@@ -4,8 +4,8 @@
 #   ccd_command.sh INVFEM WORKDIR
 set -uo pipefail
 invfem="$1" work="$2"
-rm -rf "$work" && mkdir -p "$work"
-fail=0
+source "$(dirname "$0")/lib.sh"
+cli_setup
 
 cat > "$work/q.txt" <<'Q'
 # vertex falling through a static triangle's interior: hit
@@ -28,7 +28,6 @@ grep -q "4 queries (2 vf, 2 ee), 2 hits" "$work/err.txt" || { echo "FAIL: summar
 got=$("$invfem" ccd "$work/q.txt" --min-distance 0.1 2>/dev/null)
 [ "$got" = "$(printf '1\n1\n1\n1')" ] || { echo "FAIL: --min-distance 0.1: $got"; fail=1; }
 
-source "$(dirname "$0")/lib.sh"
 { head -n 3 "$work/q.txt"; echo "vf 0 0 0  1 0 0  0 1 0  0 0 0  1 0 0  0 1 0  0 0 0  1 0"; } > "$work/short.txt"
 expect 2 "short.txt:4: expected 24 numbers after \"vf\" (8 points x y z), found 23" -- ccd "$work/short.txt"
 printf 'vf 1 2 3 4 5 6 7 8 9 1 2 3 4 5 6 7 8 9 1 2 3 4 5 6 7\n' > "$work/long.txt"

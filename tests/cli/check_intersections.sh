@@ -5,10 +5,8 @@
 #   check_intersections.sh INVFEM WORKDIR
 set -uo pipefail
 invfem="$1" work="$2"
-rm -rf "$work" && mkdir -p "$work"
-fail=0
-
 source "$(dirname "$0")/lib.sh"
+cli_setup
 
 # tet FILE APEX_Z: tetrahedron B is the unit corner tet; tetrahedron A has its apex at
 # (0.2, 0.2, APEX_Z) and its base at z = -1 (see tests/unit/intersection_certificate.cpp).
@@ -67,6 +65,16 @@ printf 'v 0 0 0\nv 1 0 0\nf 1 2 3\n' > "$out/frames/a/0001.obj"
 expect_output 2 "$out/frames/a/0001.obj" -- check "$out"
 rm "$out/frames/a/0001.obj"
 expect_output 2 "a: frame 1 is missing (0001.obj)" -- check "$out"
+# Frame file names: one past int (11 digits) is refused naming it, one that is not a number is not
+# a frame (ignored).
+tet_b "$out/frames/b/0001.obj"
+tet_a "$out/frames/a/0001.obj" -0.01
+tet_b "$out/frames/b/99999999999.obj"
+expect_output 2 "$out/frames/b/99999999999.obj: frame number too large" -- check "$out"
+rm "$out/frames/b/99999999999.obj"
+tet_b "$out/frames/b/00x1.obj"
+expect_output 0 "2 frames of 2 surfaces checked" -- check "$out" --objects a,b
+rm "$out/frames/b/00x1.obj" "$out/frames/a/0001.obj" "$out/frames/b/0001.obj"
 expect_output 2 "--objects: no object \"zz\"" -- check "$out" --objects zz
 expect_output 2 "--welds $work/c_welds.txt: give it after the mesh" -- check --welds "$work/c_welds.txt" "$out/frames/c/0000.obj"
 

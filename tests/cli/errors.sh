@@ -3,11 +3,10 @@
 #   errors.sh INVFEM SOURCE_DIR WORKDIR
 set -uo pipefail
 invfem="$1" src="$2" work="$3"
-rm -rf "$work" && mkdir -p "$work"
-good="$src/apps/scenes/torus_puddle.json"
-fail=0
-
 source "$(dirname "$0")/lib.sh"
+cli_setup
+good="$src/apps/scenes/torus_puddle.json"
+
 scene() {  # scene NAME JSON: write a scene file beside a copy of the torus mesh
   mkdir -p "$work/data"
   cp -n "$src/apps/scenes/data/torus_polyfem.msh" "$work/data/" 2>/dev/null || true

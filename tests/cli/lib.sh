@@ -1,4 +1,11 @@
-# Shared by the CLI test scripts (source it after setting `invfem`, the binary, and `fail=0`).
+# Shared by the CLI test scripts: set `invfem` (the binary) and `work` (the script's folder), source
+# this file, then call cli_setup.
+
+# cli_setup: an empty $work folder (any earlier run's files removed) and fail=0.
+cli_setup() {
+  rm -rf "$work" && mkdir -p "$work" || { echo "FAIL: cannot make the folder $work"; exit 1; }
+  fail=0
+}
 
 # expect CODE PATTERN -- ARGS...: run invfem with ARGS (60 s at most), want exit CODE and PATTERN
 # in its stderr; a mismatch prints FAIL with what came and sets fail=1.

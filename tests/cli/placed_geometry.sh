@@ -5,11 +5,10 @@
 #   placed_geometry.sh INVFEM SOURCE_DIR WORKDIR
 set -uo pipefail
 invfem="$1" src="$2" work="$3"
-rm -rf "$work" && mkdir -p "$work"
+source "$(dirname "$0")/lib.sh"
+cli_setup
 torus="$src/apps/scenes/torus_puddle.json"
 cloth="$src/apps/scenes/cloth_drape.json"
-fail=0
-source "$(dirname "$0")/lib.sh"
 
 # A transform field outside its own range is refused where it is read (scene_limits.sh); here,
 # in-range fields whose combination places a node beyond 1e6 m: the transform is named.

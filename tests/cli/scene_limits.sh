@@ -4,11 +4,10 @@
 #   scene_limits.sh INVFEM SOURCE_DIR WORKDIR
 set -uo pipefail
 invfem="$1" src="$2" work="$3"
-rm -rf "$work" && mkdir -p "$work"
+source "$(dirname "$0")/lib.sh"
+cli_setup
 torus="$src/apps/scenes/torus_puddle.json"
 drape="$src/apps/scenes/cloth_drape.json"
-fail=0
-source "$(dirname "$0")/lib.sh"
 
 nested() { python3 -c "import sys; n = int(sys.argv[1]); print('[' * n + ']' * n)" "$1"; }
 
@@ -95,6 +94,15 @@ expect 1 'solver.integrator "implicit" takes steps of max_dt instead' -- \
   --set solver.max_substeps_per_frame=5000
 expect_output 0 "substeps per frame; the itf04 step is limited" -- run "$torus" --quick --out "$work/note" --frames 0-0 \
   --set solids.0.material.young=1e9 --set solids.0.material.strength=1
+# check-scene says the same without running: the step (max_dt when the soft start allows it:
+# 1/30 s / 0.001 s = 33.3, so 34 steps), the note, and the refusal a run would meet.
+expect 0 "torus_puddle.json: step size 0.001 s, about 34 substeps per frame" -- \
+  check-scene "$torus" --quick --set solver.max_dt=0.001
+expect 0 "substeps per frame; the itf04 step is limited" -- \
+  check-scene "$torus" --quick --set solids.0.material.young=1e9 --set solids.0.material.strength=1
+expect 0 "a run would stop before its first frame; the itf04 step is limited" -- \
+  check-scene "$torus" --quick --set solids.0.material.young=1e9 --set solids.0.material.strength=1 \
+  --set solver.max_substeps_per_frame=100
 rm -rf "$work/ramp"
 expect 1 "more than solver.max_substeps_per_frame (100); the itf04" -- \
   run "$torus" --quick --out "$work/ramp" --set solids.0.material.young=1e7 --set solver.max_substeps_per_frame=100

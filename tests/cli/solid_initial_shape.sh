@@ -5,10 +5,9 @@
 #   solid_initial_shape.sh INVFEM WORKDIR
 set -uo pipefail
 invfem="$1" work="$2"
-rm -rf "$work" && mkdir -p "$work"
-fail=0
-
 source "$(dirname "$0")/lib.sh"
+cli_setup
+
 # Two 10 cm tets sharing face 123, 5 nodes.
 cat > "$work/pair.vtk" <<'VTK'
 # vtk DataFile Version 3.0

@@ -17,33 +17,15 @@
 #include "invfem/core/obj_file.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
+#include "invfem/solids/tet_mesh_writer.hpp"
+#include "test_meshes.hpp"
 
 namespace fs = std::filesystem;
 using namespace invfem;
 
 namespace {
 
-// Axis-aligned box [lo, hi], 12 triangles wound counter-clockwise seen from outside. With
-// drop_top the two +z triangles are left out (a surface with a square hole).
-TriangleSurface make_box(const Vec3& lo, const Vec3& hi, bool drop_top = false) {
-  TriangleSurface m;
-  m.x.resize(8, 3);
-  for (int i = 0; i < 8; ++i)
-    m.x.row(i) << ((i & 1) ? hi.x() : lo.x()), ((i & 2) ? hi.y() : lo.y()),
-        ((i & 4) ? hi.z() : lo.z());
-  // Quads (a, b, c, d) counter-clockwise from outside, split along a-c.
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  m.tris.resize(drop_top ? 10 : 12, 3);
-  int t = 0;
-  for (int q = 0; q < 6; ++q) {
-    if (drop_top && q == 1) continue;  // quad 1 is z = hi.z
-    m.tris.row(t++) << quads[q][0], quads[q][1], quads[q][2];
-    m.tris.row(t++) << quads[q][0], quads[q][2], quads[q][3];
-  }
-  m.source = drop_top ? "open box (test)" : "box (test)";
-  return m;
-}
+using test::make_box;
 
 // Icosahedron subdivided `levels` times and projected onto the sphere of radius r.
 TriangleSurface make_icosphere(double r, int levels) {
@@ -202,15 +184,16 @@ TEST(BccMesher, BadArgumentsAreRejected) {
   EXPECT_THROW(bcc_mesh(sheet, opt), MeshError);
 }
 
-TEST(BccMesher, MeshSurfaceFileWritesAReadableMesh) {
+TEST(BccMesher, WrittenMeshReadsBack) {
   const fs::path d = fs::temp_directory_path() / ("invfem_bcc_" + std::to_string(::getpid()));
   fs::create_directories(d);
   const TriangleSurface cube = make_box(Vec3(-1, -2, -3), Vec3(1, 0, 1));
   write_obj((d / "box.obj").string(), cube.x, cube.tris);
   BccMeshOptions opt;
   opt.resolution = 12;  // coarser, the guard leaves the box's edges rounded by more than 5%
-  const BccMeshReport rep =
-      mesh_surface_file((d / "box.obj").string(), (d / "box.mesh").string(), opt);
+  const BccMeshResult r = bcc_mesh(load_triangle_surface((d / "box.obj").string()), opt);
+  write_tet_mesh((d / "box.mesh").string(), r.mesh);
+  const BccMeshReport& rep = r.report;
   TetMesh back = read_tet_mesh((d / "box.mesh").string());
   EXPECT_EQ(back.tets.rows(), rep.tets);
   EXPECT_EQ(back.X.rows(), rep.nodes);
@@ -218,8 +201,6 @@ TEST(BccMesher, MeshSurfaceFileWritesAReadableMesh) {
   EXPECT_EQ(v.repaired_inverted, 0);
   EXPECT_NEAR(v.volume, rep.tet_volume, 1e-9 * rep.tet_volume);
   EXPECT_NEAR(v.volume / 16.0, 1, 0.05);
-  EXPECT_THROW(mesh_surface_file((d / "missing.obj").string(), (d / "x.mesh").string(), opt),
-               std::runtime_error);
   fs::remove_all(d);
 }
 

@@ -1,11 +1,12 @@
 #pragma once
-// Small tet meshes built in code for the unit tests: cube cells split into 6 tets.
+// Small meshes built in code for the unit tests: cube cells split into 6 tets, a box surface.
 #include <array>
 #include <map>
 #include <vector>
 
 #include <Eigen/LU>
 
+#include "invfem/core/surface.hpp"
 #include "invfem/core/types.hpp"
 
 namespace invfem::test {
@@ -57,6 +58,28 @@ TetMesh cube_cells(const std::array<int, 3>& n, double h, const Vec3& origin, co
 // A full box of nx x ny x nz cells of side h from the origin.
 inline TetMesh cube_cells_mesh(const std::array<int, 3>& n, double h) {
   return cube_cells(n, h, Vec3::Zero(), [](int, int, int) { return true; });
+}
+
+// Axis-aligned box [lo, hi], 12 triangles wound counter-clockwise seen from outside. With
+// drop_top the two +z triangles are left out (a surface with a square hole).
+inline TriangleSurface make_box(const Vec3& lo, const Vec3& hi, bool drop_top = false) {
+  TriangleSurface m;
+  m.x.resize(8, 3);
+  for (int i = 0; i < 8; ++i)
+    m.x.row(i) << ((i & 1) ? hi.x() : lo.x()), ((i & 2) ? hi.y() : lo.y()),
+        ((i & 4) ? hi.z() : lo.z());
+  // Quads (a, b, c, d) counter-clockwise from outside, split along a-c.
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  m.tris.resize(drop_top ? 10 : 12, 3);
+  int t = 0;
+  for (int q = 0; q < 6; ++q) {
+    if (drop_top && q == 1) continue;  // quad 1 is z = hi.z
+    m.tris.row(t++) << quads[q][0], quads[q][1], quads[q][2];
+    m.tris.row(t++) << quads[q][0], quads[q][2], quads[q][3];
+  }
+  m.source = drop_top ? "open box (test)" : "box (test)";
+  return m;
 }
 
 }  // namespace invfem::test

@@ -30,6 +30,11 @@ inline Vec3 triangle_normal(const Points& x, const Tris& tris, Eigen::Index t) {
   return (x.row(tris(t, 1)).transpose() - x0).cross(x.row(tris(t, 2)).transpose() - x0);
 }
 
+// A triangle has zero area when twice its area is at most this times its longest edge squared:
+// its edge matrix would not be invertible in double (the loader drops such triangles, the
+// triangle kernel refuses them, surface_check.hpp counts them).
+inline constexpr double kZeroAreaRatio = 1e-14;
+
 // Throws std::invalid_argument naming `what` for: no vertex or no triangle, a non-finite position
 // (naming the vertex), an index outside [0, #V) or a triangle repeating a vertex (naming the
 // triangle).

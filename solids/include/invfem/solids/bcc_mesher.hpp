@@ -1,7 +1,8 @@
 #pragma once
 // Tetrahedral meshing of a closed triangle surface on a body-centred cubic lattice (Molino,
 // Bridson, Teran, Fedkiw 2003; /work/shared/reference/meshing-and-fracture.md part 1), the
-// library side of `invfem mesh`. Steps:
+// library side of `invfem mesh` (apps/ checks the surface first: apps/src/solid_surface_check.hpp).
+// Steps:
 //  1. BCC lattice over the surface's bounding box: cube corners + cube centres; every grid edge
 //     (a, b) with the 4 cell centres around it gives 4 congruent tets (a, b, c_m, c_m+1), each of
 //     volume h^3/12 with 60/90 degree dihedral angles.
@@ -12,7 +13,6 @@
 //     kBccMinQuality).
 #include <string>
 
-#include "invfem/core/surface_io.hpp"
 #include "invfem/solids/inside_test.hpp"
 #include "invfem/solids/tet_mesh.hpp"
 
@@ -57,11 +57,6 @@ inline constexpr double kBccMinQuality = 0.1;
 // Throws std::invalid_argument for a resolution outside [1, 1000] or a bad surface, MeshError
 // naming surface.source when RayParity is forced on an open surface or no tet is inside.
 BccMeshResult bcc_mesh(const TriangleSurface& surface, const BccMeshOptions& options = {});
-
-// `invfem mesh`: load_triangle_surface(surface_path), bcc_mesh, write_tet_mesh(out_path) (.vtk or
-// .mesh, atomic). Returns the report; errors name the file.
-BccMeshReport mesh_surface_file(const std::string& surface_path, const std::string& out_path,
-                                const BccMeshOptions& options = {});
 
 // Min and max dihedral angles over all tets, in degrees (0, 0 for an empty mesh).
 void dihedral_angle_range(const Points& X, const Tets& tets, double& min_deg, double& max_deg);

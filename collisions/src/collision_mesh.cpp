@@ -94,15 +94,20 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
       for (int q : ring[static_cast<std::size_t>(m)]) join(i, q);
     }
   }
+  std::vector<std::vector<int>> tet_partners(static_cast<std::size_t>(n));
   for (const auto& [a, b] : joins) {
-    partners[static_cast<std::size_t>(a)].push_back(v0 + b);
-    partners[static_cast<std::size_t>(b)].push_back(v0 + a);
+    tet_partners[static_cast<std::size_t>(a)].push_back(v0 + b);
+    tet_partners[static_cast<std::size_t>(b)].push_back(v0 + a);
   }
-  for (auto& p : partners) {
+  auto append_csr = [](std::vector<int>& p, std::vector<int>& offsets, std::vector<int>& all) {
     std::sort(p.begin(), p.end());
     p.erase(std::unique(p.begin(), p.end()), p.end());
-    mesh.weld_partners.insert(mesh.weld_partners.end(), p.begin(), p.end());
-    mesh.weld_offsets.push_back(static_cast<int>(mesh.weld_partners.size()));
+    all.insert(all.end(), p.begin(), p.end());
+    offsets.push_back(static_cast<int>(all.size()));
+  };
+  for (std::size_t i = 0; i < partners.size(); ++i) {
+    append_csr(partners[i], mesh.weld_offsets, mesh.weld_partners);
+    append_csr(tet_partners[i], mesh.join_offsets, mesh.join_partners);
     mesh.surface_of.push_back(static_cast<int>(mesh.surfaces.size()));
   }
   for (const Weld& w : welds) mesh.welds.push_back({v0 + w.i, v0 + w.j, w.k < 0 ? -1 : v0 + w.k, w.r});

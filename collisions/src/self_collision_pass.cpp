@@ -10,6 +10,7 @@
 #include "invfem/collisions/response/repulsion.hpp"
 #include "invfem/collisions/response/seams.hpp"
 #include "invfem/collisions/rigid_body.hpp"
+#include "invfem/core/parallel.hpp"
 
 namespace invfem::collisions {
 
@@ -110,6 +111,57 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
   }
 }
 
+namespace {
+// True when the tet (a, b, c, d), positively oriented at rest (solids/tet_mesh.hpp), is inverted
+// or flat: 6V = (b - a) x (c - a) . (d - a) <= 0, or a node closer than `reach` to the plane of
+// its opposite face (its height 6V / |twice that face's area|).
+bool tet_folds(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double reach) {
+  const double six_v = (b - a).cross(c - a).dot(d - a);
+  if (!(six_v > 0)) return true;
+  const double twice_areas[4] = {(c - b).cross(d - b).norm(), (c - a).cross(d - a).norm(), (b - a).cross(d - a).norm(),
+                                 (b - a).cross(c - a).norm()};
+  for (double twice_area : twice_areas)
+    if (six_v < reach * twice_area) return true;
+  return false;
+}
+}  // namespace
+
+void SelfCollisionPass::mark_folding(const std::vector<SimObject>& objects, const StepPassInput& step) {
+  mesh_.folding.assign(static_cast<std::size_t>(mesh_.num_vertices()), 0);
+  // Twice the thickness: a tet flattening within the repulsion's reach is the element's business
+  // (its node nears its own face's neighbours as it goes), not a fold of the boundary.
+  const double reach = 2 * settings_.thickness;
+  bool any = false;
+  for (std::size_t r = 0; r < mesh_.surfaces.size(); ++r) {
+    if (source_[r] < 0) continue;
+    const SimObject& o = objects[static_cast<std::size_t>(source_[r])];
+    if (o.tets.rows() == 0) continue;
+    const Points& x0 = step.x_start[static_cast<std::size_t>(source_[r])];
+    const Points& x1 = o.body.x;
+    std::vector<int> node_to_vertex(static_cast<std::size_t>(o.body.x.rows()), -1);
+    for (std::size_t s = 0; s < o.surface_nodes.size(); ++s)
+      node_to_vertex[static_cast<std::size_t>(o.surface_nodes[s])] = mesh_.surfaces[r].first_vertex + static_cast<int>(s);
+    std::vector<char> folds(static_cast<std::size_t>(o.tets.rows()), 0);
+    parallel_for_each(folds.size(), 1024, [&](std::size_t e) {
+      const auto t = o.tets.row(static_cast<Eigen::Index>(e));
+      auto at = [&](const Points& x, int k) -> Vec3 { return x.row(t(k)).transpose(); };
+      folds[e] = tet_folds(at(x0, 0), at(x0, 1), at(x0, 2), at(x0, 3), reach) ||
+                         tet_folds(at(x1, 0), at(x1, 1), at(x1, 2), at(x1, 3), reach)
+                     ? 1
+                     : 0;
+    });
+    for (std::size_t e = 0; e < folds.size(); ++e) {
+      if (!folds[e]) continue;
+      for (int k = 0; k < 4; ++k)
+        if (const int g = node_to_vertex[static_cast<std::size_t>(o.tets(static_cast<Eigen::Index>(e), k))]; g >= 0) {
+          mesh_.folding[static_cast<std::size_t>(g)] = 1;
+          any = true;
+        }
+    }
+  }
+  if (!any) mesh_.folding.clear();
+}
+
 void SelfCollisionPass::resolve(double dt, FrameReport::Collisions& r, const Points& v_in, Points& v, bool have_candidates,
                                 const ZoneConstraint& constrain) {
   // Repulsion: pairs within the thickness at x0 (swept boxes grown by it hold them all).
@@ -155,6 +207,10 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   gather(objects, step);
   if (mesh_.tris.rows() == 0) return;
   FrameReport::Collisions& r = report.collisions;
+
+  // A solid's boundary vertices that share a tet are no pair while the tet folds (inverted or
+  // flat at either end of the step); where it is sound they collide like any others.
+  mark_folding(objects, step);
 
   // Tangles at the step's start are exempt (candidates/tangles.hpp); only solids' boundaries
   // are searched, so a scene of cloths pays nothing for it.

@@ -134,6 +134,33 @@ TEST(CollisionMesh, WeldsJoinTheirSeamPointsOnlyAsTheCheckerDoes) {
   EXPECT_EQ(m.surfaces[1].first_vertex, 9);
 }
 
+// A solid's boundary vertices that share a tet (append_surface's joins) are no pair only while
+// both belong to a folding tet (inverted or flat at the step's start or end): a sound tet's
+// boundary is kept from folding through itself like any other surface.
+TEST(CollisionMesh, TetJoinedVerticesArePairsUnlessBothFold) {
+  CollisionMesh m;
+  Tris t(2, 3);
+  t << 0, 1, 2, 3, 4, 5;
+  append_surface(m, "solid", t, Points::Random(6, 3), Points::Zero(6, 3), Eigen::VectorXd::Ones(6), false, {{4, 5, -1}},
+                 {{0, 3}, {2, 5}});
+  const int a[] = {0, 1, 2}, b[] = {3, 4, 5};
+  EXPECT_FALSE(joined(m, 0, 3));
+  EXPECT_FALSE(adjacent(m, a, 3, b, 3));
+  EXPECT_TRUE(joined(m, 4, 5));  // a weld holds whatever the tets do
+  m.folding.assign(6, 0);
+  m.folding[0] = 1;
+  EXPECT_FALSE(joined(m, 0, 3));  // one side folding is not enough
+  EXPECT_FALSE(joined(m, 3, 0));
+  m.folding[3] = 1;
+  EXPECT_TRUE(joined(m, 0, 3));
+  EXPECT_TRUE(joined(m, 3, 0));
+  EXPECT_FALSE(joined(m, 2, 5));  // joined by another tet, which is sound
+  EXPECT_FALSE(joined(m, 0, 4));  // folding but never sharing a tet
+  EXPECT_TRUE(adjacent(m, a, 3, b, 3));
+  m.folding.clear();
+  EXPECT_FALSE(joined(m, 0, 3));
+}
+
 TEST(BroadPhase, FindsExactlyTheOverlappingSweptBoxesOfNonAdjacentPairs) {
   for (unsigned seed : {1u, 2u, 3u}) {
     CollisionMesh m = random_soup(300, seed);

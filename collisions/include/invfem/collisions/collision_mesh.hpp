@@ -15,6 +15,15 @@
 //                        primitives are adjacent (never a candidate) when they share a vertex or
 //                        hold two joined vertices. Not chained: the vertices along a seam are
 //                        not all joined to one another
+//   join_offsets, join_partners   per vertex i, a solid's boundary vertices that share a tet with
+//                        it (append_surface's joins), the same CSR layout; joined only while
+//                        both are `folding`
+//   folding     #V or empty   1: the vertex belongs to a tet that is inverted or flatter than
+//                        the layer's reach at the step's start or end (set per step by the pass).
+//                        A tet inverts and recovers by moving a node through its opposite face,
+//                        which the element governs, so pairs joined by such tets are no pairs;
+//                        where the tets are sound, the boundary is kept from folding through
+//                        itself like any other surface
 //   welds                the surfaces' seam points (world.hpp Weld), global indices
 //   surface_of  #V       which surface (index into `surfaces`) a vertex belongs to
 //   exempt      #V or empty   1: the vertex was part of an intersection at the step's start
@@ -55,6 +64,8 @@ struct CollisionMesh {
   Tris tris;
   Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> edges;
   std::vector<int> weld_offsets{0}, weld_partners;
+  std::vector<int> join_offsets{0}, join_partners;
+  std::vector<char> folding;
   std::vector<Weld> welds;  // every surface's welds, in global vertex indices
   std::vector<int> surface_of;
   std::vector<char> exempt;
@@ -73,20 +84,28 @@ struct CollisionMesh {
 
 // Appends a surface. x0, v: its #V x 3 start positions and average velocities; inv_mass its #V
 // inverse masses (ignored and set to 0 when kinematic); welds: its seam points (world.hpp Weld,
-// the rule `invfem check` applies: the primitives a stitch makes touch, and no others); joins: pairs joined as they are (a
-// solid's boundary vertices that share a tet: a tet inverts and recovers by moving a node
-// through its own opposite face, which the element, not the collision layer, governs). Throws
+// the rule `invfem check` applies: the primitives a stitch makes touch, and no others); joins: a
+// solid's boundary vertices that share a tet, joined while the tet folds (`folding`: a tet
+// inverts and recovers by moving a node through its own opposite face, which the element, not
+// the collision layer, governs). Throws
 // std::invalid_argument naming the surface for mismatched sizes or indices.
 void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tris, const Points& x0, const Points& v,
                     const Eigen::VectorXd& inv_mass, bool kinematic,
                     const std::vector<Weld>& welds = {}, const std::vector<std::pair<int, int>>& joins = {});
 
-// True when vertices a and b are one vertex or welded.
-inline bool joined(const CollisionMesh& m, int a, int b) {
-  if (a == b) return true;
-  const auto first = m.weld_partners.begin() + m.weld_offsets[static_cast<std::size_t>(a)];
-  const auto last = m.weld_partners.begin() + m.weld_offsets[static_cast<std::size_t>(a) + 1];
+// True when b is among a's partners in the CSR lists (offsets, partners).
+inline bool listed(const std::vector<int>& offsets, const std::vector<int>& partners, int a, int b) {
+  const auto first = partners.begin() + offsets[static_cast<std::size_t>(a)];
+  const auto last = partners.begin() + offsets[static_cast<std::size_t>(a) + 1];
   return first != last && std::binary_search(first, last, b);  // a seam corner joins ~100 vertices
+}
+
+// True when vertices a and b are one vertex, welded, or share a tet of a solid that is folding
+// at both (CollisionMesh::folding).
+inline bool joined(const CollisionMesh& m, int a, int b) {
+  if (a == b || listed(m.weld_offsets, m.weld_partners, a, b)) return true;
+  return !m.folding.empty() && m.folding[static_cast<std::size_t>(a)] && m.folding[static_cast<std::size_t>(b)] &&
+         listed(m.join_offsets, m.join_partners, a, b);
 }
 
 // True when the two primitives (vertex lists) are adjacent: some vertex of one is joined to

@@ -8,8 +8,9 @@
 // collision processing on the exact shape only.
 //
 // Per step, with x0 the surfaces at the step's start and v = (x(n+1) - x0) / dt the step's
-// average velocity (collisions-BFA02.md section 1), after exempting the vertices of tangles at
-// x0 (candidates/tangles.hpp) and holding those an analytic collider holds (infinite mass; a
+// average velocity (collisions-BFA02.md section 1), after releasing the pairs joined by a solid's
+// folding tets (inverted or flat at x0 or x(n+1): CollisionMesh::folding), exempting the vertices
+// of tangles at x0 (candidates/tangles.hpp) and holding those an analytic collider holds (infinite mass; a
 // vertex the layer would push into a collider is held too and the step's layer work redone):
 //   1. broad phase on the swept boxes (broad_phase/), giving candidates (candidates/)
 //   2. repulsion at x0 (response/repulsion.hpp): pairs closer than the thickness
@@ -61,6 +62,10 @@ class SelfCollisionPass final : public StepPass {
   BroadPhase broad_phase_;
   CollisionMesh mesh_;
   bool built_ = false;
+  // Marks mesh_.folding (collision_mesh.hpp): the boundary vertices of the tets that are inverted
+  // or flatter than twice the thickness at the step's start or end.
+  void mark_folding(const std::vector<SimObject>& objects, const StepPassInput& step);
+
   // Per mesh surface: the object it comes from (or -1 - k for kinematic body k).
   std::vector<int> source_;
   Candidates candidates_;

@@ -23,6 +23,8 @@
 //
 //   scene_fuzz --invfem BIN --seeds DIR --work DIR [--cases N] [--first C] [--seed S] [--jobs J]
 //              [--run-every K] [--timeout SECONDS] [--run-timeout SECONDS] [--max-seconds T]
+// --timeout and --run-timeout are CPU seconds of a check-scene and of a run case (wall clock: 5
+// times as much).
 //   scene_fuzz ... --case C       one case: prints its mutations and command, keeps its files
 #include <sys/wait.h>
 #include <unistd.h>
@@ -788,6 +790,8 @@ void prepare(Slot& s, const Options& opt) {
   s.args = command_of(s.c, opt.invfem, s.scene, s.out);
 }
 
+// The time bounds are CPU seconds (RLIMIT_CPU), with 5 times as much wall-clock time: a shared
+// machine slows a child down without making it hang.
 pid_t launch(Slot& s, const Options& opt) {
   const int timeout = s.c.run ? opt.run_timeout : opt.timeout;
   s.start = std::chrono::steady_clock::now();
@@ -801,7 +805,7 @@ pid_t launch(Slot& s, const Options& opt) {
         std::perror("scene_fuzz: execv");
         return 127;
       },
-      timeout, s.dir / "stdout.txt", s.err, kChildAddressSpace);
+      5 * timeout, s.dir / "stdout.txt", s.err, kChildAddressSpace, timeout);
 }
 
 void save_finding(const Slot& s, const Outcome& o, const fs::path& findings, const Options& opt) {

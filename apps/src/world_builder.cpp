@@ -1,6 +1,7 @@
 #include "world_builder.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "collider_builders.hpp"
 #include "invfem/collisions/rigid_collisions.hpp"
@@ -10,6 +11,37 @@
 #include "object_builders.hpp"
 
 namespace invfem::app {
+
+namespace {
+// An object that starts wholly inside a rigid collider: its deepest node lies deeper inside than
+// the object measures across (bounding-box diagonal), so with a convex shape such as the ground
+// plane every node is inside. Collision processing would move every node to the collider's
+// surface in the first step, flattening the object and jumping it metres or kilometres (a ground
+// plane raised 10 km above a sphere did), and the self-collision layer then meets every pair of
+// the flattened surface at once, step after step, which ran for hours. A scene error: say so.
+void check_not_inside_colliders(const Scene& scene, const std::vector<SimObject>& objects, const Colliders& colliders) {
+  for (const auto& k : colliders.bodies) {
+    const auto* rigid = dynamic_cast<const RigidBody*>(k.get());
+    if (!rigid) continue;
+    for (const SimObject& o : objects) {
+      const Points& x = o.body.x;
+      if (x.rows() == 0) continue;
+      const double size = (x.colwise().maxCoeff() - x.colwise().minCoeff()).norm();
+      Eigen::Index deepest = 0;
+      double phi_min = std::numeric_limits<double>::infinity();
+      for (Eigen::Index i = 0; i < x.rows(); ++i) {
+        const double phi = rigid->implicit()->phi(x.row(i).transpose(), 0.0);
+        if (phi < phi_min) phi_min = phi, deepest = i;
+      }
+      if (phi_min < -size)
+        throw InputError(scene.file.string() + ": object \"" + o.name + "\" starts inside collider \"" + k->name() +
+                         "\": its node " + std::to_string(deepest) + " lies " + std::to_string(-phi_min) +
+                         " m inside, more than the object measures across (" + std::to_string(size) +
+                         " m); move the object or the collider");
+    }
+  }
+}
+}  // namespace
 
 World build_world(const Scene& scene) {
   std::vector<SimObject> objects;
@@ -34,6 +66,7 @@ World build_world(const Scene& scene) {
       couplings.push_back(SolidCoupling{spec.name, spec.cloth_coupling.cloths, spec.cloth_coupling.friction,
                                         spec.cloth_coupling.query_radius, spec.cloth_coupling.offset});
   Colliders colliders = build_colliders(scene);
+  check_not_inside_colliders(scene, objects, colliders);
   WorldSettings settings;
   settings.max_dt = scene.solver.max_dt;
   settings.max_substeps = scene.solver.max_substeps_per_frame;

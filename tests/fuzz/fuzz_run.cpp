@@ -12,11 +12,6 @@
 //
 //   fuzz_run DIR [--timeout SECONDS]      run the corpus
 //   fuzz_run --one FILE                   one file in-process (for a debugger); prints the outcome
-#include <signal.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <fcntl.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -40,14 +35,7 @@
 #include "invfem/solids/tet_mesh_io.hpp"
 #include "json_fields.hpp"
 #include "scene.hpp"
-
-#if defined(__SANITIZE_ADDRESS__)
-#define INVFEM_FUZZ_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define INVFEM_FUZZ_ASAN 1
-#endif
-#endif
+#include "forked_child.hpp"
 
 namespace fs = std::filesystem;
 
@@ -62,8 +50,8 @@ enum Outcome : int {
   kAcceptedInvalid = 13,   // accepted, but the result breaks the reader's own contract: a finding
 };
 
-// Address-space cap in the child (not under ASan, which reserves terabytes of shadow): a reader
-// that trusts a corrupt count and allocates gigabytes gets bad_alloc and is reported.
+// Address-space cap in the child (forked_child.hpp; not under ASan): a reader that trusts a
+// corrupt count and allocates gigabytes gets bad_alloc and is reported.
 constexpr rlim_t kAddressSpaceCap = rlim_t(2) << 30;
 
 using Probe = int (*)(const std::string&);
@@ -169,35 +157,15 @@ struct Result {
 
 Result run_forked(const std::string& path, Probe probe, int timeout_s, const fs::path& log) {
   const auto t0 = std::chrono::steady_clock::now();
-  std::fflush(nullptr);
-  const pid_t pid = ::fork();
-  if (pid < 0) throw std::runtime_error("fork failed");
-  if (pid == 0) {
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) {
-      ::dup2(fd, 1);
-      ::dup2(fd, 2);
-      ::close(fd);
-    }
-#ifndef INVFEM_FUZZ_ASAN
-    rlimit cap{kAddressSpaceCap, kAddressSpaceCap};
-    ::setrlimit(RLIMIT_AS, &cap);
-#endif
-    ::alarm(static_cast<unsigned>(timeout_s));  // SIGALRM's default action ends a hung child
-    const int code = probe(path);
-    std::fflush(nullptr);
-    ::_exit(code);
-  }
-  int status = 0;
-  ::waitpid(pid, &status, 0);
+  const invfem::fuzz::ChildEnd end =
+      invfem::fuzz::run_child([&] { return probe(path); }, timeout_s, log, log, kAddressSpaceCap);
   Result r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (WIFSIGNALED(status)) {
-    const int sig = WTERMSIG(status);
-    r.kind = sig == SIGALRM ? "TIMEOUT" : "SIGNAL " + std::to_string(sig) + " (" + strsignal(sig) + ")";
+  if (end.signal) {
+    r.kind = end.describe();
     r.finding = true;
   } else {
-    const int code = WEXITSTATUS(status);
+    const int code = end.code;
     r.kind = outcome_name(code);
     // Sanitizers report and exit with their own nonzero code (ASan/UBSan default 1).
     r.finding = !(code == kAccepted || code == kRejectedRead || code == kRejectedValidate);

@@ -222,15 +222,25 @@ TEST(ElementMatrices, StitchStiffnessIsMinusForceJacobian) {
   expect_damping_matrix_matches_force(f, 5, rng);
 }
 
+// The stiffness K and damping C element matrices of a damped neo-Hookean bar, deformed.
+struct BarMatrices {
+  ElementMatrices K, C;
+  Eigen::Index n = 0;
+  explicit BarMatrices(std::mt19937& rng) {
+    const Bar bar(rng);
+    TetSolidForce f(make_tet_rest(bar.mesh.X, bar.mesh.T), neo_hookean_material(0.01));
+    f.update_positions(bar.x, 0);
+    f.stiffness_matrices(K);
+    f.damping_matrices(C);
+    n = bar.x.rows();
+  }
+};
+
 TEST(BlockSparseMatrix, AssembledProductEqualsDenseSum) {
   std::mt19937 rng(9);
-  const Bar bar(rng);
-  TetSolidForce f(make_tet_rest(bar.mesh.X, bar.mesh.T), neo_hookean_material(0.01));
-  f.update_positions(bar.x, 0);
-  ElementMatrices K, C;
-  f.stiffness_matrices(K);
-  f.damping_matrices(C);
-  const Eigen::Index n = bar.x.rows();
+  const BarMatrices bm(rng);
+  const ElementMatrices &K = bm.K, &C = bm.C;
+  const Eigen::Index n = bm.n;
   BlockSparseMatrix A(n, {&K, &C});
   const ElementScatter sk(K, A), sc(C, A);
   const Eigen::VectorXd mass = Eigen::VectorXd::LinSpaced(n, 1.0, 2.0);
@@ -251,13 +261,9 @@ TEST(BlockSparseMatrix, AssembledProductEqualsDenseSum) {
 // matrix of another pattern is refused.
 TEST(BlockSparseMatrix, AddScaledCopyOfThePatternEqualsDenseSum) {
   std::mt19937 rng(11);
-  const Bar bar(rng);
-  TetSolidForce f(make_tet_rest(bar.mesh.X, bar.mesh.T), neo_hookean_material(0.01));
-  f.update_positions(bar.x, 0);
-  ElementMatrices K, C;
-  f.stiffness_matrices(K);
-  f.damping_matrices(C);
-  const Eigen::Index n = bar.x.rows();
+  const BarMatrices bm(rng);
+  const ElementMatrices &K = bm.K, &C = bm.C;
+  const Eigen::Index n = bm.n;
   BlockSparseMatrix A(n, {&K, &C});
   BlockSparseMatrix B = A;
   ElementScatter(K, A).add(K, 1.0, A);

@@ -97,4 +97,15 @@ TriangleSurface extract_surface(const Points& x, const Tris& tris, std::vector<i
   return s;
 }
 
+double enclosed_signed_volume(const TriangleSurface& surface) {
+  const Points& X = surface.x;
+  const Tris& T = surface.tris;
+  const Vec3 c = 0.5 * (X.colwise().minCoeff() + X.colwise().maxCoeff()).transpose();
+  double v6 = 0;
+  for (Eigen::Index t = 0; t < T.rows(); ++t)
+    v6 += (X.row(T(t, 0)).transpose() - c)
+              .dot((X.row(T(t, 1)).transpose() - c).cross(X.row(T(t, 2)).transpose() - c));
+  return v6 / 6;
+}
+
 }  // namespace invfem

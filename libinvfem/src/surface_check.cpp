@@ -56,17 +56,13 @@ SurfaceDefects find_surface_defects(const TriangleSurface& s) {
     }
   }
 
-  const Vec3 centre = 0.5 * (s.x.colwise().minCoeff() + s.x.colwise().maxCoeff()).transpose();
   std::unordered_map<std::array<int, 3>, int, CornersHash> first_with;
   first_with.reserve(static_cast<std::size_t>(s.num_triangles()));
-  double volume6 = 0;
   for (Eigen::Index t = 0; t < s.num_triangles(); ++t) {
-    const Vec3 a = s.x.row(s.tris(t, 0)).transpose() - centre;
-    const Vec3 b = s.x.row(s.tris(t, 1)).transpose() - centre;
-    const Vec3 c = s.x.row(s.tris(t, 2)).transpose() - centre;
-    volume6 += a.dot(b.cross(c));
+    const Vec3 a = s.x.row(s.tris(t, 0)).transpose(), b = s.x.row(s.tris(t, 1)).transpose(),
+               c = s.x.row(s.tris(t, 2)).transpose();
     const double longest2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-    if (!((b - a).cross(c - a).norm() > kZeroAreaRatio * longest2) && d.degenerate_triangles++ == 0)
+    if (has_zero_area(triangle_normal(s.x, s.tris, t).norm(), longest2) && d.degenerate_triangles++ == 0)
       d.first_degenerate_triangle = static_cast<int>(t);
     const auto [it, fresh] = first_with.try_emplace(sorted_corners(s.tris, t), static_cast<int>(t));
     if (!fresh) {
@@ -74,7 +70,7 @@ SurfaceDefects find_surface_defects(const TriangleSurface& s) {
       d.opposite_duplicate_triangles += !same_winding(s.tris, it->second, t);
     }
   }
-  d.signed_volume = volume6 / 6;
+  d.signed_volume = enclosed_signed_volume(s);
   return d;
 }
 

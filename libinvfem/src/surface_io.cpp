@@ -138,7 +138,7 @@ TriangleSurface load_triangle_surface(const std::string& path, SurfaceLoadReport
     if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) continue;
     const Vec3 d1 = pos(t[1]) - pos(t[0]), d2 = pos(t[2]) - pos(t[0]);
     const double longest = std::max({d1.norm(), d2.norm(), (d2 - d1).norm()});
-    if (!(d1.cross(d2).norm() > kZeroAreaRatio * longest * longest)) continue;
+    if (has_zero_area(d1.cross(d2).norm(), longest * longest)) continue;
     kept.push_back(t);
     kept_group.push_back(g.tri_group[k]);
   }

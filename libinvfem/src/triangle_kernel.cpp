@@ -5,7 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "invfem/core/surface.hpp"  // kZeroAreaRatio
+#include "invfem/core/surface.hpp"  // has_zero_area
 
 namespace invfem {
 
@@ -24,7 +24,7 @@ void check_indices(const Tris& tris, Eigen::Index e, Eigen::Index n, const std::
 // Throws for a rest triangle whose area is zero relative to its longest edge squared.
 void check_area(double twice_area, double longest, const Tris& tris, Eigen::Index e, const std::string& what,
                 const char* where) {
-  if (!(twice_area > kZeroAreaRatio * longest * longest))
+  if (has_zero_area(twice_area, longest * longest))
     throw std::invalid_argument(element_name(what, e) + " has zero " + where + " (nodes " +
                                 std::to_string(tris(e, 0)) + ", " + std::to_string(tris(e, 1)) + ", " +
                                 std::to_string(tris(e, 2)) + ")");

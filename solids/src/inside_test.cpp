@@ -36,8 +36,6 @@ InsideTest::InsideTest(const TriangleSurface& surface) : bvh_(surface) {
   const Tris& T = surface.tris;
   const SurfaceEdges edges = surface_edges(T, X.rows());
   for (Eigen::Index e = 0; e < edges.count(); ++e) open_edges_ += edges.use_count(e) % 2;
-  const Vec3 lo = X.colwise().minCoeff().transpose(), hi = X.colwise().maxCoeff().transpose();
-  centre_ = 0.5 * (lo + hi);
   normals_.resize(T.rows(), 3);
   for (Eigen::Index t = 0; t < T.rows(); ++t) normals_.row(t) = triangle_normal(X, T, t).transpose();
 }
@@ -131,15 +129,6 @@ std::vector<char> InsideTest::inside(const Points& P, InsideMethod method) const
   return out;
 }
 
-double InsideTest::signed_volume() const {
-  const Points& X = surface().x;
-  const Tris& T = surface().tris;
-  const Vec3 c = centre_;  // any origin gives the same answer for a closed surface
-  double v6 = 0;
-  for (Eigen::Index t = 0; t < T.rows(); ++t)
-    v6 += (X.row(T(t, 0)).transpose() - c)
-              .dot((X.row(T(t, 1)).transpose() - c).cross(X.row(T(t, 2)).transpose() - c));
-  return v6 / 6;
-}
+double InsideTest::signed_volume() const { return enclosed_signed_volume(surface()); }
 
 }  // namespace invfem

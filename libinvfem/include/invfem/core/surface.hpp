@@ -34,11 +34,20 @@ inline Vec3 triangle_normal(const Points& x, const Tris& tris, Eigen::Index t) {
 // its edge matrix would not be invertible in double (the loader drops such triangles, the
 // triangle kernel refuses them, surface_check.hpp counts them).
 inline constexpr double kZeroAreaRatio = 1e-14;
+// The one test of that rule (true for NaN too): twice_area = |(x1 - x0) x (x2 - x0)|.
+inline bool has_zero_area(double twice_area, double longest_edge_squared) {
+  return !(twice_area > kZeroAreaRatio * longest_edge_squared);
+}
 
 // Throws std::invalid_argument naming `what` for: no vertex or no triangle, a non-finite position
 // (naming the vertex), an index outside [0, #V) or a triangle repeating a vertex (naming the
 // triangle).
 void validate_surface(const TriangleSurface& surface, const std::string& what);
+
+// Signed volume enclosed by the triangles [m^3] (divergence theorem, summed in triangle order about
+// the bounding-box centre): positive when the normals point outwards. Independent of that origin
+// only for a closed, consistently oriented surface.
+double enclosed_signed_volume(const TriangleSurface& surface);
 
 // Undirected edges of a triangle list, derived on demand.
 //  - Edge ids follow the order of first appearance: triangle 0, 1, ..., and within a triangle its

@@ -57,15 +57,13 @@ class InsideTest {
   // The method `inside` actually uses for `method` (Auto resolved).
   InsideMethod resolve(InsideMethod method) const;
 
-  // Signed volume enclosed by the triangles (divergence theorem, positive for outward normals).
-  // Only meaningful for a closed surface; for an open one it depends on the origin.
+  // Signed volume enclosed by the triangles (enclosed_signed_volume, surface.hpp).
   double signed_volume() const;
 
   const TriangleSurface& surface() const { return bvh_.surface(); }
 
  private:
   SurfaceBvh bvh_;
-  Vec3 centre_ = Vec3::Zero();  // bounding-box centre (origin of signed_volume)
   Points normals_;              // #F x 3 unnormalized face normals (b-a)x(c-a)
   int open_edges_ = 0;
 };

@@ -120,18 +120,14 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
       // resolution is in world units of the object's own size).
       TriangleSurface surface = load_triangle_surface(spec.mesh.string());
       apply_transform(spec.transform, surface.x, "solid \"" + spec.name + "\"");
-      const SolidSurfaceCheck check = check_solid_surface(surface, spec.mesh.string());
       BccMeshOptions options;
       options.resolution = spec.mesh_resolution;
-      BccMeshResult r = bcc_mesh(surface, options);
-      mesh = std::move(r.mesh);
-      std::cerr << "meshed " << spec.mesh.filename().string() << ": " << r.report.tets << " tets, volume ratio ";
-      if (check.defects.closed_and_oriented())
-        std::cerr << r.report.volume_ratio;
-      else
-        std::cerr << "n/a (the surface is not closed and consistently oriented)";
-      std::cerr << ", dihedral angles " << r.report.min_dihedral_deg << "-" << r.report.max_dihedral_deg
-                << " degrees\n";
+      CheckedBccMesh meshed = check_and_bcc_mesh(surface, spec.mesh.string(), options);
+      const BccMeshReport& r = meshed.result.report;
+      std::cerr << "meshed " << spec.mesh.filename().string() << ": " << r.tets << " tets, volume ratio "
+                << meshed.volume_ratio_text();
+      std::cerr << ", dihedral angles " << r.min_dihedral_deg << "-" << r.max_dihedral_deg << " degrees\n";
+      mesh = std::move(meshed.result.mesh);
     }
     const TetMeshReport report = validate_and_orient(mesh);
     for (const auto& w : report.warnings) std::cerr << "warning: " << spec.mesh.string() << ": " << w << "\n";

@@ -76,4 +76,20 @@ SolidSurfaceCheck check_solid_surface(const TriangleSurface& surface, const std:
   return out;
 }
 
+CheckedBccMesh check_and_bcc_mesh(const TriangleSurface& surface, const std::string& file,
+                                  const BccMeshOptions& options) {
+  CheckedBccMesh out;
+  out.check = check_solid_surface(surface, file);
+  out.result = bcc_mesh(surface, options);
+  return out;
+}
+
+std::string CheckedBccMesh::volume_ratio_text() const {
+  if (!check.defects.closed_and_oriented()) return "n/a (the surface is not closed and consistently oriented)";
+  std::ostringstream m;
+  m.precision(4);
+  m << std::fixed << result.report.volume_ratio;
+  return m.str();
+}
+
 }  // namespace invfem::app

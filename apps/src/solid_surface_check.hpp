@@ -15,6 +15,7 @@
 #include <string>
 
 #include "invfem/core/surface_check.hpp"
+#include "invfem/solids/bcc_mesher.hpp"
 
 namespace invfem::app {
 
@@ -29,5 +30,17 @@ struct SolidSurfaceCheck {
 // returns what it found. Throws MeshError naming the file for a refused defect,
 // std::invalid_argument for an invalid surface (validate_surface).
 SolidSurfaceCheck check_solid_surface(const TriangleSurface& surface, const std::string& file);
+
+// A surface checked, then BCC-meshed: what `invfem mesh` and a scene's solid given as a surface
+// both do, in this order (a refused surface is never meshed).
+struct CheckedBccMesh {
+  SolidSurfaceCheck check;
+  BccMeshResult result;
+  // "0.9987", or why there is no ratio: the surface volume of a surface that is not closed and
+  // consistently oriented means nothing.
+  std::string volume_ratio_text() const;
+};
+CheckedBccMesh check_and_bcc_mesh(const TriangleSurface& surface, const std::string& file,
+                                  const BccMeshOptions& options);
 
 }  // namespace invfem::app

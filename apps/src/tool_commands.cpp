@@ -95,14 +95,11 @@ int mesh_command(const std::vector<std::string>& raw) {
   }
   const std::string& surface_file = args.positional[0];
   const std::string& out_file = args.value("--out");
-  BccMeshReport r;
-  SolidSurfaceCheck check;
+  CheckedBccMesh meshed;
   try {
     const TriangleSurface surface = load_triangle_surface(surface_file);
-    check = check_solid_surface(surface, surface_file);
-    const BccMeshResult result = bcc_mesh(surface, options);
-    write_tet_mesh(out_file, result.mesh);
-    r = result.report;
+    meshed = check_and_bcc_mesh(surface, surface_file, options);
+    write_tet_mesh(out_file, meshed.result.mesh);
   } catch (const InputError&) {
     throw;
   } catch (const std::invalid_argument& e) {
@@ -111,6 +108,8 @@ int mesh_command(const std::vector<std::string>& raw) {
     throw InputError(e.what());
   }
   std::printf("%s -> %s\n", surface_file.c_str(), out_file.c_str());
+  const SolidSurfaceCheck& check = meshed.check;
+  const BccMeshReport& r = meshed.result.report;
   const SurfaceDefects& d = check.defects;
   std::printf("  surface checked in %.3fs: %lld open edges, %lld edges on 4+ triangles, %lld repeated triangles, %lld "
               "inconsistently oriented edges, %lld intersecting triangle pairs\n",
@@ -119,10 +118,8 @@ int mesh_command(const std::vector<std::string>& raw) {
   std::printf("  tets %d, nodes %d (boundary %d, snapped %d, partly %d), cell %.4g\n", r.tets, r.nodes, r.boundary_nodes,
               r.snapped_nodes, r.partly_snapped_nodes, r.cell_size);
   std::printf("  dihedral angles %.2f to %.2f degrees\n", r.min_dihedral_deg, r.max_dihedral_deg);
-  if (check.defects.closed_and_oriented())
-    std::printf("  volume %.6g vs surface %.6g (ratio %.4f)", r.tet_volume, r.surface_volume, r.volume_ratio);
-  else
-    std::printf("  volume %.6g (no ratio: the surface is not closed and consistently oriented)", r.tet_volume);
+  std::printf("  volume %.6g vs surface %.6g (ratio %s)", r.tet_volume, r.surface_volume,
+              meshed.volume_ratio_text().c_str());
   std::printf(", inside test %s, %.2fs\n", to_string(r.method_used), r.seconds);
   return 0;
 }

@@ -58,7 +58,7 @@ f 2 4 3
 OBJ
 expect 0 "warning: flipped.obj: 3 edges are run in the same direction by both their triangles (first: the edge (0, 1, 0)-(1, 0, 0))" -- \
   mesh flipped.obj --out flipped.vtk --resolution 8
-expect_output 0 "no ratio: the surface is not closed and consistently oriented" -- mesh flipped.obj --out flipped.vtk --resolution 8
+expect_output 0 "ratio n/a (the surface is not closed and consistently oriented)" -- mesh flipped.obj --out flipped.vtk --resolution 8
 
 # A bar poking out of a box through its face x = 2: 8 intersecting triangle pairs (the unit test
 # SurfaceCheck.InterpenetratingBoxesIntersectAlongTheirCrossing explains the count); the first is

@@ -75,5 +75,19 @@ for model in corotated mass_spring; do
   done
 done
 
+# `invfem sheet` tiles chosen frames (the README comparison's contact sheets): one row of two
+# 64x48 previews with captions; a label count that does not match is exit 2.
+sheet_run="$work/cloth_sheet"
+if "$invfem" run "$(cloth cloth_sheet '"material": {"model": "mass_spring"}')" --render --set render.width=64 \
+    --set render.height=48 --out "$sheet_run" --quiet 2>/dev/null &&
+   "$invfem" sheet "$sheet_run/png/0000.png" "$sheet_run/png/0003.png" --label first --label last \
+    --out "$work/sheet.png" 2>/dev/null; then
+  [ -s "$work/sheet.png" ] || { echo "FAIL: invfem sheet wrote no sheet.png"; fail=1; }
+else
+  echo "FAIL: the rendered mass_spring cloth or its contact sheet did not run"; fail=1
+fi
+expect 2 "sheet: 1 --label options for 2 images" -- \
+  sheet "$sheet_run/png/0000.png" "$sheet_run/png/0003.png" --label one --out "$work/sheet2.png"
+
 if [ "$fail" -ne 0 ]; then exit 1; fi
 echo "baselines: every error gives its message and exit code 2; only ITF04 restores the mirrored solid"

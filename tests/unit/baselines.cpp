@@ -50,34 +50,34 @@ bool well_separated(const Mat3& F) {
   return s(2) > 0.2 && s(0) - s(1) > 0.05 && s(1) - s(2) > 0.05;
 }
 
-TEST(Corotated, StressIsEnergyGradientUninvertedAndInverted) {
-  std::mt19937 rng(11);
-  int checked = 0;
+// body(F, inverted) for 5 uninverted and 5 inverted well-separated random F.
+template <class Body> void for_sample_F(unsigned seed, const Body& body) {
+  std::mt19937 rng(seed);
   for (bool inverted : {false, true})
-    for (int trial = 0; checked < (inverted ? 10 : 5); ++trial) {
+    for (int checked = 0; checked < 5;) {
       const Mat3 F = random_F(rng, inverted);
       if (!well_separated(F)) continue;
       ++checked;
-      auto psi = [](const Eigen::VectorXd& x) { return energy(kCorotated, unvec(x)); };
-      auto P = [](const Eigen::VectorXd& x) -> Eigen::VectorXd { return vec(energy_gradient(kCorotated, unvec(x))); };
-      const fd::Result r = fd::check_gradient(psi, P, vec(F));
-      EXPECT_TRUE(r.pass) << "inverted " << inverted << "\n" << r.report;
+      body(F, inverted);
     }
 }
 
+TEST(Corotated, StressIsEnergyGradientUninvertedAndInverted) {
+  for_sample_F(11, [](const Mat3& F, bool inverted) {
+    auto psi = [](const Eigen::VectorXd& x) { return energy(kCorotated, unvec(x)); };
+    auto P = [](const Eigen::VectorXd& x) -> Eigen::VectorXd { return vec(energy_gradient(kCorotated, unvec(x))); };
+    const fd::Result r = fd::check_gradient(psi, P, vec(F));
+    EXPECT_TRUE(r.pass) << "inverted " << inverted << "\n" << r.report;
+  });
+}
+
 TEST(Corotated, StressDerivativeIsStressJacobianUninvertedAndInverted) {
-  std::mt19937 rng(12);
-  int checked = 0;
-  for (bool inverted : {false, true})
-    for (int trial = 0; checked < (inverted ? 10 : 5); ++trial) {
-      const Mat3 F = random_F(rng, inverted);
-      if (!well_separated(F)) continue;
-      ++checked;
-      auto P = [](const Eigen::VectorXd& x) -> Eigen::VectorXd { return vec(energy_gradient(kCorotated, unvec(x))); };
-      auto dP = [](const Eigen::VectorXd& x) -> Eigen::MatrixXd { return energy_hessian(kCorotated, unvec(x)); };
-      const fd::Result r = fd::check_jacobian(P, dP, vec(F));
-      EXPECT_TRUE(r.pass) << "inverted " << inverted << "\n" << r.report;
-    }
+  for_sample_F(12, [](const Mat3& F, bool inverted) {
+    auto P = [](const Eigen::VectorXd& x) -> Eigen::VectorXd { return vec(energy_gradient(kCorotated, unvec(x))); };
+    auto dP = [](const Eigen::VectorXd& x) -> Eigen::MatrixXd { return energy_hessian(kCorotated, unvec(x)); };
+    const fd::Result r = fd::check_jacobian(P, dP, vec(F));
+    EXPECT_TRUE(r.pass) << "inverted " << inverted << "\n" << r.report;
+  });
 }
 
 // The plain SVD: non-negative singular values; U a reflection exactly when det F < 0; R = U V^T is

@@ -1,5 +1,5 @@
 #pragma once
-// The mass-spring baseline of the survey (Nealen et al. 2006, section 3.1): a spring on every
+// The mass-spring baseline of the survey (Nealen et al. 2006, section 3.5): a spring on every
 // edge of a tet mesh (solids) or a triangle mesh (cloth), in place of the FE elasticity, behind
 // the same scene files (`material.model: "mass_spring"`). It is there to show what the invertible
 // FEM buys, not to be used for its own sake.
@@ -13,8 +13,8 @@
 // L whose share is V_s gets k = E V_s / L^2. Then a uniform stretch by (1 + eps) stores
 // sum k/2 (eps L)^2 = E/2 eps^2 V, the 1D Young's-modulus energy of the element: the simplest
 // volume-share rule (Lloyd et al. 2007 fit k to the linear FEM stiffness instead; the survey's
-// point, that no choice of k reproduces a given Poisson's ratio, holds for both). Poisson's ratio
-// is not used. The dashpot is d = damping k, the same Rayleigh-like coefficient [s] as the FE
+// section 3.5.2 point, that such springs are not convergent and k says little about the material,
+// holds for both). Poisson's ratio is not used. The dashpot is d = damping k, the same Rayleigh-like coefficient [s] as the FE
 // materials' (beta = damping mu there), and `strength` multiplies k and d over time.
 #include <optional>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // Corotated linear elasticity of Mueller and Gross 2004 (the survey of Nealen et al. 2006,
-// section 3.2.3): the linear stress of the unrotated strain, P = R (2 mu (S - I) + lambda tr(S - I) I)
+// section 3.1, [MG04]): the linear stress of the unrotated strain, P = R (2 mu (S - I) + lambda tr(S - I) I)
 // with F = R S the polar decomposition. It is a BASELINE with no inversion handling, kept to show
 // what ITF04 adds.
 //

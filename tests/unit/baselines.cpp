@@ -21,6 +21,7 @@
 #include "invfem/core/edge_spring_force.hpp"
 #include "invfem/core/elasticity.hpp"
 #include "invfem/core/spring.hpp"
+#include "invfem/shells/membrane_force.hpp"
 #include "invfem/shells/shapes.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 #include "test_meshes.hpp"
@@ -111,6 +112,22 @@ TEST(Corotated, EqualsRotatedLinearOnTriangles) {
     EXPECT_EQ(energy(kCorotated, F), energy(itf, F));
     EXPECT_EQ(energy_gradient(kCorotated, F), energy_gradient(itf, F));
   }
+}
+
+// The membrane's inversion test (ITF04 section 8) is inversion handling: refused with the baseline.
+TEST(Corotated, MembraneRefusesTheInversionTest) {
+  const TriangleSurface grid = make_grid(0.2, 0.2, 2, 2);
+  MembraneParams p{kCorotated, 1e-3, 0.0, std::nullopt,
+                   std::vector<Vec3>(static_cast<std::size_t>(grid.tris.rows()), Vec3::UnitY())};
+  try {
+    MembraneForce(grid.x, grid.tris, p, "cape");
+    FAIL() << "the corotated membrane accepted an inversion test";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("cape: the inversion test is ITF04's inversion handling"), std::string::npos)
+        << e.what();
+  }
+  p.inversion_normals.clear();
+  EXPECT_NO_THROW(MembraneForce(grid.x, grid.tris, p, "cape"));
 }
 
 // A 2x2x1 block of 24 tets at positions x, perturbed.

@@ -180,6 +180,9 @@ double EdgeSpringForce::elastic_energy() const {
 }
 
 double EdgeSpringForce::stable_time_step(const Eigen::VectorXd& mass) const {
+  if (mass.size() != n_nodes_)
+    throw std::invalid_argument(what_ + ": stable_time_step got " + std::to_string(mass.size()) + " masses for " +
+                                std::to_string(n_nodes_) + " nodes");
   const double k = std::max(strength_, params_.strength.max_over(time_, time_ + 0.1));
   if (!(k > 0) || gap_.empty()) return std::numeric_limits<double>::infinity();
   Eigen::VectorXd row = Eigen::VectorXd::Zero(mass.size());  // sum of k_s at each node

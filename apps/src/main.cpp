@@ -14,6 +14,7 @@
 #include "check_command.hpp"
 #include "render_command.hpp"
 #include "run_command.hpp"
+#include "sheet_command.hpp"
 #include "tool_commands.hpp"
 
 namespace {
@@ -32,6 +33,7 @@ const char* const kHelp =
     "  mesh SURFACE --out MESH    tet-mesh a closed triangle surface (BCC lattice)\n"
     "  bench [--quick] [--json F] time the benchmark work units against the peers' figures\n"
     "  ccd QUERIES.txt            continuous collision detection queries (vertex-face, edge-edge)\n"
+    "  sheet PNG... --out SHEET   tile chosen PNGs into one contact sheet, with captions\n"
     "  help [COMMAND]             this text, or a command's options\n"
     "\n"
     "Exit codes: 0 ok, 1 simulation failure, 2 bad input (scene, mesh or option); `check`: 1 when it\n"
@@ -72,6 +74,7 @@ int main(int argc, char** argv) {
     if (cmd == "check") return invfem::app::check_command(rest);
     if (cmd == "mesh") return invfem::app::mesh_command(rest);
     if (cmd == "ccd") return invfem::app::ccd_command(rest);
+    if (cmd == "sheet") return invfem::app::sheet_command(rest);
     if (cmd == "bench") return invfem::app::bench_command(rest);
     if (cmd == "batch") return invfem::app::batch_command(rest, self_executable(argv[0]));
     std::cerr << "error: unknown command \"" << cmd << "\"\n\n" << kHelp;

@@ -21,6 +21,10 @@ IsotropicModel make_model(const MaterialSpec& spec) {
     m.t = spec.hardening_deformation;
     m.r = spec.hardening_strength;
     model = m;
+  } else if (spec.model == "corotated") {
+    model = Corotated{{lame.mu, lame.lambda}};
+  } else if (spec.model == "mass_spring") {
+    throw InputError("material \"mass_spring\" has no finite-element model (it is built by make_mass_spring)");
   } else if (spec.model != "rotated_linear") {
     throw InputError("unknown material model \"" + spec.model + "\"");
   }
@@ -48,9 +52,20 @@ PlasticParams make_plastic_params(const PlasticitySpec& spec) {
   return p;
 }
 
+std::optional<MassSpringMaterial> make_mass_spring(const MaterialSpec& spec, double cfl) {
+  if (spec.model != "mass_spring") return std::nullopt;
+  return MassSpringMaterial{spec.young, EdgeSpringParams{spec.damping, spec.strength, cfl}};
+}
+
+std::optional<MassSpringMaterial> make_mass_spring(const ClothMaterialSpec& spec) {
+  if (spec.model != "mass_spring") return std::nullopt;
+  // cfl 1: the membrane's explicit step is the full h/c bound too (membrane_force.hpp).
+  return MassSpringMaterial{spec.young, EdgeSpringParams{spec.damping, ScalarTrack::constant(1.0), 1.0}};
+}
+
 TetMaterial make_tet_material(const MaterialSpec& spec, double cfl) {
   TetMaterial m;
-  m.model = make_model(spec);
+  if (spec.model != "mass_spring") m.model = make_model(spec);
   m.strength = spec.strength;
   m.density = spec.density;
   m.damping = spec.damping;

@@ -162,6 +162,7 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
       material.activation = spec.fiber->activation;
     }
     params.material = std::move(material);
+    params.mass_spring = make_mass_spring(spec.material, scene.solver.cfl);
     return make_solid_object(spec.name, mesh, std::move(params));
   } catch (const std::invalid_argument& e) {
     throw InputError(what + ": " + e.what());
@@ -260,7 +261,8 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
   params.gravity = to_vec(scene.gravity);
   const std::vector<int> pin_vertices = checked_vertices(spec.pin_vertices, n, where + ": pin_vertices");
   try {
-    params.model = make_model(m);
+    params.mass_spring = make_mass_spring(m);
+    if (!params.mass_spring) params.model = make_model(m);
     if (!pin_vertices.empty())
       params.pins.push_back(make_pin_group(x0, pin_vertices, std::nullopt, what + ": pin_vertices"));
     for (auto& pin : pins_in_boxes(x0, spec.pin_boxes, where)) params.pins.push_back(std::move(pin));

@@ -58,8 +58,9 @@ MaterialSpec parse_material(const Fields& f) {
 void parse_model_choice(const Fields& f, std::string& model, double& compression_limit, double& hardening_deformation,
                         double& hardening_strength) {
   model = f.string("model", model);
-  static const std::set<std::string> models{"rotated_linear", "neo_hookean", "stvk", "spline"};
-  if (!models.count(model)) f.fail("model", "one of rotated_linear, neo_hookean, stvk, spline");
+  static const std::set<std::string> models{"rotated_linear", "neo_hookean", "stvk", "spline", "corotated", "mass_spring"};
+  if (!models.count(model))
+    f.fail("model", "one of rotated_linear, neo_hookean, stvk, spline (ITF04) or the baselines corotated, mass_spring");
   compression_limit = f.number("compression_limit", compression_limit);
   if (!(compression_limit > 0 && compression_limit < 1)) f.fail("compression_limit", "a number in (0, 1)");
   hardening_deformation = f.number("hardening_deformation", hardening_deformation);
@@ -520,6 +521,9 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
         solid.plastic_goal = parse_plastic_goal(f.object("plastic_goal"));
       }
       if (f.has("fiber")) solid.fiber = parse_fiber(f.object("fiber"));
+      if (solid.material.model == "mass_spring")  // springs replace the FE elasticity these act on
+        for (const char* key : {"plasticity", "plastic_goal", "fiber"})
+          if (f.has(key)) f.fail(key, "no \"" + std::string(key) + "\" block with material.model \"mass_spring\" (springs have no F)");
       if (f.has("initial_shape"))
         solid.initial_shape = parse_solid_initial_shape(f.object("initial_shape"), dir, check_files);
       s.solids.push_back(std::move(solid));

@@ -16,7 +16,7 @@
 namespace invfem::app {
 
 struct MaterialSpec {
-  std::string model = "rotated_linear";  // rotated_linear | neo_hookean | stvk | spline
+  std::string model = "rotated_linear";  // rotated_linear | neo_hookean | stvk | spline; baselines corotated | mass_spring
   double young = 1e5;                     // [Pa]
   double poisson = 0.3;
   double density = 1000;                  // [kg/m^3]
@@ -112,7 +112,7 @@ struct MotionSpec {
 };
 
 struct ClothMaterialSpec {
-  std::string model = "rotated_linear";  // rotated_linear | neo_hookean | stvk | spline (in-plane, plane stress)
+  std::string model = "rotated_linear";  // as MaterialSpec's (in-plane, plane stress; mass_spring: edge springs)
   double young = 1e6;             // [Pa], in-plane
   double poisson = 0.3;
   double compression_limit = 0.3;      // neo_hookean, stvk

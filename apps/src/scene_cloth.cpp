@@ -165,6 +165,11 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
       f.fail("inversion_test", "\"none\", \"rest\" or a direction [x, y, z]");
     }
   }
+  if (c.material.model == "mass_spring" && c.plasticity)
+    f.fail("plasticity", "no in-plane plasticity with material.model \"mass_spring\" (springs have no F)");
+  if ((c.material.model == "mass_spring" || c.material.model == "corotated") && c.inversion_test != "none")
+    f.fail("inversion_test", "\"none\" with the baseline material.model \"" + c.material.model +
+                                 "\" (the inversion test is ITF04's inversion handling)");
   c.stitches = parse_stitches(f.object_or_empty("stitches"));
   if (f.has("pin_vertices")) c.pin_vertices = f.index_list("pin_vertices");
   c.pin_boxes = parse_pin_boxes(f);

@@ -24,37 +24,45 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   SimObject o;
   o.name = name;
   o.kind = ObjectKind::Cloth;
-  MembraneParams mp{p.model, p.thickness, p.damping, p.plasticity, {}};
-  if (p.inversion == InversionReference::Rest)
-    mp.inversion_normals = face_normals(garment.pattern.empty() ? surface.x : x0, surface.tris);
-  else if (p.inversion == InversionReference::Direction)
-    mp.inversion_normals.assign(static_cast<std::size_t>(surface.tris.rows()), p.inversion_direction);
-  std::unique_ptr<MembraneForce> membrane =
-      garment.pattern.empty()
-          ? std::make_unique<MembraneForce>(surface.x, surface.tris, mp, what)
-          : std::make_unique<MembraneForce>(make_triangle_rest(garment.pattern, surface.tris, surface.x.rows(), what), mp,
-                                            what);
+  TriangleRest rest = garment.pattern.empty() ? make_triangle_rest(surface.x, surface.tris, what)
+                                               : make_triangle_rest(garment.pattern, surface.tris, surface.x.rows(), what);
   o.body.x = x0;
   o.body.v = Points(x0.rows(), 3);
   o.body.v.rowwise() = p.velocity.transpose();
-  o.body.mass = lumped_triangle_masses(membrane->rest(), p.density * p.thickness);
+  o.body.mass = lumped_triangle_masses(rest, p.density * p.thickness);
   o.body.gravity = p.gravity;
+  // In-plane: the membrane (ITF04 section 8), or the mass-spring baseline's edge springs.
+  std::unique_ptr<Force> in_plane;
+  std::vector<double> lengths;  // of the stitches' seams, from the rest data
+  std::vector<Stitch> stitches = garment.stitches;
+  stitches.insert(stitches.end(), p.extra_stitches.begin(), p.extra_stitches.end());
+  if (!stitches.empty()) lengths = seam_lengths(stitches, rest);
+  if (p.mass_spring) {
+    if (p.inversion != InversionReference::None || p.plasticity)
+      throw std::invalid_argument(what + ": mass-spring cloth takes no inversion test and no in-plane plasticity");
+    in_plane = std::make_unique<EdgeSpringForce>(triangle_edge_springs(rest, p.mass_spring->young, p.thickness),
+                                                 x0.rows(), p.mass_spring->params, what + ": springs");
+  } else {
+    MembraneParams mp{p.model, p.thickness, p.damping, p.plasticity, {}};
+    if (p.inversion == InversionReference::Rest)
+      mp.inversion_normals = face_normals(garment.pattern.empty() ? surface.x : x0, surface.tris);
+    else if (p.inversion == InversionReference::Direction)
+      mp.inversion_normals.assign(static_cast<std::size_t>(surface.tris.rows()), p.inversion_direction);
+    in_plane = std::make_unique<MembraneForce>(std::move(rest), mp, what);
+  }
   auto bending = std::make_unique<BendingForce>(surface.x, surface.tris, p.bending, what);
   // A pattern is flat: a garment's rest bend angle is 0 along every hinge.
   if (!garment.pattern.empty()) bending->set_rest_angles(std::vector<double>(bending->hinges().size(), 0.0));
-  membrane->update_positions(o.body.x, 0.0);
+  in_plane->update_positions(o.body.x, 0.0);
   bending->update_positions(o.body.x, 0.0);
-  std::vector<Stitch> stitches = garment.stitches;
-  stitches.insert(stitches.end(), p.extra_stitches.begin(), p.extra_stitches.end());
   std::unique_ptr<StitchForce> stitch;
   std::vector<Weld> welds;  // in nodes; in surface vertices once the surface exists
   for (const Stitch& st : stitches) welds.push_back(stitch_weld(st));
   if (!stitches.empty()) {
-    std::vector<double> lengths = seam_lengths(stitches, membrane->rest());
     stitch = std::make_unique<StitchForce>(std::move(stitches), std::move(lengths), x0.rows(), p.stitch, what);
     stitch->update_positions(o.body.x, 0.0);
   }
-  o.forces.push_back(std::move(membrane));
+  o.forces.push_back(std::move(in_plane));
   o.forces.push_back(std::move(bending));
   if (stitch) o.forces.push_back(std::move(stitch));
   o.pins = std::move(p.pins);

@@ -59,6 +59,9 @@ void MembraneForce::init(const MembraneParams& params) {
   if (plasticity_) plasticity_->validate(what_ + ": plasticity");
   inversion_normals_ = params.inversion_normals;
   if (!inversion_normals_.empty()) {
+    if (!handles_inversion(params.model))
+      throw std::invalid_argument(what_ + ": the inversion test is ITF04's inversion handling; the corotated "
+                                  "baseline has none (use an ITF04 model or no inversion test)");
     if (inversion_normals_.size() != m)
       throw std::invalid_argument(what_ + ": " + std::to_string(inversion_normals_.size()) +
                                   " inversion-test normals for " + std::to_string(m) + " triangles");

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "invfem/core/parallel.hpp"
+#include "invfem/core/spring.hpp"
 #include "invfem/core/surface.hpp"
 
 namespace invfem {
@@ -72,8 +73,8 @@ void StitchForce::add_elastic_forces(Points& f) const {
   std::vector<Mat33> G(stitches_.size());
   parallel_for_each(stitches_.size(), kGrain, [&](std::size_t s) {
     const auto w = weights(stitches_[s]);
-    const double k = params_.stiffness * length_[s];
-    for (int a = 0; a < 3; ++a) G[s].col(a) = -k * w[a] * gap_[s];
+    const Vec3 dE = spring_energy_gradient(params_.stiffness * length_[s], 0.0, gap_[s]);  // k_s C
+    for (int a = 0; a < 3; ++a) G[s].col(a) = -w[a] * dE;
   });
   scatter_stitch_forces(stitches_, G, f);
 }
@@ -93,7 +94,7 @@ void StitchForce::add_damping_forces(const Points& v, Points& f) const {
 
 double StitchForce::elastic_energy() const {
   double sum = 0;
-  for (std::size_t s = 0; s < gap_.size(); ++s) sum += 0.5 * params_.stiffness * length_[s] * gap_[s].squaredNorm();
+  for (std::size_t s = 0; s < gap_.size(); ++s) sum += spring_energy(params_.stiffness * length_[s], 0.0, gap_[s]);
   return sum;
 }
 
@@ -121,8 +122,9 @@ void StitchForce::add_stiffness_diagonal(Eigen::VectorXd& d) const {
 }
 
 namespace {
-// Per stitch (nodes i, j, k) the 9x9 matrix coeff_s (w w^T kron I3): the stiffness with
-// coeff = k_s, the damping with coeff = c_s (the spring and dashpot act alike on x, y and z).
+// Per stitch (nodes i, j, k) the 9x9 matrix (w w^T) kron (coeff_s I3) (core/spring.hpp, rest length
+// 0): the stiffness with coeff = k_s, the damping with coeff = c_s (the zero-length spring and its
+// dashpot act alike on x, y and z).
 void stitch_matrices(const std::vector<Stitch>& stitches, const std::vector<double>& length, double per_metre,
                      ElementMatrices& out) {
   const auto m = static_cast<Eigen::Index>(stitches.size());
@@ -134,11 +136,9 @@ void stitch_matrices(const std::vector<Stitch>& stitches, const std::vector<doub
     }
   }
   for (Eigen::Index s = 0; s < m; ++s) {
-    const auto w = weights(stitches[static_cast<std::size_t>(s)]);
     const double c = per_metre * length[static_cast<std::size_t>(s)];
-    auto K = out.matrix<9>(s);
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) K.block<3, 3>(3 * a, 3 * b) = (c * w[a] * w[b]) * Mat3::Identity();
+    out.matrix<9>(s) = spring_element_matrix<3>(weights(stitches[static_cast<std::size_t>(s)]),
+                                                spring_energy_hessian(c, 0.0, Vec3::Zero(), false));
   }
 }
 }  // namespace

@@ -31,7 +31,15 @@ SimObject make_solid_object(const std::string& name, const TetMesh& mesh, SolidO
   o.body.v.rowwise() = params.velocity.transpose();
   o.body.mass = lumped_masses(mesh.X, mesh.tets, params.material.density);
   o.body.gravity = params.gravity;
-  auto force = std::make_unique<TetSolidForce>(make_tet_rest(mesh.X, mesh.tets), std::move(params.material));
+  std::unique_ptr<Force> force;
+  if (params.mass_spring) {
+    TetRest rest = make_tet_rest(mesh.X, mesh.tets);
+    EdgeSprings springs = tet_edge_springs(rest, params.mass_spring->young);
+    force = std::make_unique<EdgeSpringForce>(std::move(springs), mesh.X.rows(), params.mass_spring->params,
+                                              "solid \"" + name + "\": springs", std::move(rest));
+  } else {
+    force = std::make_unique<TetSolidForce>(make_tet_rest(mesh.X, mesh.tets), std::move(params.material));
+  }
   force->update_positions(o.body.x, 0.0);
   o.forces.push_back(std::move(force));
   o.pins = std::move(params.pins);

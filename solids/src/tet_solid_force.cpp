@@ -150,7 +150,8 @@ void TetSolidForce::update(const Points& x, double time, bool allow_flow) {
             }
             diagonalize_batch(F.data(), count, &diag_[e0], e0);
             for (std::size_t e = e0; e < e0 + count; ++e) {
-              const Diagonalization3& d = diag_[e];
+              Diagonalization3& d = diag_[e];
+              to_diagonal_frame(mdl, d);  // plain SVD for the corotated baseline (elasticity.hpp)
               G_[e] = d.U * mdl.template psi_gradient<3>(d.sigma).asDiagonal() * d.V.transpose() * rest_.Bm[e];
             }
           });
@@ -163,7 +164,7 @@ void TetSolidForce::update(const Points& x, double time, bool allow_flow) {
           Mat3& Fp_inv = plastic_.Fp_inv[e];
           Mat3 P;
           if (plain) {  // with a fiber (the plain case without one is above)
-            P = energy_gradient(mdl, diag_[e] = diagonalize(F));
+            P = energy_gradient(mdl, diag_[e] = diagonal_frame(mdl, F));
           } else {
             if (flow) {
               // ITF04 6.3 / 7: flow once per position update; u.elastic diagonalizes F Fp^-1 with
@@ -172,8 +173,9 @@ void TetSolidForce::update(const Points& x, double time, bool allow_flow) {
                                         : plastic_flow(F, Fp_inv, *plasticity);
               yielded_[e] = u.yielded;
               diag_[e] = u.elastic;
+              to_diagonal_frame(mdl, diag_[e]);  // the flow itself is ITF04's (plasticity.hpp)
             } else {
-              diag_[e] = diagonalize(Mat3(F * Fp_inv));
+              diag_[e] = diagonal_frame(mdl, Mat3(F * Fp_inv));
             }
             P = plastic_stress(energy_gradient(mdl, diag_[e]), Fp_inv);  // det(Fp) P(Fe) Fp^-T
           }
@@ -245,9 +247,7 @@ double TetSolidForce::stable_time_step(const Eigen::VectorXd& mass) const {
   // diagonal, k sum_e V_e |grad N_i|^2 with k the largest tangent modulus. Unlike h_min / c_p this
   // weighs a sliver's small altitude by its small volume, so one sliver does not set the step.
   // The strength may ramp up: bound it over the next 0.1 s.
-  double k = std::max(strength_, material_.strength.at(time_ + 0.1));
-  for (const auto& [t, v] : material_.strength.keys)
-    if (t > time_ && t < time_ + 0.1) k = std::max(k, v);
+  const double k = std::max(strength_, material_.strength.max_over(time_, time_ + 0.1));
   const double modulus = k * wave_modulus(material_.model);
   // The fiber stiffness is bounded by k_passive + k_active for every stretch and activation
   // (Psi_f'/lambda and Psi_f'' both are); it acts on the original rest shape.

@@ -33,3 +33,25 @@ expect_output() {
     fail=1
   fi
 }
+
+# write_tet_pair FILE: two 10 cm tets sharing face 123, 5 nodes (legacy VTK), the smallest solid.
+write_tet_pair() {
+  cat > "$1" <<'VTK'
+# vtk DataFile Version 3.0
+two tets
+ASCII
+DATASET UNSTRUCTURED_GRID
+POINTS 5 double
+0 0 0
+0.1 0 0
+0 0.1 0
+0 0 0.1
+0.1 0.1 0.1
+CELLS 2 10
+4 0 1 2 3
+4 4 3 2 1
+CELL_TYPES 2
+10
+10
+VTK
+}

@@ -8,25 +8,7 @@ invfem="$1" work="$2"
 source "$(dirname "$0")/lib.sh"
 cli_setup
 
-# Two 10 cm tets sharing face 123, 5 nodes.
-cat > "$work/pair.vtk" <<'VTK'
-# vtk DataFile Version 3.0
-two tets
-ASCII
-DATASET UNSTRUCTURED_GRID
-POINTS 5 double
-0 0 0
-0.1 0 0
-0 0.1 0
-0 0 0.1
-0.1 0.1 0.1
-CELLS 2 10
-4 0 1 2 3
-4 4 3 2 1
-CELL_TYPES 2
-10
-10
-VTK
+write_tet_pair "$work/pair.vtk"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$work/three.obj"
 scene() {  # scene NAME SOLID_FIELDS: a scene of the two tets with these extra solid fields
   printf '{"frames": 3, "gravity": [0, 0, 0], "solids": [{"name": "p", "mesh": "pair.vtk", %s}]}\n' "$2" \

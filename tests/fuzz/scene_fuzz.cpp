@@ -185,7 +185,8 @@ const std::vector<std::string> kStringTokens = {
     R"("\ud800")", "\"\xff\xfe\"", "\"\xc3\"", R"("%s%n%s")", R"("{N}")", R"("{N}{N}")", R"("$HOME")",
     R"("../../../../../../etc/passwd")", R"(".")", R"("..")", R"("a/b")", R"("a\\b")", R"("nan")", R"("inf")",
     R"("1e999")", R"("itf04")", R"("implicit")", R"("rotated_linear")", R"("neo_hookean")", R"("stvk")",
-    R"("spline")", R"("spin_free")", R"("plane")", R"("sphere")", R"("box")", R"("gears")", R"("sequence")",
+    R"("spline")", R"("corotated")", R"("mass_spring")", R"("spin_free")", R"("plane")", R"("sphere")", R"("box")",
+    R"("gears")", R"("sequence")",
     R"("hold")", R"("loop")", R"("unknown")", R"("true")", R"("0")"};
 
 // Object names: the rules of apps/scenes/README.md (not empty, <= 100 bytes, no control character,

@@ -1,7 +1,8 @@
 // The element matrices every force gives the implicit integrator (Force::stiffness_matrices,
 // damping_matrices) and their assembly (BlockSparseMatrix, ElementScatter):
 //  - stiffness = -d f / d x by finite differences where the clamping of Teran et al. 2005 is
-//    inactive (moderate stretch), for tets, membranes, bending hinges at their rest angle, stitches;
+//    inactive (moderate stretch), for tets, membranes, bending hinges at their rest angle, stitches,
+//    and the baselines (corotated tets, mass-spring edges);
 //  - positive semidefinite everywhere, inverted and flat elements included;
 //  - damping matrices reproduce add_damping_forces: C v = -f_d(v);
 //  - the assembled block matrix multiplies like the sum of the dense element matrices.
@@ -15,6 +16,8 @@
 #include "fd_check.hpp"
 #include "force_checks.hpp"
 #include "invfem/core/block_sparse.hpp"
+#include "invfem/core/edge_spring_force.hpp"
+#include "invfem/core/materials/corotated.hpp"
 #include "invfem/core/materials/neo_hookean.hpp"
 #include "invfem/shells/bending_force.hpp"
 #include "invfem/shells/membrane_force.hpp"
@@ -220,6 +223,33 @@ TEST(ElementMatrices, StitchStiffnessIsMinusForceJacobian) {
   expect_stiffness_is_minus_force_jacobian(f, x);
   f.update_positions(x, 0);
   expect_damping_matrix_matches_force(f, 5, rng);
+}
+
+// The survey's baselines (baselines.cpp): the corotated tet and the mass-spring edge springs.
+TEST(ElementMatrices, CorotatedTetStiffnessIsMinusForceJacobianAndSemidefiniteInverted) {
+  std::mt19937 rng(9);
+  const Bar bar(rng);
+  TetMaterial m{Corotated{{4e5, 6e5}}};
+  m.damping = 0.01;
+  TetSolidForce f(make_tet_rest(bar.mesh.X, bar.mesh.T), m);
+  expect_stiffness_is_minus_force_jacobian(f, bar.x);
+  Points mirrored = bar.x;
+  mirrored.col(1) *= -1;  // every tet inverted: read on the plain SVD, the same stretch mirrored
+  expect_stiffness_is_minus_force_jacobian(f, mirrored);
+  Points flat_bar = bar.mesh.X;
+  flat_bar.col(2).setZero();
+  for (const Points* x : {&mirrored, &flat_bar}) expect_matrices_sound_at(f, *x, rng);
+}
+
+TEST(ElementMatrices, EdgeSpringStiffnessIsMinusForceJacobianAndSemidefiniteCompressed) {
+  std::mt19937 rng(10);
+  const Bar bar(rng);  // every edge stretched: no clamping of the transverse stiffness
+  TetRest rest = make_tet_rest(bar.mesh.X, bar.mesh.T);
+  EdgeSpringForce f(tet_edge_springs(rest, 1e6), bar.mesh.X.rows(), EdgeSpringParams{0.01}, "springs", rest);
+  expect_stiffness_is_minus_force_jacobian(f, bar.x);
+  Points squeezed = bar.mesh.X * 0.7;
+  squeezed += random_points(squeezed.rows(), 1e-2, rng);
+  expect_matrices_sound_at(f, squeezed, rng);
 }
 
 // The stiffness K and damping C element matrices of a damped neo-Hookean bar, deformed.

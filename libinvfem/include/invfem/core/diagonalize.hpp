@@ -37,4 +37,18 @@ Diagonalization32 diagonalize(const Mat32& F);
 // for the benchmark baseline.
 Diagonalization3 diagonalize_jacobi(const Mat3& F);
 
+// The plain SVD F = U diag(|s|) V^T with non-negative singular values, written from the invertible
+// one above: when s3 < 0 its sign moves into U's third column, so det U = -1 (U, and the polar
+// rotation R = U V^T, are reflections) exactly when det F < 0. Only for models that declare no
+// inversion handling (materials/corotated.hpp, the Mueller-Gross 2004 baseline): read in this
+// frame, an inverted element is the reflected copy of an uninverted one, and nothing in the
+// diagonal space sees that it is inside out. s1 >= s2 >= s3 >= 0 stays sorted.
+inline Diagonalization3 plain_polar(Diagonalization3 d) {
+  if (d.sigma(2) < 0) {
+    d.sigma(2) = -d.sigma(2);
+    d.U.col(2) = -d.U.col(2);
+  }
+  return d;
+}
+
 }  // namespace invfem

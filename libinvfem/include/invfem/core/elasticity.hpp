@@ -6,7 +6,8 @@
 //   energy_gradient(F) = P = U P^ V^T            first Piola-Kirchhoff stress
 //   energy_hessian(F)  = dP/dF, 9x9 acting on vec(dF), vec = column-major: vec(X)(r + 3 c) = X(r, c)
 //
-// Each comes taking F (it diagonalizes) or the Diagonalization3 the caller already has. The
+// Each comes taking F (it diagonalizes in the model's frame, diagonal_frame below) or the
+// Diagonalization3 the caller already has, which must be in that frame. The
 // 3x2 versions (triangles in 3D) take Mat32 / Diagonalization32; their hessian is 6x6 on the
 // column-major vec of a 3x2 matrix. A model M is any struct with psi, psi_gradient, psi_hessian
 // templated on D and wave_modulus() (see materials/rotated_linear.hpp); it may also give
@@ -98,6 +99,19 @@ void put_pair(K& k, int ij, int ji, double dm, double dp, bool psd) {
 
 // ---- tetrahedra: 3x3 F ----
 
+// The frame a model is read in: ITF04's invertible diagonalization (diagonalize.hpp), except for a
+// model declaring kPlainPolar (corotated.hpp, no inversion handling), read on the plain SVD. The
+// in-place form converts a diagonalize / diagonalize_batch result. Every formula below holds for
+// any orthogonal U and V, reflections included; with the plain SVD s_i + s_j >= 0 as well.
+template <class M> void to_diagonal_frame(const M&, Diagonalization3& d) {
+  if constexpr (plain_polar_model<M>) d = plain_polar(d);
+}
+template <class M> Diagonalization3 diagonal_frame(const M& m, const Mat3& F) {
+  Diagonalization3 d = diagonalize(F);
+  to_diagonal_frame(m, d);
+  return d;
+}
+
 template <DiagonalModel M> double energy(const M& m, const Diagonalization3& d) {
   return m.template psi<3>(d.sigma);
 }
@@ -127,13 +141,13 @@ Mat9 energy_hessian(const M& m, const Diagonalization3& d, bool project_psd = fa
 }
 
 template <DiagonalModel M> double energy(const M& m, const Mat3& F) {
-  return energy(m, diagonalize(F));
+  return energy(m, diagonal_frame(m, F));
 }
 template <DiagonalModel M> Mat3 energy_gradient(const M& m, const Mat3& F) {
-  return energy_gradient(m, diagonalize(F));
+  return energy_gradient(m, diagonal_frame(m, F));
 }
 template <DiagonalModel M> Mat9 energy_hessian(const M& m, const Mat3& F, bool project_psd = false) {
-  return energy_hessian(m, diagonalize(F), project_psd);
+  return energy_hessian(m, diagonal_frame(m, F), project_psd);
 }
 
 // ---- triangles in 3D: 3x2 F, F = U F^ V^T with U 3x2 ----

@@ -14,7 +14,7 @@
 namespace invfem {
 
 struct ElementMatrices {
-  int arity = 0;  // nodes per element: 4 for tets and hinges, 3 for triangles and stitches
+  int arity = 0;  // nodes per element: 4 for tets and hinges, 3 for triangles and stitches, 2 for edge springs
   Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> nodes;  // m x arity
   std::vector<double> values;                                                 // m (3 arity)^2
 

@@ -24,6 +24,13 @@ struct ScalarTrack {
     }
     return keys.back().second;
   }
+  // The largest value over [t0, t1] (keys inside the interval and both ends).
+  double max_over(double t0, double t1) const {
+    double m = at(t0) > at(t1) ? at(t0) : at(t1);
+    for (const auto& [t, v] : keys)
+      if (t > t0 && t < t1 && v > m) m = v;
+    return m;
+  }
   double max_value() const {
     double m = keys.empty() ? 1.0 : keys.front().second;
     for (const auto& k : keys) m = k.second > m ? k.second : m;

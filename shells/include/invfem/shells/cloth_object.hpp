@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "invfem/core/edge_spring_force.hpp"
 #include "invfem/core/materials/model.hpp"
 #include "invfem/core/plasticity.hpp"
 #include "invfem/core/world.hpp"
@@ -37,6 +38,10 @@ struct ClothObjectParams {
   Vec3 velocity = Vec3::Zero();            // initial velocity of every free vertex [m/s]
   Vec3 gravity = Vec3(0, -9.81, 0);        // [m/s^2]
   std::vector<PinGroup> pins;              // over the garment's vertices
+  // The mass-spring baseline (core/edge_spring_force.hpp): springs on the triangle edges, k from
+  // young and thickness, replace the membrane; `model`, `damping` and `plasticity` are then unused
+  // and inversion must be None.
+  std::optional<MassSpringMaterial> mass_spring;
 };
 
 // Rest shape: the garment's pattern when it has one (rest bend angles flat), else its 3D surface

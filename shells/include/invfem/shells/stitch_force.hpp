@@ -1,6 +1,7 @@
 #pragma once
 // Seams of a garment: each stitch sews vertex i to the point (1 - r) x_j + r x_k of the edge
-// (j, k) (C-IPC's `stitch i j k r` lines). A stitch is a stiff zero-length spring on the gap
+// (j, k) (C-IPC's `stitch i j k r` lines). A stitch is a stiff zero-length spring (the shared
+// kernel core/spring.hpp with rest length 0, as the mass-spring baseline's edge springs) on the gap
 //   C = x_i - (1 - r) x_j - r x_k = sum_a w_a x_a,   w = (1, -(1 - r), -r),
 // with energy k_s/2 |C|^2, forces f_a = -k_s w_a C, and damping f_a = -c_s w_a (sum_b w_b v_b),
 // which is symmetric negative semidefinite in v (so it sits in the implicit damping solve). The

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "invfem/core/edge_spring_force.hpp"
 #include "invfem/core/world.hpp"
 #include "invfem/solids/tet_mesh.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
@@ -19,6 +20,10 @@ struct SolidObjectParams {
   // Starting positions (n x 3, the mesh's node order; scramble.hpp, initial_shape.hpp); empty:
   // the rest positions. The rest shape stays the mesh's either way.
   std::optional<Points> initial_positions;
+  // The mass-spring baseline (core/edge_spring_force.hpp): springs on the tet edges replace the
+  // FE force; material.density still gives the masses, the rest of `material` is unused. The
+  // tets are kept to report inverted elements as the FE force does.
+  std::optional<MassSpringMaterial> mass_spring;
 };
 
 // `mesh` must be validated and positively oriented (validate_and_orient). The object starts at

@@ -2,6 +2,8 @@
 // Volumetric elasticity and damping of a tetrahedral solid: the ITF04 invertible FE force.
 // Per step (update_positions) each element's F is diagonalized once (ITF04 sections 5, 9);
 // elastic forces are G = U P^(F^) V^T Bm (eq. 2) and damping uses the same U, V (section 6.2).
+// The diagonalization is the model's frame (elasticity.hpp diagonal_frame): ITF04's invertible
+// one, or the plain SVD for the corotated baseline, which thereby has no inversion handling.
 //
 // Optional terms, all off by default:
 //  - plasticity (ITF04 6.3) and plasticity control toward a goal (ITF04 7): F = Fe Fp, flowed once

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# The baseline comparison of docs/baselines.md: the torus puddle, the Buddha through the gears and
+# The baseline comparison of the README (section "Baselines"): the torus puddle, the Buddha through the gears and
 # the Buddha's cape, each under the scene's own ITF04 model and the survey's two baselines
 # (material.model corotated, mass_spring), at --quick resolution on one thread, with 320x240
 # previews; then one contact sheet per scene (rows: methods, columns: the same moments) and the
 # table (peak inverted fraction, whether it recovers, time per frame) from each run's stats.jsonl.
-#   docs/baselines/compare.sh INVFEM OUTDIR [JOBS]     e.g. build/apps/invfem out/baselines 2
+#   renders/baselines/compare.sh INVFEM OUTDIR [JOBS]     e.g. build/apps/invfem out/baselines 2
 # JOBS runs at a time (default 2, one per core; each run is --threads 1). Writes OUTDIR/<scene>_<method>/
 # (the runs), OUTDIR/<scene>.png (the sheets) and OUTDIR/table.md.
 set -euo pipefail

@@ -14,6 +14,7 @@ void FractureCriterion::validate(const std::string& where) const {
   if (!(max_plastic_strain > 0)) throw std::invalid_argument(where + ": max_plastic_strain must be > 0");
   if (!std::isfinite(max_principal_stress) && !std::isfinite(max_plastic_strain))
     throw std::invalid_argument(where + ": give max_principal_stress or max_plastic_strain");
+  if (!(front_fraction > 0 && front_fraction <= 1)) throw std::invalid_argument(where + ": front_fraction must lie in (0, 1]");
   if (max_cuts_per_step < 1) throw std::invalid_argument(where + ": max_cuts_per_step must be >= 1");
   if (max_elements < 0) throw std::invalid_argument(where + ": max_elements must be >= 0");
 }
@@ -32,6 +33,7 @@ std::vector<CrackStart> find_crack_starts(const VirtualNodeMesh& mesh, const Tet
                                 " elements, the mesh " + std::to_string(mesh.num_elements()));
   if (c.max_elements > 0 && mesh.num_elements() >= c.max_elements) return starts;
   const bool plastic = std::isfinite(c.max_plastic_strain);
+  static constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
   for (int e = 0; e < mesh.num_elements(); ++e) {
     if (mesh.pieces[static_cast<std::size_t>(mesh.element_root[static_cast<std::size_t>(e)])].size() > 1) continue;
     const Vec3 p = force.principal_stresses(e);
@@ -39,10 +41,17 @@ std::vector<CrackStart> find_crack_starts(const VirtualNodeMesh& mesh, const Tet
     p.maxCoeff(&k);
     double load = p(k) > 0 ? p(k) / c.max_principal_stress : 0.0;
     if (plastic) load = std::max(load, plastic_strain(force.plastic_state().Fp_inv[static_cast<std::size_t>(e)]) / c.max_plastic_strain);
-    if (!(load >= 1)) continue;
-    starts.push_back({e, load, force.diagonalization(e).V.col(k).normalized()});
+    if (!(load >= c.front_fraction)) continue;
+    const int r = mesh.element_root[static_cast<std::size_t>(e)];
+    bool front = false;
+    for (const auto& ed : kEdges)
+      front = front || mesh.cuts.count({std::min(mesh.root.tets(r, ed[0]), mesh.root.tets(r, ed[1])),
+                                        std::max(mesh.root.tets(r, ed[0]), mesh.root.tets(r, ed[1]))}) != 0;
+    if (!front && !(load >= 1)) continue;
+    starts.push_back({e, load, front, force.diagonalization(e).V.col(k).normalized()});
   }
   std::sort(starts.begin(), starts.end(), [](const CrackStart& a, const CrackStart& b) {
+    if (a.front != b.front) return a.front;
     return a.load != b.load ? a.load > b.load : a.element < b.element;
   });
   if (starts.size() > static_cast<std::size_t>(c.max_cuts_per_step)) starts.resize(static_cast<std::size_t>(c.max_cuts_per_step));

@@ -22,7 +22,12 @@ struct FractureCriterion {
   // Accumulated plastic strain max_i |log lambda_i(Fp)| (lambda_i the singular values of Fp),
   // dimensionless, > 0; infinity: not used.
   double max_plastic_strain = std::numeric_limits<double>::infinity();
-  int max_cuts_per_step = 4;   // element copies cut per check, most loaded first (>= 1)
+  // A crack runs on at a lower load than it starts: an element whose root tet already carries a
+  // cut point (the crack front, cut by a neighbour) is cut at load >= front_fraction, any other
+  // at load >= 1. In (0, 1]. Without it a crack's tip does not open until the whole front is cut
+  // (partly cut tets stay materially connected), and the far field reaches the threshold first.
+  double front_fraction = 0.5;
+  int max_cuts_per_step = 4;   // element copies cut per check, crack front first, most loaded first (>= 1)
   int max_elements = 0;        // no cut once the mesh has this many element copies (0: no limit)
   // Throws std::invalid_argument "<where>: <field> ..." when a field is out of range or no
   // threshold is finite.
@@ -31,15 +36,16 @@ struct FractureCriterion {
 
 struct CrackStart {
   int element = -1;      // the element copy
-  double load = 0;       // max(stress / its threshold, plastic strain / its threshold), >= 1
+  double load = 0;       // max(stress / its threshold, plastic strain / its threshold)
+  bool front = false;    // its root tet already carries a cut point
   Vec3 normal;           // unit, rest space
 };
 
 // max_i |log s_i| over the singular values of Fp^-1 (the plastic strain of the criterion).
 double plastic_strain(const Mat3& Fp_inv);
 
-// The element copies over the criterion at the force's last update, most loaded first (ties by
-// index), at most max_cuts_per_step, none once the mesh has max_elements copies. Root tets already
+// The element copies over the criterion at the force's last update, crack front first, then
+// most loaded first (ties by index), at most max_cuts_per_step, none once the mesh has max_elements copies. Root tets already
 // split into pieces are not cut again (at most one crack plane through a tet). `force` must be
 // the force over `mesh`'s element copies (same count).
 std::vector<CrackStart> find_crack_starts(const VirtualNodeMesh& mesh, const TetSolidForce& force,

@@ -22,11 +22,13 @@ b = bytearray(open(path, 'rb').read())
 time_at = 8 + 4 + 8 + 8
 csv_len, = struct.unpack_from('<Q', b, time_at + 8)
 state_at = time_at + 8 + 8 + csv_len + 8
-# world state: u64 pass count (0 here, no passes), u64 object count, name (u64 n + bytes),
-# positions (u64 n + n doubles)
+# world state: u64 pass count and each pass's state (u64 n + bytes), u64 object count, name
+# (u64 n + bytes), positions (u64 n + n doubles)
 passes, = struct.unpack_from('<Q', b, state_at)
-assert passes == 0, passes
 state_at += 8
+for _ in range(passes):
+    n, = struct.unpack_from('<Q', b, state_at)
+    state_at += 8 + n
 name_len, = struct.unpack_from('<Q', b, state_at + 8)
 x_at = state_at + 8 + 8 + name_len + 8
 def fnv(data):

@@ -19,8 +19,9 @@ namespace {
 constexpr char kMagic[8] = {'I', 'N', 'V', 'F', 'E', 'M', 'C', 'K'};
 // 2: the world's state is one blob written by World::save_state (forces save their own state).
 // 3: a checksum of every byte before it, ahead of the trailer.
-constexpr std::uint32_t kVersion = 3;
-// Checksum and trailer: the last 16 bytes of a version-3 file.
+// 4: the world state starts with the step passes' states (a fracture pass's cut mesh).
+constexpr std::uint32_t kVersion = 4;
+// Checksum and trailer: the last 16 bytes of a version-3 or -4 file.
 constexpr std::size_t kTailBytes = sizeof(std::uint64_t) + sizeof kMagic;
 // A checkpoint holds a world's state; a file far larger is not one (and is not read into memory).
 constexpr std::uintmax_t kMaxCheckpointBytes = std::uintmax_t{16} << 30;
@@ -124,7 +125,8 @@ CheckpointInfo load_checkpoint(const std::filesystem::path& file, const Scene& s
     if (const auto version = r.pod<std::uint32_t>("the version"); version != kVersion)
       throw fail("has format version " + std::to_string(version) + ", this invfem reads version " +
                  std::to_string(kVersion) +
-                 (version < kVersion ? " (an older file, without a checksum: rerun from frame 0)" : ""));
+                 (version < 3 ? " (an older file, without a checksum: rerun from frame 0)"
+                  : version < kVersion ? " (an older file: rerun from frame 0)" : ""));
     // The checksum before any field is trusted: the scene hash, frame and time are covered by it.
     if (bytes.size() < kTailBytes + 12) throw fail("is damaged (truncated)");
     const std::size_t body = bytes.size() - kTailBytes;

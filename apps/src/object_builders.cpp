@@ -11,6 +11,7 @@
 #include "invfem/core/pins.hpp"
 #include "invfem/core/plasticity_control.hpp"
 #include "invfem/core/surface_io.hpp"
+#include "collider_builders.hpp"
 #include "invfem/shells/cloth_object.hpp"
 #include "invfem/shells/garment.hpp"
 #include "invfem/shells/shapes.hpp"
@@ -31,12 +32,19 @@ namespace {
 Vec3 to_vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
 // One pin group per box: every node whose rest position lies in it, held still.
-std::vector<PinGroup> pins_in_boxes(const Points& X, const std::vector<PinBox>& boxes, const std::string& what) {
+std::vector<PinGroup> pins_in_boxes(const Points& X, const std::vector<PinBox>& boxes, const std::string& what,
+                                    const std::vector<MotionSpec>* motions = nullptr) {
   std::vector<PinGroup> pins;
   for (std::size_t b = 0; b < boxes.size(); ++b) {
     std::vector<int> nodes = nodes_in_box(X, to_vec(boxes[b].min), to_vec(boxes[b].max));
     if (nodes.empty()) throw InputError(what + ": pin_boxes[" + std::to_string(b) + "] contains no node");
-    pins.push_back(make_pin_group(X, std::move(nodes), std::nullopt, what));
+    std::optional<Motion> motion;
+    if (motions && b < motions->size() && (*motions)[b].kind != MotionSpec::Kind::Fixed) {
+      Vec3 centre = Vec3::Zero();
+      for (int i : nodes) centre += X.row(i).transpose();
+      motion = make_motion((*motions)[b], RigidTransform{}, centre / double(nodes.size()));
+    }
+    pins.push_back(make_pin_group(X, std::move(nodes), std::move(motion), what));
   }
   return pins;
 }
@@ -109,7 +117,7 @@ void check_object_size(const Points& X, double scale, const std::string& what) {
   throw InputError(m.str());
 }
 
-SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
+SimObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh_out) {
   TetMesh mesh;
   try {
     if (is_tet_mesh_file(spec.mesh)) {
@@ -144,7 +152,7 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
   SolidObjectParams params;
   params.velocity = to_vec(spec.velocity);
   params.gravity = to_vec(scene.gravity);
-  params.pins = pins_in_boxes(mesh.X, spec.pin_boxes, what);
+  params.pins = pins_in_boxes(mesh.X, spec.pin_boxes, what, &spec.pin_box_motions);
   if (spec.initial_shape) params.initial_positions = initial_positions(*spec.initial_shape, mesh, spec.transform, spec.name);
   try {
     TetMaterial material = make_tet_material(spec.material, scene.solver.cfl);
@@ -163,6 +171,7 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene) {
     }
     params.material = std::move(material);
     params.mass_spring = make_mass_spring(spec.material, scene.solver.cfl);
+    if (mesh_out) *mesh_out = mesh;
     return make_solid_object(spec.name, mesh, std::move(params));
   } catch (const std::invalid_argument& e) {
     throw InputError(what + ": " + e.what());

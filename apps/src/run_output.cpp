@@ -81,6 +81,12 @@ int remove_stale_temporaries(const std::filesystem::path& out_dir) {
 RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World& world, std::set<std::string> formats,
                      int first_frame, const std::string& resume_csv)
     : dir_(std::move(dir)), formats_(std::move(formats)) {
+  // A USD animation holds one topology (usd_writer.hpp); a fracturing solid's changes.
+  if (formats_.count("usd"))
+    for (const auto& s : scene.solids)
+      if (s.fracture)
+        throw InputError("--format usd: solid \"" + s.name + "\" fractures and a USD animation holds one topology; "
+                         "write obj, ply or vtu frames (each frame file carries its own topology)");
   std::filesystem::create_directories(dir_ / "frames");
   for (const auto& o : world.objects()) std::filesystem::create_directories(dir_ / "frames" / o.name);
   for (const auto& k : world.kinematic_bodies())

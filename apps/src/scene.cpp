@@ -78,18 +78,22 @@ Transform parse_transform(const Fields& f) {
   return t;
 }
 
-std::vector<PinBox> parse_pin_boxes(const Fields& f) {
+std::vector<PinBox> parse_pin_boxes(const Fields& f, std::vector<MotionSpec>* motions) {
   std::vector<PinBox> boxes;
   if (!f.has("pin_boxes")) return boxes;
   const auto& v = f.raw("pin_boxes");
   if (!v.is_array()) f.fail("pin_boxes", "an array of {\"min\": [x, y, z], \"max\": [x, y, z]} boxes");
-  for (std::size_t i = 0; i < v.size(); ++i)
-    boxes.push_back(parse_pin_box(Fields(v[i], f.file(), f.path_of("pin_boxes") + "[" + std::to_string(i) + "]")));
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const Fields b(v[i], f.file(), f.path_of("pin_boxes") + "[" + std::to_string(i) + "]");
+    boxes.push_back(parse_pin_box(b, motions != nullptr));
+    if (motions) motions->push_back(parse_motion(b.object_or_empty("motion")));
+  }
   return boxes;
 }
 
-PinBox parse_pin_box(const Fields& b) {
-  b.reject_unknown({"min", "max"});
+PinBox parse_pin_box(const Fields& b, bool with_motion) {
+  if (with_motion) b.reject_unknown({"min", "max", "motion"});
+  else b.reject_unknown({"min", "max"});
   PinBox box;
   box.min = b.vec3("min", box.min, limits::kLength);
   box.max = b.vec3("max", box.max, limits::kLength);
@@ -117,6 +121,20 @@ PlasticitySpec parse_plasticity(const Fields& f) {
   p.max_stretch = f.number("max_stretch", p.max_stretch);
   if (!(p.max_stretch > 1 && p.max_stretch <= 1e6)) f.fail("max_stretch", "a stretch limit in (1, 1e6]");
   return p;
+}
+
+FractureSpec parse_fracture(const Fields& f) {
+  f.reject_unknown({"max_principal_stress", "max_plastic_strain", "front_fraction", "max_cuts_per_step", "max_elements"});
+  FractureSpec s;
+  if (f.has("max_principal_stress")) s.max_principal_stress = f.number_in("max_principal_stress", 1e6, 1e-6, 1e12);
+  if (f.has("max_plastic_strain")) s.max_plastic_strain = f.number_in("max_plastic_strain", 1, 1e-6, 10);
+  if (!s.max_principal_stress && !s.max_plastic_strain)
+    f.fail("max_principal_stress", "a threshold: max_principal_stress [Pa] and/or max_plastic_strain");
+  s.front_fraction = f.number("front_fraction", s.front_fraction);
+  if (!(s.front_fraction > 0 && s.front_fraction <= 1)) f.fail("front_fraction", "a fraction in (0, 1]");
+  s.max_cuts_per_step = f.integer("max_cuts_per_step", s.max_cuts_per_step, 1, 1000000);
+  s.max_elements = f.integer("max_elements", s.max_elements, 0, 1000000000);
+  return s;
 }
 
 PlasticGoalSpec parse_plastic_goal(const Fields& f) {
@@ -485,7 +503,8 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
     for (std::size_t i = 0; i < j["solids"].size(); ++i) {
       Fields f(j["solids"][i], fname, "$.solids[" + std::to_string(i) + "]");
       f.reject_unknown({"name", "mesh", "mesh_resolution", "transform", "velocity", "material", "pin_boxes",
-                        "plasticity", "plastic_goal", "fiber", "initial_shape", "self_collision", "cloth_coupling"});
+                        "plasticity", "plastic_goal", "fiber", "initial_shape", "self_collision", "cloth_coupling",
+                        "fracture"});
       SolidSpec solid;
       if (f.has("cloth_coupling")) {
         const Fields c = f.object("cloth_coupling");
@@ -512,7 +531,7 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
       solid.velocity = f.vec3("velocity", solid.velocity, limits::kSpeed);
       solid.mesh_resolution = f.integer("mesh_resolution", solid.mesh_resolution, 2, 1000);
       solid.material = parse_material(f.object_or_empty("material"));
-      solid.pin_boxes = parse_pin_boxes(f);
+      solid.pin_boxes = parse_pin_boxes(f, &solid.pin_box_motions);
       if (f.has("plasticity")) solid.plasticity = parse_plasticity(f.object("plasticity"));
       if (f.has("plastic_goal")) {
         if (!solid.plasticity) f.fail("plastic_goal", "a \"plasticity\" block as well (control steers plastic flow)");
@@ -526,6 +545,17 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
           if (f.has(key)) f.fail(key, "no \"" + std::string(key) + "\" block with material.model \"mass_spring\" (springs have no F)");
       if (f.has("initial_shape"))
         solid.initial_shape = parse_solid_initial_shape(f.object("initial_shape"), dir, check_files);
+      if (f.has("fracture")) {
+        solid.fracture = parse_fracture(f.object("fracture"));
+        if (solid.fracture->max_plastic_strain && !solid.plasticity)
+          f.fail("fracture", "a \"plasticity\" block as well for max_plastic_strain (without it Fp stays the identity)");
+        if (solid.material.model == "mass_spring")
+          f.fail("fracture", "a finite-element material.model (the virtual node algorithm cuts tets; springs have "
+                             "no stress to cut by)");
+        if (solid.cloth_coupling.enabled && !solid.cloth_coupling.cloths.empty())
+          f.fail("fracture", "no cloth_coupling (the coupling's collision surface does not follow a changing "
+                             "topology yet)");
+      }
       s.solids.push_back(std::move(solid));
     }
   }
@@ -538,6 +568,11 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
     }
   }
   if (s.solids.empty() && s.cloths.empty()) root.fail("solids", "at least one solid or cloth object");
+  for (std::size_t i = 0; i < s.solids.size(); ++i)
+    if (s.solids[i].fracture && s.self_collision.enabled && s.solids[i].self_collision)
+      Fields(j["solids"][i], fname, "$.solids[" + std::to_string(i) + "]")
+          .fail("fracture", "\"self_collision\": false on a fracturing solid (the self-collision layer does not "
+                            "follow a changing topology yet)");
   // Couplings and attachments name objects of the other kind.
   for (std::size_t i = 0; i < s.solids.size(); ++i)
     for (std::size_t k = 0; k < s.solids[i].cloth_coupling.cloths.size(); ++k) {
@@ -601,9 +636,15 @@ nlohmann::json transform_json(const Transform& t) {
   return {{"scale", t.scale}, {"rotate_degrees", t.rotate_degrees}, {"translate", t.translate}};
 }
 
-nlohmann::json pin_boxes_json(const std::vector<PinBox>& boxes) {
+nlohmann::json pin_boxes_json(const std::vector<PinBox>& boxes, const std::vector<MotionSpec>* motions) {
   nlohmann::json a = nlohmann::json::array();
-  for (const auto& b : boxes) a.push_back({{"min", b.min}, {"max", b.max}});
+  for (std::size_t k = 0; k < boxes.size(); ++k) {
+    nlohmann::json b{{"min", boxes[k].min}, {"max", boxes[k].max}};
+    // Only a moving box says so: the scene as run (and its hash) is unchanged for held boxes.
+    if (motions && k < motions->size() && (*motions)[k].kind != MotionSpec::Kind::Fixed)
+      b["motion"] = motion_json((*motions)[k]);
+    a.push_back(std::move(b));
+  }
   return a;
 }
 
@@ -657,8 +698,16 @@ nlohmann::json solid_json(const SolidSpec& o) {
                     {"compression_limit", m.compression_limit},
                     {"hardening_deformation", m.hardening_deformation},
                     {"hardening_strength", m.hardening_strength}, {"strength", track_json(m.strength)}}},
-      {"pin_boxes", pin_boxes_json(o.pin_boxes)}};
+      {"pin_boxes", pin_boxes_json(o.pin_boxes, &o.pin_box_motions)}};
   if (o.plasticity) j["plasticity"] = plasticity_json(*o.plasticity);
+  if (o.fracture) {
+    nlohmann::json f{{"front_fraction", o.fracture->front_fraction},
+                     {"max_cuts_per_step", o.fracture->max_cuts_per_step},
+                     {"max_elements", o.fracture->max_elements}};
+    if (o.fracture->max_principal_stress) f["max_principal_stress"] = *o.fracture->max_principal_stress;
+    if (o.fracture->max_plastic_strain) f["max_plastic_strain"] = *o.fracture->max_plastic_strain;
+    j["fracture"] = f;
+  }
   if (o.plastic_goal) j["plastic_goal"] = {{"scale", o.plastic_goal->scale}, {"center", o.plastic_goal->center}};
   if (o.fiber)
     j["fiber"] = {{"direction", o.fiber->direction}, {"k_passive", o.fiber->k_passive},

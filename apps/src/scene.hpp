@@ -34,8 +34,36 @@ struct Transform {
   std::array<double, 3> translate{0, 0, 0};
 };
 
+// How a rigid collider moves: fixed at its transform, at constant linear and angular
+// velocity from it, or by absolute keyframes. Pinned vertices use it too, about their rest
+// positions (the keys then move the pinned set as a rigid body from where it rests).
+struct MotionSpec {
+  enum class Kind { Fixed, ConstantVelocity, Keyframed } kind = Kind::Fixed;
+  std::array<double, 3> velocity{0, 0, 0};    // [m/s]
+  std::array<double, 3> spin_axis{0, 0, 1};
+  double spin_rate = 0;                       // [rad/s], about the collider's translate point
+  std::vector<std::pair<double, std::array<double, 3>>> translate_keys;  // (t, world translation)
+  struct RotateKey {
+    double t;
+    std::array<double, 3> axis;
+    double degrees;
+  };
+  std::vector<RotateKey> rotate_keys;
+};
+
 struct PinBox {
   std::array<double, 3> min{0, 0, 0}, max{0, 0, 0};  // world rest positions inside are held still
+};
+
+// Ductile fracture by the virtual node algorithm (solids/fracture_criterion.hpp): an element
+// copy whose largest principal stress (or accumulated plastic strain) passes its threshold is
+// cut orthogonally to its largest principal stress direction. A threshold left out is not used.
+struct FractureSpec {
+  std::optional<double> max_principal_stress;  // [Pa]
+  std::optional<double> max_plastic_strain;    // max |log| of Fp's singular values
+  double front_fraction = 0.5;                 // a crack front's element is cut at this fraction of a threshold
+  int max_cuts_per_step = 4;                   // element copies cut per step, crack front first
+  int max_elements = 0;                        // no cut once the mesh has this many copies (0: none)
 };
 
 struct PlasticitySpec {       // ITF04 6.3
@@ -92,23 +120,9 @@ struct SolidSpec {
   std::optional<PlasticGoalSpec> plastic_goal;
   std::optional<FiberSpec> fiber;
   std::optional<SolidInitialShapeSpec> initial_shape;
-};
-
-// How a rigid collider moves: fixed at its transform, at constant linear and angular
-// velocity from it, or by absolute keyframes. Pinned vertices use it too, about their rest
-// positions (the keys then move the pinned set as a rigid body from where it rests).
-struct MotionSpec {
-  enum class Kind { Fixed, ConstantVelocity, Keyframed } kind = Kind::Fixed;
-  std::array<double, 3> velocity{0, 0, 0};    // [m/s]
-  std::array<double, 3> spin_axis{0, 0, 1};
-  double spin_rate = 0;                       // [rad/s], about the collider's translate point
-  std::vector<std::pair<double, std::array<double, 3>>> translate_keys;  // (t, world translation)
-  struct RotateKey {
-    double t;
-    std::array<double, 3> axis;
-    double degrees;
-  };
-  std::vector<RotateKey> rotate_keys;
+  // pin_boxes[k]'s motion (Fixed: held still), about the box's pinned nodes' centre at rest.
+  std::vector<MotionSpec> pin_box_motions;
+  std::optional<FractureSpec> fracture;
 };
 
 struct ClothMaterialSpec {

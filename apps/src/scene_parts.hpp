@@ -13,8 +13,9 @@ namespace invfem::app::scene_detail {
 
 ScalarTrack parse_track(const Fields& f, const std::string& key, double fallback);
 Transform parse_transform(const Fields& f);
-std::vector<PinBox> parse_pin_boxes(const Fields& f);
-PinBox parse_pin_box(const Fields& b);
+// With `motions`, each box may also hold a "motion" (parse_motion), appended there (solids).
+std::vector<PinBox> parse_pin_boxes(const Fields& f, std::vector<MotionSpec>* motions = nullptr);
+PinBox parse_pin_box(const Fields& b, bool with_motion = false);
 PlasticitySpec parse_plasticity(const Fields& f);
 // The fields choosing a constitutive model: model, compression_limit, hardening_deformation,
 // hardening_strength (solids' and cloths' materials alike).
@@ -27,7 +28,7 @@ std::filesystem::path parse_mesh_path(const Fields& f, const std::string& key, c
 
 nlohmann::json track_json(const ScalarTrack& t);
 nlohmann::json transform_json(const Transform& t);
-nlohmann::json pin_boxes_json(const std::vector<PinBox>& boxes);
+nlohmann::json pin_boxes_json(const std::vector<PinBox>& boxes, const std::vector<MotionSpec>* motions = nullptr);
 nlohmann::json motion_json(const MotionSpec& m);
 nlohmann::json plasticity_json(const PlasticitySpec& p);
 

@@ -7,6 +7,7 @@
 #include "invfem/collisions/rigid_collisions.hpp"
 #include "invfem/core/attachment_embedding.hpp"
 #include "invfem/collisions/self_collision_pass.hpp"
+#include "invfem/solids/fracture_pass.hpp"
 #include "json_fields.hpp"
 #include "object_builders.hpp"
 
@@ -45,7 +46,19 @@ void check_not_inside_colliders(const Scene& scene, const std::vector<SimObject>
 
 World build_world(const Scene& scene) {
   std::vector<SimObject> objects;
-  for (const auto& spec : scene.solids) objects.push_back(build_solid(spec, scene));
+  std::vector<FracturingSolid> fracturing;
+  for (const auto& spec : scene.solids) {
+    TetMesh mesh;
+    objects.push_back(build_solid(spec, scene, &mesh));
+    if (!spec.fracture) continue;
+    FracturingSolid f{spec.name, std::move(mesh), FractureCriterion{}};
+    if (spec.fracture->max_principal_stress) f.criterion.max_principal_stress = *spec.fracture->max_principal_stress;
+    if (spec.fracture->max_plastic_strain) f.criterion.max_plastic_strain = *spec.fracture->max_plastic_strain;
+    f.criterion.front_fraction = spec.fracture->front_fraction;
+    f.criterion.max_cuts_per_step = spec.fracture->max_cuts_per_step;
+    f.criterion.max_elements = spec.fracture->max_elements;
+    fracturing.push_back(std::move(f));
+  }
   for (const auto& spec : scene.cloths) objects.push_back(build_cloth(spec, scene));
   // Attached cloth vertices: embedded in their solid at the start (scene.cpp checked the names).
   for (SimObject& cloth : objects)
@@ -78,6 +91,7 @@ World build_world(const Scene& scene) {
   try {
     World world(settings, std::move(objects), std::move(colliders.bodies),
                 std::make_unique<RigidCollisions>(std::move(colliders.collision), std::move(couplings)));
+    if (!fracturing.empty()) world.add_pass(std::make_unique<FracturePass>(std::move(fracturing)));
     const SelfCollisionSpec& sc = scene.self_collision;
     if (sc.enabled) {
       collisions::SelfCollisionSettings s;

@@ -211,9 +211,12 @@ void World::advance_to(double t_end, FrameReport& report) {
       // The forces were evaluated at the step's end (plastic flow included); an object the
       // passes moved is evaluated again where it now is, as a checkpoint's restore would
       // (resumed runs stay bit-identical).
-      for (std::size_t k = 0; k < objects_.size(); ++k)
-        if (objects_[k].body.x != x_before_passes[k])
+      for (std::size_t k = 0; k < objects_.size(); ++k) {
+        const bool resized = objects_[k].body.x.rows() != x_before_passes[k].rows();
+        if (resized) implicit_[k].normal_force.resize(0);  // per node; none after a topology change
+        if (resized || objects_[k].body.x != x_before_passes[k])
           for (auto& f : objects_[k].forces) f->update_positions(objects_[k].body.x, time_ + dt);
+      }
     }
     time_ += dt;
     ++report.substeps;
@@ -275,6 +278,12 @@ void World::resynchronize(double time) {
 }
 
 void World::save_state(StateWriter& out) const {
+  out.count(passes_.size());
+  for (const auto& p : passes_) {
+    StateWriter w;
+    p->save_state(w);
+    out.string(w.bytes());
+  }
   out.count(objects_.size());
   for (std::size_t k = 0; k < objects_.size(); ++k) {
     const SimObject& o = objects_[k];
@@ -296,6 +305,14 @@ void World::save_state(StateWriter& out) const {
 }
 
 void World::apply_state(StateReader& in) {
+  // Passes first: one that changes topology rebuilds the objects the states below are read into.
+  if (in.count("the pass count") != passes_.size()) throw StateError("the state holds another number of step passes");
+  for (std::size_t p = 0; p < passes_.size(); ++p) {
+    const std::string what = "the state of step pass " + std::to_string(p);
+    StateReader blob(in.string(what));
+    passes_[p]->restore_state(blob, objects_);
+    blob.expect_end(what);
+  }
   if (in.count("the object count") != objects_.size()) throw StateError("the state holds another number of objects");
   // Positions and velocities are read into copies first; forces restore themselves one by one.
   std::vector<Eigen::VectorXd> lagged(objects_.size());

@@ -276,6 +276,12 @@ double TetSolidForce::stable_time_step(const Eigen::VectorXd& mass) const {
   return material_.cfl * 2 / std::sqrt(omega2);
 }
 
+Vec3 TetSolidForce::principal_stresses(int e) const {
+  const IsotropicModel model = with_strength(material_.model, strength_);
+  const Vec3& sigma = diag_[static_cast<std::size_t>(e)].sigma;
+  return std::visit([&](const auto& mdl) -> Vec3 { return mdl.template psi_gradient<3>(sigma); }, model);
+}
+
 int TetSolidForce::inverted_count() const {
   return static_cast<int>(std::count_if(det_F_.begin(), det_F_.end(), [](double d) { return d < 0; }));
 }

@@ -22,7 +22,13 @@ b = bytearray(open(path, 'rb').read())
 time_at = 8 + 4 + 8 + 8
 csv_len, = struct.unpack_from('<Q', b, time_at + 8)
 state_at = time_at + 8 + 8 + csv_len + 8
-# world state: u64 object count, name (u64 n + bytes), positions (u64 n + n doubles)
+# world state: u64 pass count and each pass's state (u64 n + bytes), u64 object count, name
+# (u64 n + bytes), positions (u64 n + n doubles)
+passes, = struct.unpack_from('<Q', b, state_at)
+state_at += 8
+for _ in range(passes):
+    n, = struct.unpack_from('<Q', b, state_at)
+    state_at += 8 + n
 name_len, = struct.unpack_from('<Q', b, state_at + 8)
 x_at = state_at + 8 + 8 + name_len + 8
 def fnv(data):
@@ -74,7 +80,7 @@ resume_case time_bit time_bit "is damaged (its checksum does not match its conte
 resume_case nan nan "does not fit this scene: the position of node 1 of \"torus\" is not finite"
 resume_case time_nan time_nan "holds time nan s, not the time of frame 8"
 resume_case directory dir "cannot be read: is a directory, not a regular file"
-resume_case version2 version2 "has format version 2, this invfem reads version 3"
+resume_case version2 version2 "has format version 2, this invfem reads version 4"
 
 # Another scene: the warning says what differs.
 cp -r "$work/reference" "$work/other"

@@ -138,11 +138,19 @@ struct StepPassInput {
 
 // A pass run after every step (stage 4), such as the self-collision layer (collisions/); it may
 // change the objects' end-of-step positions and velocities, and adds its figures to the report.
-// The world then updates the forces of every object whose positions it changed.
+// The world then updates the forces of every object whose positions it changed. A pass may also
+// change an object's topology (its nodes, forces, surface, tets and pins: fracture); the world
+// then updates its forces too and drops its lagged contact forces (implicit step).
 class StepPass {
  public:
   virtual ~StepPass() = default;
   virtual void after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport& report) = 0;
+  // Checkpoints (World::save_state): a pass that changes the objects' topology (fracture,
+  // solids/fracture_pass.hpp) saves what rebuilds it. restore_state runs before the objects'
+  // own states are read and may resize the objects (their nodes, forces, surface); a pass
+  // without state of its own writes nothing and reads nothing.
+  virtual void save_state(StateWriter& out) const { (void)out; }
+  virtual void restore_state(StateReader& in, std::vector<SimObject>& objects) { (void)in, (void)objects; }
 };
 
 // itf04: ITF04 section 9 (explicit elasticity, implicit damping; CFL-limited), the reference.
@@ -227,7 +235,8 @@ class World {
   // non_finite_state() is "".
   bool state_is_finite() const { return non_finite_state().empty(); }
 
-  // The whole state for checkpoints: positions, velocities and every force's own state.
+  // The whole state for checkpoints: every pass's own state (StepPass::save_state), then per
+  // object positions, velocities and every force's own state.
   void save_state(StateWriter& out) const;
   // Reads what save_state wrote and puts the world at `time`. Throws StateError naming the object
   // or force when the stream does not fit this world or holds a non-finite position, velocity or

@@ -86,6 +86,12 @@ class TetSolidForce final : public Force {
   const TetRest& rest() const { return rest_; }
   double total_rest_volume() const;
   int yielded_count() const;            // elements whose trial strain yielded in the last update
+  // Fe = U diag(sigma) V^T of element e at the last update (Fe = F Fp^-1; F without plasticity).
+  const Diagonalization3& diagonalization(int e) const { return diag_[static_cast<std::size_t>(e)]; }
+  // The first Piola-Kirchhoff stress of the isotropic term in element e's diagonal frame,
+  // P^ = dPsi/dsigma (ITF04 section 5) at the last update, strength included: P = U diag(P^) V^T.
+  Vec3 principal_stresses(int e) const;
+  const TetMaterial& material() const { return material_; }
 
   // The plastic state (one symmetric positive definite Fp^-1 per element; identity at rest).
   // The setter is for checkpoints and tests: it takes effect at the next update_positions (which,

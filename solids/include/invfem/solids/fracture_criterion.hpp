@@ -1,0 +1,58 @@
+#pragma once
+// Where cracks start and run (meshing-and-fracture.md 2.4; ITF04 Figure 9): per element copy, the
+// largest principal stress of its diagonal frame (P^ = dPsi/dsigma, the first Piola-Kirchhoff
+// stress, so a threshold in Pa) or its accumulated plastic strain over a threshold. A copy that
+// passes is cut by the plane orthogonal to its largest principal stress direction: the material
+// direction V e_k (P = U diag(P^) V^T, so the traction P N on a material plane of normal N is
+// largest for N = V e_k). With plasticity V is that of Fe = F Fp^-1, taken as a rest-space
+// direction (the plastic rest shape's rotation is ignored: an approximation, documented).
+// The plane goes through the cut points the root tet already carries from its neighbours (their
+// mean; 2.4's snapping), else through its rest centroid, so a crack runs on continuously.
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "invfem/solids/tet_solid_force.hpp"
+#include "invfem/solids/virtual_node_cut.hpp"
+
+namespace invfem {
+
+struct FractureCriterion {
+  double max_principal_stress = std::numeric_limits<double>::infinity();  // [Pa], > 0
+  // Accumulated plastic strain max_i |log lambda_i(Fp)| (lambda_i the singular values of Fp),
+  // dimensionless, > 0; infinity: not used.
+  double max_plastic_strain = std::numeric_limits<double>::infinity();
+  // A crack runs on at a lower load than it starts: an element whose root tet already carries a
+  // cut point (the crack front, cut by a neighbour) is cut at load >= front_fraction, any other
+  // at load >= 1. In (0, 1]. Without it a crack's tip does not open until the whole front is cut
+  // (partly cut tets stay materially connected), and the far field reaches the threshold first.
+  double front_fraction = 0.5;
+  int max_cuts_per_step = 4;   // element copies cut per check, crack front first, most loaded first (>= 1)
+  int max_elements = 0;        // no cut once the mesh has this many element copies (0: no limit)
+  // Throws std::invalid_argument "<where>: <field> ..." when a field is out of range or no
+  // threshold is finite.
+  void validate(const std::string& where) const;
+};
+
+struct CrackStart {
+  int element = -1;      // the element copy
+  double load = 0;       // max(stress / its threshold, plastic strain / its threshold)
+  bool front = false;    // its root tet already carries a cut point
+  Vec3 normal;           // unit, rest space
+};
+
+// max_i |log s_i| over the singular values of Fp^-1 (the plastic strain of the criterion).
+double plastic_strain(const Mat3& Fp_inv);
+
+// The element copies over the criterion at the force's last update, crack front first, then
+// most loaded first (ties by index), at most max_cuts_per_step, none once the mesh has max_elements copies. Root tets already
+// split into pieces are not cut again (at most one crack plane through a tet). `force` must be
+// the force over `mesh`'s element copies (same count).
+std::vector<CrackStart> find_crack_starts(const VirtualNodeMesh& mesh, const TetSolidForce& force,
+                                          const FractureCriterion& criterion);
+
+// Cuts each start's root tet (cut_tet_by_plane, through the snapped point). Returns the cut
+// points added; call update_topology afterwards.
+int apply_crack_starts(VirtualNodeMesh& mesh, const std::vector<CrackStart>& starts);
+
+}  // namespace invfem

@@ -1,0 +1,79 @@
+#pragma once
+// Ductile fracture during a run (ITF04 Figure 9; meshing-and-fracture.md Part 2): an after-step
+// pass of the World (world.hpp stage 4) that checks each fracturing solid's criterion
+// (fracture_criterion.hpp) at the step's end, cuts the loaded element copies and, when the
+// topology changed, rebuilds the solid on the enlarged mesh (rebuild_fractured_solid):
+//  - nodes: positions and velocities carried from their parents (a virtual node starts where its
+//    original is, with its velocity); masses from the weighted lumped masses, so each old node's
+//    mass is split among its copies and mass and momentum are conserved across the split;
+//  - the force: a new TetSolidForce on the weighted rest data with the parent copies' plastic
+//    state (restore_plastic_state: the World re-evaluates the object where it is without a second
+//    plastic flow, as a checkpoint's restore does, so resumed runs stay bit-identical);
+//  - the boundary surface (what is written, drawn and collided): the boundary of the enlarged
+//    mesh. That is the simplest correct choice: closed, one surface per piece, and the crack faces
+//    are the outer faces of the copies on each side, so they lie within one element of the
+//    embedded cut. (The embedded cut triangles of 2.3 are not drawn yet.)
+//  - pins: every copy of a pinned node is pinned to its original's anchor.
+// Indices are stable (virtual_node_cut.hpp): old nodes keep theirs, so a cloth attached to the
+// solid stays attached. Per-frame outputs are written with each frame's own topology.
+//
+// The pass's state (the cut mesh) goes into checkpoints ahead of the objects' (World::save_state),
+// and restoring it rebuilds the solids before their positions are read.
+#include <string>
+#include <vector>
+
+#include "invfem/core/world.hpp"
+#include "invfem/solids/fracture_criterion.hpp"
+#include "invfem/solids/tet_mesh.hpp"
+#include "invfem/solids/tet_solid_force.hpp"
+#include "invfem/solids/virtual_node_cut.hpp"
+
+namespace invfem {
+
+// A solid as it was built, before any fracture: what every rebuild starts from.
+struct FractureBase {
+  TetMaterial material;         // per-element fields (fiber directions, plastic goals) per root tet
+  double density = 1000;        // [kg/m^3]
+  std::vector<PinGroup> pins;   // over the root nodes
+};
+
+// Rebuilds solid `o` on `mesh`'s current topology. With `change` (o holding the topology before
+// it): positions, velocities and the plastic state carried from the parents. Without (a
+// checkpoint's restore, which reads them next): positions at rest, velocities zero, Fp^-1 = Id.
+// Leaves the force to be updated at o.body.x (the World does so for an object whose node count
+// changed). Throws std::invalid_argument when o's first force is not a TetSolidForce.
+void rebuild_fractured_solid(SimObject& o, const VirtualNodeMesh& mesh, const FractureBase& base,
+                             const TopologyChange* change);
+
+struct FracturingSolid {
+  std::string object;           // the SimObject's name
+  TetMesh mesh;                 // its rest mesh (validated, positively oriented), node order of the object
+  FractureCriterion criterion;
+};
+
+class FracturePass final : public StepPass {
+ public:
+  // Throws std::invalid_argument for an invalid criterion or an empty mesh.
+  explicit FracturePass(std::vector<FracturingSolid> solids);
+
+  void after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport& report) override;
+  void save_state(StateWriter& out) const override;
+  void restore_state(StateReader& in, std::vector<SimObject>& objects) override;
+
+  const VirtualNodeMesh& mesh(std::size_t k) const { return solids_[k].mesh; }
+  int events() const { return events_; }  // topology changes so far (not saved: a run's figure)
+
+ private:
+  struct Solid {
+    FracturingSolid spec;
+    VirtualNodeMesh mesh;
+    FractureBase base;
+    int object = -1;  // index in the World's objects, bound at first use
+  };
+  void bind(std::vector<SimObject>& objects);
+
+  std::vector<Solid> solids_;
+  int events_ = 0;
+};
+
+}  // namespace invfem

@@ -1,0 +1,80 @@
+// plate_tear (issue 13): a notched slab (apps/scenes/data/notched_slab.mesh: 0.12 x 0.07 x
+// 0.02 m, a 4 cm slot from the left at 0.03 < y < 0.04) held at y = 0 and pulled up at 5 cm/s at
+// y = 0.07, fracturing by the virtual node algorithm. It must tear from the notch's tip along the
+// notch plane into two pieces, conserving its rest volume (and so its mass), early in the run.
+// Checks what `invfem run apps/scenes/plate_tear.json --quick` wrote (20 frames at 30 fps).
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+#include "scene_output.hpp"
+
+namespace invfem::test {
+namespace {
+
+const std::filesystem::path kOut = INVFEM_SCENE_DIR;
+constexpr double kPull = 0.05, kFps = 30;  // [m/s] of the upper pins, frames per second
+
+TriangleSurface frame(int f) { return read_obj_surface((kOut / "frames/slab" / frame_file(f)).string()); }
+
+// The connected pieces of a surface (by shared vertices): each piece's lowest and highest y.
+std::vector<std::pair<double, double>> pieces_y(const TriangleSurface& s) {
+  std::vector<int> parent(static_cast<std::size_t>(s.x.rows()));
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int i) {
+    while (parent[static_cast<std::size_t>(i)] != i) i = parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+    return i;
+  };
+  for (Eigen::Index t = 0; t < s.tris.rows(); ++t)
+    for (int k = 1; k < 3; ++k) parent[static_cast<std::size_t>(find(s.tris(t, 0)))] = find(s.tris(t, k));
+  std::map<int, std::pair<double, double>> range;
+  for (Eigen::Index i = 0; i < s.x.rows(); ++i) {
+    auto [it, fresh] = range.try_emplace(find(static_cast<int>(i)), s.x(i, 1), s.x(i, 1));
+    it->second.first = std::min(it->second.first, s.x(i, 1));
+    it->second.second = std::max(it->second.second, s.x(i, 1));
+  }
+  std::vector<std::pair<double, double>> out;
+  for (const auto& [root, r] : range) out.push_back(r);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(PlateTear, WholeBeforeTheTear) { EXPECT_EQ(pieces_y(frame(1)).size(), 1u); }
+
+TEST(PlateTear, TearsAlongTheNotchIntoTwoPieces) {
+  for (int f : {5, 12, 20}) {
+    const auto p = pieces_y(frame(f));
+    ASSERT_EQ(p.size(), 2u) << "frame " << f;
+    const double lift = kPull * f / kFps;  // how far the upper pins have moved
+    // The lower piece: from its held edge up to the notch's upper face (the cut row's copies reach
+    // y = 0.04 at rest), relaxed back close to rest.
+    EXPECT_NEAR(p[0].first, 0.0, 1e-9) << "frame " << f;
+    EXPECT_LT(p[0].second, 0.0405) << "frame " << f;
+    EXPECT_GT(p[0].second, 0.0395) << "frame " << f;
+    // The upper piece moves with its pins and starts at the notch's lower face (y = 0.03 at rest).
+    EXPECT_NEAR(p[1].second, 0.07 + lift, 1e-9) << "frame " << f;
+    EXPECT_GT(p[1].first - lift, 0.029) << "frame " << f;
+    EXPECT_LT(p[1].first - lift, 0.036) << "frame " << f;
+  }
+}
+
+TEST(PlateTear, ElementsAreCopiedNeverDeletedAndTheRestVolumeIsConserved) {
+  const Csv csv = read_csv(kOut / "energies.csv");
+  ASSERT_EQ(csv.rows(), 21u);
+  ASSERT_NO_FATAL_FAILURE(expect_all_finite(csv));
+  // 0.12 x 0.07 x 0.02 m less the slot (4 x 1 x 2 cells of 1 cm): 1.6e-4 m^3 at every frame.
+  for (double v : csv["rest_volume"]) EXPECT_NEAR(v, 1.6e-4, 1e-12);
+  EXPECT_EQ(csv["elements"].front(), 960);
+  for (std::size_t f = 1; f < csv.rows(); ++f) EXPECT_GE(csv["elements"][f], csv["elements"][f - 1]);
+  // The ligament (x > 4 cm) of the notch's cell row: 8 x 2 cells x 6 tets, each cut once.
+  EXPECT_EQ(csv["elements"].back(), 960 + 96);
+  for (double n : csv["inverted"]) EXPECT_EQ(n, 0);
+}
+
+TEST(PlateTear, EnergiesMatchGolden) {
+  expect_matches_golden_csv(kOut / "energies.csv", std::filesystem::path(INVFEM_GOLDEN_DIR) / "energies/plate_tear.csv",
+                            {"kinetic", "elastic", "volume"}, 1e-3, 1e-3);
+}
+
+}  // namespace
+}  // namespace invfem::test

@@ -1,0 +1,233 @@
+// The virtual node algorithm (solids/virtual_node_cut.hpp, fracture_criterion.hpp): a cube of
+// tets cut by planes (meshing-and-fracture.md 2.5's regression test), mass and momentum across
+// a split, the carried per-element state, and the forces of the split mesh.
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+
+#include "fd_check.hpp"
+#include "force_checks.hpp"
+#include "invfem/solids/fracture_criterion.hpp"
+#include "invfem/solids/tet_solid_force.hpp"
+#include "invfem/solids/virtual_node_cut.hpp"
+#include "test_meshes.hpp"
+
+namespace invfem {
+namespace {
+
+constexpr double kDensity = 1000;
+
+// The unit cube of 4 x 4 x 4 cells (384 tets); no node lies on the planes x = 0.4 or y = 0.6.
+VirtualNodeMesh unit_cube() {
+  const test::TetMesh t = test::cube_cells_mesh({4, 4, 4}, 0.25);
+  return make_virtual_node_mesh(TetMesh{t.X, t.T, "unit cube"});
+}
+
+// Cuts every root tet the plane crosses (a crack through the whole body).
+void cut_all(VirtualNodeMesh& m, const Vec3& point, const Vec3& normal) {
+  for (int r = 0; r < static_cast<int>(m.root.tets.rows()); ++r) cut_tet_by_plane(m, r, point, normal);
+}
+
+double total_weighted_volume(const VirtualNodeMesh& m) {
+  double v = 0;
+  for (double x : weighted_tet_rest(m).volume) v += x;
+  return v;
+}
+
+Vec3 momentum(const Eigen::VectorXd& mass, const Points& v) { return (mass.transpose() * v).transpose(); }
+
+// Rows of `old` mapped through parent (new row i = old row parent[i]).
+Points carried(const Points& old, const std::vector<int>& parent) {
+  Points out(static_cast<Eigen::Index>(parent.size()), 3);
+  for (std::size_t i = 0; i < parent.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = old.row(parent[i]);
+  return out;
+}
+
+TEST(VirtualNodeCut, OnePlaneGivesTwoCopiesPerCutTetAndTwoPieces) {
+  VirtualNodeMesh m = unit_cube();
+  const int root_tets = m.num_elements(), root_nodes = m.num_nodes();
+  cut_all(m, Vec3(0.4, 0, 0), Vec3(1, 0, 0));
+  const TopologyChange c = update_topology(m);
+  ASSERT_TRUE(c.changed());
+  // Every tet of the cell column 0.25 < x < 0.5 spans the plane: 16 cells x 6 tets are cut.
+  std::map<int, std::vector<int>> copies;
+  for (int e = 0; e < m.num_elements(); ++e) copies[m.element_root[static_cast<std::size_t>(e)]].push_back(e);
+  int cut = 0;
+  for (const auto& [r, es] : copies) {
+    const double x0 = m.root.X.col(0)(m.root.tets.row(r)).minCoeff(), x1 = m.root.X.col(0)(m.root.tets.row(r)).maxCoeff();
+    const bool crossed = x0 < 0.4 && x1 > 0.4;
+    ASSERT_EQ(es.size(), crossed ? 2u : 1u) << "root tet " << r;
+    if (!crossed) continue;
+    ++cut;
+    // The copies hold complementary material, each real where its nodes lie on its side.
+    const auto a = m.material[static_cast<std::size_t>(es[0])], b = m.material[static_cast<std::size_t>(es[1])];
+    EXPECT_EQ(a & b, 0);
+    EXPECT_EQ(a | b, 0xF);
+    EXPECT_NEAR(m.weight[static_cast<std::size_t>(es[0])] + m.weight[static_cast<std::size_t>(es[1])], 1.0, 1e-14);
+  }
+  EXPECT_EQ(cut, 96);
+  EXPECT_EQ(m.num_elements(), root_tets + 96);
+  // Nodes on the planes x = 0.25 and 0.5 each get one copy (a virtual node on the other side).
+  EXPECT_EQ(m.num_nodes(), root_nodes + 2 * 25);
+  std::vector<int> component;
+  EXPECT_EQ(count_pieces(m, &component), 2);
+  // Indices are stable: the first child keeps its parent's index.
+  for (int i = 0; i < root_nodes; ++i) EXPECT_EQ(c.parent_node[static_cast<std::size_t>(i)], i);
+  // The rest volume is unchanged, and the piece holding the origin has exactly the volume left of
+  // the plane (a plane cut makes corner tets and prisms whose fractions are exact).
+  EXPECT_NEAR(total_weighted_volume(m), 1.0, 1e-13);
+  const TetRest rest = weighted_tet_rest(m);
+  double left = 0;
+  for (int e = 0; e < m.num_elements(); ++e)
+    if (component[static_cast<std::size_t>(m.tets(e, 0))] == component[0]) left += rest.volume[static_cast<std::size_t>(e)];
+  EXPECT_NEAR(left, 0.4, 1e-13);
+}
+
+TEST(VirtualNodeCut, SplitConservesMassAndMomentumAndKeepsEveryVolumePositive) {
+  VirtualNodeMesh m = unit_cube();
+  std::mt19937 rng(13);
+  Eigen::VectorXd mass = weighted_lumped_masses(m, kDensity);
+  Points v = test::random_points(m.num_nodes(), 1.0, rng);
+  const double total = mass.sum();
+  // Two planes in turn: the second splits pieces of the first again (three or four per tet).
+  for (const auto& [point, normal] : {std::pair{Vec3(0.4, 0, 0), Vec3(1, 0, 0)}, {Vec3(0, 0.6, 0), Vec3(0.3, 1, 0.2)}}) {
+    const Vec3 p0 = momentum(mass, v);
+    cut_all(m, point, normal);
+    const TopologyChange c = update_topology(m);
+    const Eigen::VectorXd new_mass = weighted_lumped_masses(m, kDensity);
+    const Points new_v = carried(v, c.parent_node);
+    // Each old particle's mass is the sum of its children's.
+    Eigen::VectorXd summed = Eigen::VectorXd::Zero(mass.size());
+    for (std::size_t i = 0; i < c.parent_node.size(); ++i) summed(c.parent_node[i]) += new_mass(static_cast<Eigen::Index>(i));
+    EXPECT_LT((summed - mass).cwiseAbs().maxCoeff(), 1e-12 * mass.maxCoeff());
+    EXPECT_NEAR(new_mass.sum(), total, 1e-12 * total);
+    EXPECT_LT((momentum(new_mass, new_v) - p0).norm(), 1e-12 * total);
+    EXPECT_GT(new_mass.minCoeff(), 0);
+    mass = new_mass;
+    v = new_v;
+  }
+  EXPECT_EQ(count_pieces(m), 4);
+  const Points X = rest_positions(m);
+  const TetRest rest = weighted_tet_rest(m);
+  // A first split leaves each piece >= kMinCutFraction^3 of its tet, a second that of its piece.
+  const double min_fraction = 0.99 * std::pow(kMinCutFraction, 6);
+  std::map<int, double> per_root;
+  for (int e = 0; e < m.num_elements(); ++e) {
+    const int r = m.element_root[static_cast<std::size_t>(e)];
+    EXPECT_GT(tet_signed_volume6(X, m.tets, e), 0) << "copy " << e;  // the root's full rest shape
+    EXPECT_GE(m.weight[static_cast<std::size_t>(e)], min_fraction) << "copy " << e;
+    EXPECT_GT(rest.volume[static_cast<std::size_t>(e)], 0);
+    per_root[r] += m.weight[static_cast<std::size_t>(e)];
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(m.node_root[static_cast<std::size_t>(m.tets(e, k))], m.root.tets(r, k));
+  }
+  for (const auto& [r, w] : per_root) EXPECT_NEAR(w, 1.0, 1e-14) << "root tet " << r;
+}
+
+TEST(VirtualNodeCut, PerElementStateIsCarriedToTheCopies) {
+  VirtualNodeMesh m = unit_cube();
+  const TetRest root_rest = make_tet_rest(m.root.X, m.root.tets);
+  // A distinct per-element state (a stand-in for Fp^-1) follows parent_element.
+  std::vector<double> state(static_cast<std::size_t>(m.num_elements()));
+  for (std::size_t e = 0; e < state.size(); ++e) state[e] = 1.0 + 0.01 * static_cast<double>(e);
+  cut_all(m, Vec3(0.4, 0, 0), Vec3(1, 0, 0));
+  const TopologyChange c = update_topology(m);
+  const TetRest rest = weighted_tet_rest(m);
+  for (int e = 0; e < m.num_elements(); ++e) {
+    const int parent = c.parent_element[static_cast<std::size_t>(e)];
+    const int r = m.element_root[static_cast<std::size_t>(e)];
+    EXPECT_EQ(parent, r);  // from the uncut mesh the parent is the root
+    EXPECT_EQ(state[static_cast<std::size_t>(parent)], 1.0 + 0.01 * r);
+    // Rest shape: the root's Dm^-1; rest volume and Bm scaled by the copy's fraction.
+    EXPECT_LT((rest.Dm_inv[static_cast<std::size_t>(e)] - root_rest.Dm_inv[static_cast<std::size_t>(r)]).norm(), 1e-12);
+    const double w = m.weight[static_cast<std::size_t>(e)];
+    EXPECT_NEAR(rest.volume[static_cast<std::size_t>(e)], w * root_rest.volume[static_cast<std::size_t>(r)], 1e-15);
+    EXPECT_LT((rest.Bm[static_cast<std::size_t>(e)] - w * root_rest.Bm[static_cast<std::size_t>(r)]).norm(), 1e-15);
+  }
+}
+
+TEST(VirtualNodeCut, PartialCrackKeepsOnePieceAndDoesNotSeparateAtItsTip) {
+  VirtualNodeMesh m = unit_cube();
+  // Only the tets below z = 0.5 of the column are cut: the crack stops inside the body.
+  for (int r = 0; r < static_cast<int>(m.root.tets.rows()); ++r)
+    if (m.root.X.col(2)(m.root.tets.row(r)).maxCoeff() <= 0.5) cut_tet_by_plane(m, r, Vec3(0.4, 0, 0), Vec3(1, 0, 0));
+  update_topology(m);
+  EXPECT_EQ(count_pieces(m), 1);
+  EXPECT_GT(m.num_elements(), 384);
+  EXPECT_NEAR(total_weighted_volume(m), 1.0, 1e-13);
+}
+
+TEST(VirtualNodeCut, PiecesMoveApartFreelyAndForcesPassTheFiniteDifferenceCheck) {
+  VirtualNodeMesh m = unit_cube();
+  cut_all(m, Vec3(0.4, 0, 0), Vec3(1, 0, 0));
+  update_topology(m);
+  TetSolidForce force(weighted_tet_rest(m), TetMaterial{NeoHookean{1.0, 2.0}});
+  const Points X = rest_positions(m);
+  // Pulling the two pieces apart rigidly stores no energy and gives no force: they are separate.
+  std::vector<int> component;
+  count_pieces(m, &component);
+  Points x = X;
+  for (int i = 0; i < x.rows(); ++i)
+    if (component[static_cast<std::size_t>(i)] == component[0]) x(i, 0) -= 0.3;
+  const Points f = test::elastic_forces_at(force, x);
+  EXPECT_LT(f.cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT(force.elastic_energy(), 1e-14);
+  // Stretching the whole body does store energy, in both pieces' copies.
+  Points stretched = X;
+  stretched.col(0) *= 1.1;
+  test::elastic_forces_at(force, stretched);
+  EXPECT_GT(force.elastic_energy(), 1e-4);
+  // The shared FD check at a random deformation of the split mesh.
+  std::mt19937 rng(7);
+  const Points y = X + test::random_points(X.rows(), 0.02, rng);
+  fd::Options o;
+  o.step_scale = 1e-2;
+  const auto r = test::check_force_is_minus_energy_gradient(force, y, o);
+  EXPECT_TRUE(r.pass) << r.report;
+}
+
+TEST(VirtualNodeCut, CriterionCutsOrthogonalToTheLargestPrincipalStress) {
+  VirtualNodeMesh m = unit_cube();
+  TetSolidForce force(weighted_tet_rest(m), TetMaterial{NeoHookean{1e4, 1e4}});
+  Points x = rest_positions(m);
+  x.col(1) *= 1.2;  // stretched along y: largest tension along y everywhere
+  force.update_positions(x, 0);
+  FractureCriterion c;
+  c.max_principal_stress = 1e3;
+  c.max_cuts_per_step = 5;
+  c.validate("test");
+  const std::vector<CrackStart> starts = find_crack_starts(m, force, c);
+  ASSERT_EQ(starts.size(), 5u);
+  for (const CrackStart& s : starts) {
+    EXPECT_GE(s.load, 1);
+    EXPECT_NEAR(std::abs(s.normal.y()), 1.0, 1e-9);
+  }
+  // A threshold above the stress cuts nothing; an unset criterion is refused.
+  FractureCriterion high = c;
+  high.max_principal_stress = 1e9;
+  EXPECT_TRUE(find_crack_starts(m, force, high).empty());
+  EXPECT_GT(apply_crack_starts(m, starts), 0);
+  update_topology(m);
+  EXPECT_GT(m.num_elements(), 384);
+  EXPECT_THROW(FractureCriterion{}.validate("test"), std::invalid_argument);
+}
+
+TEST(VirtualNodeCut, RejectsBadCuts) {
+  VirtualNodeMesh m = unit_cube();
+  EXPECT_THROW(add_cut(m, 0, 0, 0.5), std::invalid_argument);
+  EXPECT_THROW(add_cut(m, 0, 100000, 0.5), std::invalid_argument);
+  EXPECT_THROW(add_cut(m, 0, 1, std::nan("")), std::invalid_argument);
+  EXPECT_TRUE(add_cut(m, 0, 1, 0.001));   // clamped off the node
+  EXPECT_FALSE(add_cut(m, 1, 0, 0.5));    // already cut: snapped
+  Vec3 p;
+  ASSERT_TRUE(cut_point(m, 0, 1, p));
+  const Vec3 a = m.root.X.row(0).transpose(), b = m.root.X.row(1).transpose();
+  EXPECT_NEAR((p - a).norm() / (b - a).norm(), kMinCutFraction, 1e-12);
+}
+
+}  // namespace
+}  // namespace invfem

@@ -94,7 +94,7 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
   std::vector<char> in_zone(n, 0);
   // A zone's rule, per vertex (set for all of a zone at each move; a merged zone takes the highest
   // of its parts): 0 rigid (BFA02), 1 carried by its kinematic triangles
-  // (response/zone_following.hpp), 2 rigid for good. A hit among the vertices of one zone (it
+  // (response/zone_following.hpp). A hit among the vertices of one zone (it
   // moved, and its own pairs still collide: merging cannot change its motion) moves it on:
   //  - rigid -> following, once a quarter of the rounds has passed: a zone holding kinematic
   //    vertices that no rigid motion follows (a skinned limb bending and stretching). Not at
@@ -105,13 +105,14 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
   //    the step (dress_dance frame 43: the hand over cloth lying 0.6 mm off the chest, the pair
   //    0.6 mm apart at both ends of the step and 5 um apart in between), which the triangle the
   //    cloth follows does not see, needs only a small local change. A zone that grows follows
-  //    anew;
-  //  - following -> rigid for good after kImpulseRounds such rounds (the old rule).
+  //    anew. A following zone never turns rigid again: an earlier rule did so after 10 rounds of
+  //    impulses, and the rigid fit of a zone holding two body parts that move apart (a hand
+  //    sliding over the chest, dress_dance frames 43-44) carried its cloth through both, where
+  //    following with impulses resolved the step.
   // follows: the zone was last moved by following (its own pairs are then tested); tries: rounds
-  // of impulses so far; moved_size: the zone's size at its last move.
+  // of impulses so far (INVFEM_DEBUG_ZONES prints it); moved_size: the zone's size at its last move.
   std::vector<char> mode(n, 0), follows(n, 0);
   std::vector<int> tries(n, 0), moved_size(n, 0);
-  constexpr int kImpulseRounds = 10;
   VertexTriangles incident;  // built when a zone first follows
   // A pair needs no test when its four vertices are one zone of movable vertices that moves
   // rigidly (a zone that follows deforming triangles may bring its own vertices together).
@@ -233,10 +234,9 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
         tried = std::max(tried, tries[static_cast<std::size_t>(i)]);
       }
       // A following zone that did not grow keeps its velocities, corrected below by impulses on
-      // its own colliding pairs, for up to kImpulseRounds rounds; then it turns rigid.
+      // its own colliding pairs.
       const bool same = rule == 1 && follows[first] && moved_size[first] == static_cast<int>(zone.size());
       if (same && had_own[first]) ++tried;
-      if (tried > kImpulseRounds) rule = 2;
       if (debug_zones() && rule != mode[first]) {
         int fixed_count = 0;
         for (int i : zone) fixed_count += fixed_in_zone(m, i, lowest_level(m, zone)) ? 1 : 0;

@@ -214,13 +214,25 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
 
   // Tangles at the step's start are exempt (candidates/tangles.hpp); only solids' boundaries
   // are searched, so a scene of cloths pays nothing for it.
+  // A cloth's crossings with a kinematic body at the step's start (left by a fail-safe failure
+  // in an earlier step) are released for the step (candidates/tangles.hpp mark_body_crossings),
+  // so the cloth can come out of the body instead of being held in it for ever.
   mesh_.exempt.clear();
+  mesh_.released.clear();
   broad_phase_.find(mesh_, dt, settings_.thickness, candidates_);
-  int tangles = 0;
-  if (std::any_of(mesh_.surfaces.begin(), mesh_.surfaces.end(), [](const auto& s) { return s.untangle; })) {
-    broad_phase_.edge_triangle_pairs(mesh_, edge_triangles_);
+  int tangles = 0, crossings = 0;
+  const bool solids = std::any_of(mesh_.surfaces.begin(), mesh_.surfaces.end(), [](const auto& s) { return s.untangle; });
+  const bool cloth_and_body =
+      std::any_of(mesh_.surfaces.begin(), mesh_.surfaces.end(), [](const auto& s) { return s.kinematic; }) &&
+      std::any_of(mesh_.surfaces.begin(), mesh_.surfaces.end(), [](const auto& s) { return !s.kinematic && !s.untangle; });
+  if (solids || cloth_and_body) broad_phase_.edge_triangle_pairs(mesh_, edge_triangles_);
+  if (solids) {
     tangles = mark_tangles(mesh_, edge_triangles_);
     r.tangled_pairs += tangles;
+  }
+  if (cloth_and_body) {
+    crossings = mark_body_crossings(mesh_, edge_triangles_);
+    r.body_crossings += crossings;
   }
 
   const Points v_in = mesh_.v;
@@ -286,7 +298,7 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
       }
       return any;
     };
-  resolve(dt, r, v_in, v, tangles == 0, keep_out);
+  resolve(dt, r, v_in, v, tangles == 0 && crossings == 0, keep_out);
 
   // Write back: x(n+1) = x0 + dt v on the surface nodes; v(n+1) gets the same change.
   for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {

@@ -520,6 +520,31 @@ TEST(ImpactZones, FollowingATranslatingBodyIsItsRigidFit) {
   EXPECT_EQ(unchanged, m.v);
 }
 
+TEST(ImpactZones, AVertexBetweenTwoBodySurfacesMovesWithTheirBlendByDistance) {
+  // Cloth caught in a 4 mm gap between a still body surface (the chest, y = 0) and another
+  // sliding over it (a hand, y = 4 mm, 1 cm along x in the step), 1 mm above the chest. Carried
+  // by its nearest triangle alone it would stay with the chest while the hand sweeps 3 mm over
+  // it (dress_dance frame 43); it moves with the blend of the two carried positions by distance,
+  // a quarter of the hand's motion, and keeps its height in the gap.
+  CollisionMesh m;
+  const double dt = 0.01, speed = 1.0;
+  append_grid(m, "chest", 8, 1.0, 0.0, Vec3::Zero(), true);
+  append_grid(m, "hand", 8, 1.0, 4e-3, Vec3(speed, 0, 0), true);
+  append_grid(m, "cloth", 4, 0.3, 1e-3, Vec3::Zero());
+  const int first_cloth = 2 * 81;
+  std::vector<int> zone(static_cast<std::size_t>(m.num_vertices()));
+  for (int i = 0; i < m.num_vertices(); ++i) zone[static_cast<std::size_t>(i)] = i;
+  Points v = m.v;
+  ASSERT_TRUE(follow_kinematic_triangles(m, vertex_triangles(m), zone, dt, v));
+  for (int i = first_cloth; i < m.num_vertices(); ++i) {
+    EXPECT_NEAR(v(i, 0), 0.25 * speed, 1e-9) << "cloth vertex " << i;
+    EXPECT_NEAR(v(i, 1), 0.0, 1e-9) << "cloth vertex " << i;
+    EXPECT_NEAR(v(i, 2), 0.0, 1e-9) << "cloth vertex " << i;
+  }
+  for (int i = 0; i < first_cloth; ++i) EXPECT_EQ(v.row(i), m.v.row(i)) << "body vertex " << i;
+  EXPECT_EQ(colliding_pairs(m, v, dt, 1e-5), 0);
+}
+
 namespace {
 // A SimObject that is a flat sheet (surface vertex i = node i) with unit masses.
 SimObject sheet_object(const std::string& name, int n, double width, double height) {
@@ -601,6 +626,45 @@ TEST(SelfCollisionPass, KinematicSheetPushesClothInsteadOfPassingThroughIt) {
   pass.after_step(objects, StepPassInput{x_start, kinematic, kinematic_start, 0.0, 0.01}, report);
   EXPECT_GT(objects[0].body.x.col(1).minCoeff(), 0.03);  // carried up with the plate
   EXPECT_EQ(report.collisions.unresolved_steps, 0);
+}
+
+TEST(SelfCollisionPass, ReleasesAClothThatStartsCrossingABodySoItComesOut) {
+  // A still plate (a kinematic body) and a cloth sheet 1 cm above it whose middle vertex starts
+  // 5 mm below the plate (a crossing an earlier step's fail-safe left) and whose step carries it
+  // back to 1 cm above (the collision processing's projection out of the body). The CCD alone
+  // would hold the vertex under the plate for ever; released for the step, it comes out, and
+  // the crossings are counted.
+  struct Plate final : KinematicBody {
+    TriangleSurface s;
+    std::string n = "plate";
+    const std::string& name() const override { return n; }
+    void move_to(double) override {}
+    const TriangleSurface* surface() const override { return &s; }
+  };
+  auto plate = std::make_shared<Plate>();
+  plate->s = sheet_object("plate", 2, 1.0, 0.0).surface;
+  SimObject cloth = sheet_object("cloth", 4, 0.5, 0.01);
+  const int middle = 12;  // of the 5 x 5 vertices
+  std::vector<SimObject> objects;
+  objects.push_back(std::move(cloth));
+  std::vector<Points> x_start = {objects[0].body.x};
+  x_start[0](middle, 1) = -0.005;
+  const double dt = 0.01;
+  objects[0].body.v(middle, 1) = 0.015 / dt;
+  objects[0].refresh_surface();
+  std::vector<std::shared_ptr<KinematicBody>> kinematic = {plate};
+  const std::vector<Points> kinematic_start = {plate->s.x};
+  SelfCollisionPass pass({});
+  FrameReport report;
+  pass.after_step(objects, StepPassInput{x_start, kinematic, kinematic_start, 0.0, dt}, report);
+  EXPECT_GT(report.collisions.body_crossings, 0);
+  EXPECT_NEAR(objects[0].body.x(middle, 1), 0.01, 1e-12);
+  EXPECT_GT(objects[0].body.x.col(1).minCoeff(), 0.0);
+  // The next step starts free of the body: nothing is released.
+  FrameReport next;
+  const std::vector<Points> x_next = {objects[0].body.x};
+  pass.after_step(objects, StepPassInput{x_next, kinematic, kinematic_start, dt, dt}, next);
+  EXPECT_EQ(next.collisions.body_crossings, 0);
 }
 
 TEST(SelfCollisionSettings, RejectsBadValues) {

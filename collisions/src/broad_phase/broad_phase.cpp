@@ -200,6 +200,7 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
     if (adjacent(m, &i, 1, tri, 3)) continue;
     if (!m.movable(i) && !any_movable(tri, 3)) continue;
     if (m.is_exempt(i) || m.is_exempt(tri[0]) || m.is_exempt(tri[1]) || m.is_exempt(tri[2])) continue;
+    if (m.released_pair(&i, 1, tri, 3)) continue;
     if (!e.vertices.boxes[static_cast<std::size_t>(i)].overlaps(e.triangles.boxes[static_cast<std::size_t>(f)]))
       continue;
     out.vf.push_back({i, f});
@@ -215,6 +216,7 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
     if (adjacent(m, ea, 2, eb, 2)) continue;
     if (!any_movable(ea, 2) && !any_movable(eb, 2)) continue;
     if (m.is_exempt(ea[0]) || m.is_exempt(ea[1]) || m.is_exempt(eb[0]) || m.is_exempt(eb[1])) continue;
+    if (m.released_pair(ea, 2, eb, 2)) continue;
     if (!e.edges.boxes[static_cast<std::size_t>(a)].overlaps(e.edges.boxes[static_cast<std::size_t>(b)])) continue;
     out.ee.push_back({a, b});
   }

@@ -43,4 +43,30 @@ int mark_tangles(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs
   return count;
 }
 
+int mark_body_crossings(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs) {
+  auto cloth = [&](int i) {
+    const auto& s = m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(i)])];
+    return !s.kinematic && !s.untangle;
+  };
+  std::vector<char> crosses(pairs.size(), 0);
+  parallel_for_each(pairs.size(), 1024, [&](std::size_t k) {
+    const auto [e, f] = pairs[k];
+    const int a = m.edges(e, 0), t = m.tris(f, 0);
+    if (!((cloth(a) && m.on_kinematic(t)) || (m.on_kinematic(a) && cloth(t)))) return;
+    auto x = [&](int i) { return m.start(i); };
+    crosses[k] = segment_crosses_triangle(x(a), x(m.edges(e, 1)), x(t), x(m.tris(f, 1)), x(m.tris(f, 2))) ? 1 : 0;
+  });
+  m.released.assign(static_cast<std::size_t>(m.num_vertices()), 0);
+  int count = 0;
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    if (!crosses[k]) continue;
+    ++count;
+    const auto [e, f] = pairs[k];
+    for (int i : {m.edges(e, 0), m.edges(e, 1), m.tris(f, 0), m.tris(f, 1), m.tris(f, 2)})
+      if (cloth(i) && m.movable(i)) m.released[static_cast<std::size_t>(i)] = 1;
+  }
+  if (count == 0) m.released.clear();
+  return count;
+}
+
 }  // namespace invfem::collisions

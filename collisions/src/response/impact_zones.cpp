@@ -4,6 +4,8 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <type_traits>
 
@@ -25,6 +27,17 @@ Vec3 pseudo_solve(const Mat3& I, const Vec3& L) {
   Vec3 y = es.eigenvectors().transpose() * L;
   for (int k = 0; k < 3; ++k) y(k) = lambda(k) > cut ? y(k) / lambda(k) : 0.0;
   return es.eigenvectors() * y;
+}
+
+// INVFEM_DEBUG_ZONES=1: the loop prints to stderr the pairs still colliding in its last two
+// rounds (each vertex: c cloth / k kinematic, its index in its surface, its zone, the zone's
+// rule) and, per step, the zones that were left colliding. A diagnostic for the fail-safe.
+bool debug_zones() {
+  static const bool on = [] {
+    const char* e = std::getenv("INVFEM_DEBUG_ZONES");
+    return e && *e && *e != '0';
+  }();
+  return on;
 }
 
 }  // namespace
@@ -81,7 +94,7 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
   std::vector<char> in_zone(n, 0);
   // A zone's rule, per vertex (set for all of a zone at each move; a merged zone takes the highest
   // of its parts): 0 rigid (BFA02), 1 carried by its kinematic triangles
-  // (response/zone_following.hpp), 2 rigid for good. A hit among the vertices of one zone (it
+  // (response/zone_following.hpp). A hit among the vertices of one zone (it
   // moved, and its own pairs still collide: merging cannot change its motion) moves it on:
   //  - rigid -> following, once a quarter of the rounds has passed: a zone holding kinematic
   //    vertices that no rigid motion follows (a skinned limb bending and stretching). Not at
@@ -92,13 +105,14 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
   //    the step (dress_dance frame 43: the hand over cloth lying 0.6 mm off the chest, the pair
   //    0.6 mm apart at both ends of the step and 5 um apart in between), which the triangle the
   //    cloth follows does not see, needs only a small local change. A zone that grows follows
-  //    anew;
-  //  - following -> rigid for good after kImpulseRounds such rounds (the old rule).
+  //    anew. A following zone never turns rigid again: an earlier rule did so after 10 rounds of
+  //    impulses, and the rigid fit of a zone holding two body parts that move apart (a hand
+  //    sliding over the chest, dress_dance frames 43-44) carried its cloth through both, where
+  //    following with impulses resolved the step.
   // follows: the zone was last moved by following (its own pairs are then tested); tries: rounds
-  // of impulses so far; moved_size: the zone's size at its last move.
+  // of impulses so far (INVFEM_DEBUG_ZONES prints it); moved_size: the zone's size at its last move.
   std::vector<char> mode(n, 0), follows(n, 0);
   std::vector<int> tries(n, 0), moved_size(n, 0);
-  constexpr int kImpulseRounds = 10;
   VertexTriangles incident;  // built when a zone first follows
   // A pair needs no test when its four vertices are one zone of movable vertices that moves
   // rigidly (a zone that follows deforming triangles may bring its own vertices together).
@@ -151,6 +165,14 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
           mode[static_cast<std::size_t>(ids[0])] = 1;
         if (own && mode_before[root] == 1) {
           had_own[root] = 1;
+          if (debug_zones()) {
+            std::fprintf(stderr, "[zones] round %d own hit in following zone %zu:", report.iterations, root);
+            for (int i : ids)
+              std::fprintf(stderr, " %c%d", m.movable(i) ? 'c' : 'k',
+                           i - m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(i)])].first_vertex);
+            const Vec3 p = m.start(ids[3]);
+            std::fprintf(stderr, " at (%.4f %.4f %.4f)\n", p(0), p(1), p(2));
+          }
           if constexpr (std::is_same_v<std::decay_t<decltype(list[k])>, VertexFaceCandidate>)
             own_hits.vf.push_back(list[k]);
           else
@@ -162,6 +184,27 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
     };
     merge(c.vf, vf_hit);
     merge(c.ee, ee_hit);
+    if (debug_zones() && any && report.iterations >= max_iterations - 2) {
+      auto dump = [&](const char* kind, const auto& list, const std::vector<char>& hit) {
+        for (std::size_t k = 0; k < list.size(); ++k) {
+          if (!hit[k]) continue;
+          const auto ids = candidate_vertices(m, list[k]);
+          std::fprintf(stderr, "[zones] round %d %s", report.iterations, kind);
+          for (int i : ids) {
+            const auto u = static_cast<std::size_t>(i);
+            const int root = frozen.parent[u];
+            std::fprintf(stderr, " %c%d(zone %d mode %d follows %d tries %d)", m.movable(i) ? 'c' : 'k',
+                         i - m.surfaces[static_cast<std::size_t>(m.surface_of[u])].first_vertex,
+                         zoned_before[u] ? root : -1, mode_before[static_cast<std::size_t>(root)],
+                         follows[u], tries[u]);
+          }
+          const Vec3 p = m.start(ids[3]);
+          std::fprintf(stderr, " at (%.4f %.4f %.4f)\n", p(0), p(1), p(2));
+        }
+      };
+      dump("vf", c.vf, vf_hit);
+      dump("ee", c.ee, ee_hit);
+    }
     if (!any) break;
     // A stitch moves with its zone: a weld with a vertex in a zone brings its other vertices in,
     // so the rigid motion keeps the seam as the step left it (response/seams.hpp). Judged on the
@@ -191,10 +234,15 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
         tried = std::max(tried, tries[static_cast<std::size_t>(i)]);
       }
       // A following zone that did not grow keeps its velocities, corrected below by impulses on
-      // its own colliding pairs, for up to kImpulseRounds rounds; then it turns rigid.
+      // its own colliding pairs.
       const bool same = rule == 1 && follows[first] && moved_size[first] == static_cast<int>(zone.size());
       if (same && had_own[first]) ++tried;
-      if (tried > kImpulseRounds) rule = 2;
+      if (debug_zones() && rule != mode[first]) {
+        int fixed_count = 0;
+        for (int i : zone) fixed_count += fixed_in_zone(m, i, lowest_level(m, zone)) ? 1 : 0;
+        std::fprintf(stderr, "[zones] round %d zone %d (size %zu, fixed %d) rule %d -> %d\n", report.iterations,
+                     zone.front(), zone.size(), fixed_count, mode[first], rule);
+      }
       bool follow = rule == 1 && same;
       keep[z] = follow ? 1 : 0;
       if (rule == 1 && !same) follow = follow_kinematic_triangles(m, incident, zone, dt, v);
@@ -222,12 +270,19 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
     }
   }
   report.resolved = report.iterations < max_iterations;
-  std::map<int, int> sizes;
+  std::map<int, int> sizes, kinematic;
   for (std::size_t i = 0; i < n; ++i)
-    if (in_zone[i]) ++sizes[zones.find(static_cast<int>(i))];
+    if (in_zone[i]) {
+      ++sizes[zones.find(static_cast<int>(i))];
+      if (!m.movable(static_cast<int>(i))) ++kinematic[zones.find(static_cast<int>(i))];
+    }
   for (const auto& [root, size] : sizes) {
     ++report.zones;
     report.largest = std::max(report.largest, size);
+    if (debug_zones() && !report.resolved)
+      std::fprintf(stderr, "[zones] unresolved step: zone %d size %d kinematic %d mode %d follows %d tries %d\n", root,
+                   size, kinematic[root], mode[static_cast<std::size_t>(root)], follows[static_cast<std::size_t>(root)],
+                   tries[static_cast<std::size_t>(root)]);
   }
   return report;
 }

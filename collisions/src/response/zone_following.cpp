@@ -68,30 +68,48 @@ bool follow_kinematic_triangles(const CollisionMesh& m, const VertexTriangles& i
   tris.erase(std::unique(tris.begin(), tris.end()), tris.end());
 
   auto end = [&](int j) { return Vec3(m.x0.row(j).transpose() + dt * v.row(j).transpose()); };
-  for (int i : zone) {
-    if (fixed(i)) continue;
-    const Vec3 p = m.start(i);
-    // The nearest triangle (the first of equals: deterministic).
-    double best = std::numeric_limits<double>::infinity();
-    int face = -1;
-    TrianglePoint cp;
-    for (int f : tris) {
-      const TrianglePoint c = closest_point_on_triangle(p, m.start(m.tris(f, 0)), m.start(m.tris(f, 1)),
-                                                        m.start(m.tris(f, 2)));
-      if (c.distance2 < best) {
-        best = c.distance2;
-        face = f;
-        cp = c;
-      }
-    }
-    const Vec3 a1 = end(m.tris(face, 0)), b1 = end(m.tris(face, 1)), c1 = end(m.tris(face, 2));
+  // Where triangle f carries the point p whose closest point on it is cp (see the header).
+  auto carried = [&](int f, const Vec3& p, const TrianglePoint& cp) {
+    const Vec3 a1 = end(m.tris(f, 0)), b1 = end(m.tris(f, 1)), c1 = end(m.tris(f, 2));
     const Vec3 q1 = cp.barycentric(0) * a1 + cp.barycentric(1) * b1 + cp.barycentric(2) * c1;
     Vec3 r = p - cp.point;
     Mat3 F0, F1;
-    if (triangle_frame(m.start(m.tris(face, 0)), m.start(m.tris(face, 1)), m.start(m.tris(face, 2)), F0) &&
+    if (triangle_frame(m.start(m.tris(f, 0)), m.start(m.tris(f, 1)), m.start(m.tris(f, 2)), F0) &&
         triangle_frame(a1, b1, c1, F1))
       r = F1 * (F0.transpose() * r);
-    v.row(i) = ((q1 + r - p) / dt).transpose();
+    return Vec3(q1 + r);
+  };
+  std::vector<TrianglePoint> cps(tris.size());
+  for (int i : zone) {
+    if (fixed(i)) continue;
+    const Vec3 p = m.start(i);
+    // The nearest triangle A (the first of equals: deterministic).
+    std::size_t a = 0;
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+      const int f = tris[t];
+      cps[t] = closest_point_on_triangle(p, m.start(m.tris(f, 0)), m.start(m.tris(f, 1)), m.start(m.tris(f, 2)));
+      if (cps[t].distance2 < cps[a].distance2) a = t;
+    }
+    Vec3 p1 = carried(tris[a], p, cps[a]);
+    // The nearest triangle B on the other side of p (p between the two surfaces: its closest
+    // points lie in opposite directions), if any: the vertex moves with the linear blend of the
+    // two carried positions by distance, p1 = (dB pA1 + dA pB1) / (dA + dB), as a layer between
+    // two walls moves in a shear flow. Cloth caught between a hand sliding over the chest and
+    // the chest keeps its relative height in the gap instead of moving wholly with one side and
+    // being swept by the other (dress_dance frame 43). The blend is of two carried positions,
+    // so the rule stays continuous across the zone's vertices.
+    const Vec3 da = p - cps[a].point;
+    const double dA = std::sqrt(cps[a].distance2);
+    if (dA > 0) {
+      std::size_t b = tris.size();
+      for (std::size_t t = 0; t < tris.size(); ++t)
+        if ((p - cps[t].point).dot(da) < 0 && (b == tris.size() || cps[t].distance2 < cps[b].distance2)) b = t;
+      if (b < tris.size()) {
+        const double dB = std::sqrt(cps[b].distance2);
+        p1 = (dB * p1 + dA * carried(tris[b], p, cps[b])) / (dA + dB);
+      }
+    }
+    v.row(i) = ((p1 - p) / dt).transpose();
   }
   return true;
 }

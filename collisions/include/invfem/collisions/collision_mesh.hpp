@@ -30,6 +30,12 @@
 //                        on an `untangle` surface (an edge through a face of a solid's boundary
 //                        tangled by inverted elements); pairs holding it are no candidates this
 //                        step, so the tangle may come apart instead of being held crossed
+//   released    #V or empty   1: a vertex of a cloth (a surface that is not `untangle`) edge or
+//                        triangle that crosses a kinematic body's triangle or edge at the step's
+//                        start (the fail-safe gave up in an earlier step). Its pairs with the
+//                        kinematic body's vertices are no candidates this step, so the crossing
+//                        can come undone (the ITF04 collision processing has moved it out of the
+//                        body); its pairs with other cloth stay, so it cannot cross the cloth
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -69,6 +75,7 @@ struct CollisionMesh {
   std::vector<Weld> welds;  // every surface's welds, in global vertex indices
   std::vector<int> surface_of;
   std::vector<char> exempt;
+  std::vector<char> released;
 
   Eigen::Index num_vertices() const { return x0.rows(); }
   Vec3 start(int i) const { return x0.row(i).transpose(); }
@@ -80,6 +87,23 @@ struct CollisionMesh {
   bool movable(int i) const { return inv_mass(i) > 0; }
   int level(int i) const { return surfaces[static_cast<std::size_t>(surface_of[static_cast<std::size_t>(i)])].level; }
   bool is_exempt(int i) const { return !exempt.empty() && exempt[static_cast<std::size_t>(i)]; }
+  bool is_released(int i) const { return !released.empty() && released[static_cast<std::size_t>(i)]; }
+  bool on_kinematic(int i) const {
+    return surfaces[static_cast<std::size_t>(surface_of[static_cast<std::size_t>(i)])].kinematic;
+  }
+  // True when primitives a and b (vertex lists) are a released pair: a released vertex on one
+  // side and a kinematic body's vertex on the other (see `released`).
+  bool released_pair(const int* a, int na, const int* b, int nb) const {
+    if (released.empty()) return false;
+    auto any = [](const int* ids, int n, auto&& test) {
+      for (int k = 0; k < n; ++k)
+        if (test(ids[k])) return true;
+      return false;
+    };
+    auto rel = [&](int i) { return is_released(i); };
+    auto kin = [&](int i) { return on_kinematic(i); };
+    return (any(a, na, rel) && any(b, nb, kin)) || (any(b, nb, rel) && any(a, na, kin));
+  }
 };
 
 // Appends a surface. x0, v: its #V x 3 start positions and average velocities; inv_mass its #V

@@ -10,7 +10,9 @@
 // Per step, with x0 the surfaces at the step's start and v = (x(n+1) - x0) / dt the step's
 // average velocity (collisions-BFA02.md section 1), after releasing the pairs joined by a solid's
 // folding tets (inverted or flat at x0 or x(n+1): CollisionMesh::folding), exempting the vertices
-// of tangles at x0 (candidates/tangles.hpp) and holding those an analytic collider holds (infinite mass; a
+// of tangles at x0 (candidates/tangles.hpp), releasing a cloth's crossings with a kinematic body
+// at x0 from their pairs with the body (CollisionMesh::released, the recovery from an earlier
+// step's fail-safe failure; stats `body_crossings`) and holding those an analytic collider holds (infinite mass; a
 // vertex the layer would push into a collider is held too and the step's layer work redone):
 //   1. broad phase on the swept boxes (broad_phase/), giving candidates (candidates/)
 //   2. repulsion at x0 (response/repulsion.hpp): pairs closer than the thickness

@@ -195,6 +195,7 @@ struct FrameReport {
     long long candidates = 0, proximity_impulses = 0, ccd_hits = 0;
     int impact_zones = 0, largest_zone = 0, unresolved_steps = 0;
     long long tangled_pairs = 0;         // a solid boundary's edge-triangle crossings at a step's start (exempted)
+    long long body_crossings = 0;        // a cloth's edge-triangle crossings with a kinematic body at a step's start (released)
     long long collider_projections = 0;  // vertices the layer moved into an analytic collider, put back
     long long seam_impulses = 0;         // welds whose opening by the layer's impulses was undone (response/seams.hpp)
     double seconds = 0;

@@ -22,4 +22,14 @@ bool segment_crosses_triangle(const Vec3& p0, const Vec3& p1, const Vec3& a, con
 // at x0; returns how many pairs cross.
 int mark_tangles(CollisionMesh& mesh, const std::vector<std::pair<int, int>>& pairs);
 
+// The recovery from a fail-safe failure against a kinematic body (README, dress_dance): marks
+// mesh.released (resized to #V, or cleared when nothing is marked) for the cloth vertices of
+// every pair in `pairs` that joins a cloth (a movable surface that is not `untangle`) to a
+// kinematic body and crosses at x0: a cloth edge through a body triangle (its two vertices) or a
+// body edge through a cloth triangle (its three). Returns how many pairs cross. Without it the
+// CCD would hold such a crossing for ever; released, the cloth is carried out of the body by the
+// step's dynamics (the ITF04 collision processing projects a vertex inside the body to its
+// surface along the closest-point normal) and the layer keeps that.
+int mark_body_crossings(CollisionMesh& mesh, const std::vector<std::pair<int, int>>& pairs);
+
 }  // namespace invfem::collisions

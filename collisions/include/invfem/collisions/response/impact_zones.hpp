@@ -11,9 +11,10 @@
 // kinematic vertices alone, with equal weights, then applied to its movable vertices. When such
 // a zone's own pairs still collide after a quarter of the rounds (no rigid motion follows a body
 // that bends and stretches), it is carried by its kinematic triangles instead, each movable vertex
-// by its nearest one (response/zone_following.hpp); its own pairs are then tested too, those
-// still colliding get impulses for some rounds, then the zone turns rigid for good (the rules and
-// their order: impact_zones.cpp).
+// by its nearest one, or by the blend of the two nearest on either side of it where it lies
+// between two body surfaces (response/zone_following.hpp); its own pairs are then tested too, and
+// those still colliding get impulses, round after round (the rules and their order:
+// impact_zones.cpp).
 // A weld (a garment's stitch) with a vertex in a zone brings its other vertices into it, so seams
 // move rigidly with their zone. In a zone holding surfaces of several levels
 // (CollisionMesh::Range::level: a solid's boundary and a cloth), the vertices above the zone's

@@ -601,15 +601,19 @@ TEST(SelfCollisionPass, StopsASheetTunnellingThroughAnotherAndConservesMomentum)
   EXPECT_NEAR(p.y(), 25 * (-0.05 / dt), 1e-9);  // momentum of the falling sheet, now shared
 }
 
+namespace {
+// A kinematic body whose surface the test sets and moves itself (move_to does nothing).
+struct Plate final : KinematicBody {
+  TriangleSurface s;
+  std::string n = "plate";
+  const std::string& name() const override { return n; }
+  void move_to(double) override {}
+  const TriangleSurface* surface() const override { return &s; }
+};
+}  // namespace
+
 TEST(SelfCollisionPass, KinematicSheetPushesClothInsteadOfPassingThroughIt) {
   // A rigid collider plate sweeps up through a resting cloth sheet within one step.
-  struct Plate final : KinematicBody {
-    TriangleSurface s;
-    std::string n = "plate";
-    const std::string& name() const override { return n; }
-    void move_to(double) override {}
-    const TriangleSurface* surface() const override { return &s; }
-  };
   auto plate = std::make_shared<Plate>();
   SimObject cloth = sheet_object("cloth", 4, 0.5, 0.01);
   SimObject tmp = sheet_object("plate", 2, 1.0, 0.0);
@@ -634,13 +638,6 @@ TEST(SelfCollisionPass, ReleasesAClothThatStartsCrossingABodySoItComesOut) {
   // back to 1 cm above (the collision processing's projection out of the body). The CCD alone
   // would hold the vertex under the plate for ever; released for the step, it comes out, and
   // the crossings are counted.
-  struct Plate final : KinematicBody {
-    TriangleSurface s;
-    std::string n = "plate";
-    const std::string& name() const override { return n; }
-    void move_to(double) override {}
-    const TriangleSurface* surface() const override { return &s; }
-  };
   auto plate = std::make_shared<Plate>();
   plate->s = sheet_object("plate", 2, 1.0, 0.0).surface;
   SimObject cloth = sheet_object("cloth", 4, 0.5, 0.01);

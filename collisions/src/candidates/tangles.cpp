@@ -16,31 +16,46 @@ bool segment_crosses_triangle(const Vec3& p0, const Vec3& p1, const Vec3& a, con
   return wa >= 0 && wb >= 0 && wc >= 0;
 }
 
-int mark_tangles(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs) {
+namespace {
+
+// The pairs of `pairs` (edge, triangle) that `tested` admits and that cross at x0 (in parallel,
+// one flag per pair); each crossing pair's five vertices that `marked` admits get a 1 in `flags`
+// (resized to #V, or cleared when no pair crosses). Returns how many pairs cross.
+template <class Tested, class Marked>
+int mark_crossing_pairs(const CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs, Tested tested,
+                        Marked marked, std::vector<char>& flags) {
   std::vector<char> crosses(pairs.size(), 0);
-  auto untangles = [&](int vertex) {
-    return m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(vertex)])].untangle;
-  };
   parallel_for_each(pairs.size(), 1024, [&](std::size_t k) {
     const auto [e, f] = pairs[k];
-    if (!untangles(m.edges(e, 0)) || !untangles(m.tris(f, 0))) return;
+    if (!tested(e, f)) return;
     auto x = [&](int i) { return m.start(i); };
     crosses[k] = segment_crosses_triangle(x(m.edges(e, 0)), x(m.edges(e, 1)), x(m.tris(f, 0)), x(m.tris(f, 1)),
                                           x(m.tris(f, 2)))
                      ? 1
                      : 0;
   });
-  m.exempt.assign(static_cast<std::size_t>(m.num_vertices()), 0);
+  flags.assign(static_cast<std::size_t>(m.num_vertices()), 0);
   int count = 0;
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     if (!crosses[k]) continue;
     ++count;
     const auto [e, f] = pairs[k];
     for (int i : {m.edges(e, 0), m.edges(e, 1), m.tris(f, 0), m.tris(f, 1), m.tris(f, 2)})
-      m.exempt[static_cast<std::size_t>(i)] = 1;
+      if (marked(i)) flags[static_cast<std::size_t>(i)] = 1;
   }
-  if (count == 0) m.exempt.clear();
+  if (count == 0) flags.clear();
   return count;
+}
+
+}  // namespace
+
+int mark_tangles(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs) {
+  auto untangles = [&](int vertex) {
+    return m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(vertex)])].untangle;
+  };
+  return mark_crossing_pairs(
+      m, pairs, [&](int e, int f) { return untangles(m.edges(e, 0)) && untangles(m.tris(f, 0)); },
+      [](int) { return true; }, m.exempt);
 }
 
 int mark_body_crossings(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs) {
@@ -48,25 +63,13 @@ int mark_body_crossings(CollisionMesh& m, const std::vector<std::pair<int, int>>
     const auto& s = m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(i)])];
     return !s.kinematic && !s.untangle;
   };
-  std::vector<char> crosses(pairs.size(), 0);
-  parallel_for_each(pairs.size(), 1024, [&](std::size_t k) {
-    const auto [e, f] = pairs[k];
-    const int a = m.edges(e, 0), t = m.tris(f, 0);
-    if (!((cloth(a) && m.on_kinematic(t)) || (m.on_kinematic(a) && cloth(t)))) return;
-    auto x = [&](int i) { return m.start(i); };
-    crosses[k] = segment_crosses_triangle(x(a), x(m.edges(e, 1)), x(t), x(m.tris(f, 1)), x(m.tris(f, 2))) ? 1 : 0;
-  });
-  m.released.assign(static_cast<std::size_t>(m.num_vertices()), 0);
-  int count = 0;
-  for (std::size_t k = 0; k < pairs.size(); ++k) {
-    if (!crosses[k]) continue;
-    ++count;
-    const auto [e, f] = pairs[k];
-    for (int i : {m.edges(e, 0), m.edges(e, 1), m.tris(f, 0), m.tris(f, 1), m.tris(f, 2)})
-      if (cloth(i) && m.movable(i)) m.released[static_cast<std::size_t>(i)] = 1;
-  }
-  if (count == 0) m.released.clear();
-  return count;
+  return mark_crossing_pairs(
+      m, pairs,
+      [&](int e, int f) {
+        const int a = m.edges(e, 0), t = m.tris(f, 0);
+        return (cloth(a) && m.on_kinematic(t)) || (m.on_kinematic(a) && cloth(t));
+      },
+      [&](int i) { return cloth(i) && m.movable(i); }, m.released);
 }
 
 }  // namespace invfem::collisions

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <fstream>
 #include <limits>
 
 #include <nlohmann/json.hpp>
@@ -18,12 +17,6 @@ namespace invfem::test {
 namespace {
 
 const std::filesystem::path kOut = INVFEM_SCENE_DIR;
-
-nlohmann::json read_json(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  if (!in) throw std::runtime_error("cannot read " + p.string());
-  return nlohmann::json::parse(in);
-}
 
 // Every frame: no cape triangle crosses a Buddha triangle, the cape never crosses itself; the
 // Buddha's boundary crosses itself only while the ball squashes it (a tet folding its boundary

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "scene_output.hpp"
@@ -45,9 +44,7 @@ TEST(BuddhaGears, InvertsInTheGapAndRecovers) {
 // apart again: frame 0 is clean, nothing crosses before the first inverted tet, and the last 10
 // frames, the recovered Buddha below the gears, are clean.
 TEST(BuddhaGears, BoundaryCrossesItselfOnlyWhileTheGearsFoldItAndEndsClean) {
-  std::ifstream in(kOut / "check.json");
-  ASSERT_TRUE(in) << "no check.json: scene_buddha_gears_check did not run";
-  const nlohmann::json rows = nlohmann::json::parse(in);
+  const nlohmann::json rows = read_json(kOut / "check.json");
   const Csv csv = read_csv(kOut / "energies.csv");
   ASSERT_EQ(rows.size(), csv.rows());
   std::size_t first_inverted = csv.rows();

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "invfem/renders/image.hpp"
 #include "invfem/renders/image_compare.hpp"
 #include "invfem/core/obj_writer.hpp"
@@ -60,6 +62,13 @@ inline std::vector<double> stats_column(const std::filesystem::path& path, const
     out.push_back(std::stod(line.substr(at + tag.size())));
   }
   return out;
+}
+
+// A JSON file the run or a check wrote (scene.json, `invfem check --json` rows in check.json).
+inline nlohmann::json read_json(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path.string() + ": cannot open");
+  return nlohmann::json::parse(in);
 }
 
 // Every value of every column is finite (a fatal failure naming the column and frame otherwise;

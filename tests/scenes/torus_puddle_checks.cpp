@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <fstream>
 
 #include <nlohmann/json.hpp>
 
@@ -71,9 +70,7 @@ TEST(TorusPuddle, ImplicitIntegratorCollapsesAndRecovers) {
 // crossing in (OUT/check.json, scene_torus_puddle_check) holds inverted tets, and the recovered
 // shot ends clean.
 TEST(TorusPuddle, BoundaryCrossesItselfOnlyWhereElementsAreInverted) {
-  std::ifstream in(kOut / "check.json");
-  ASSERT_TRUE(in) << "no check.json: scene_torus_puddle_check did not run";
-  const nlohmann::json rows = nlohmann::json::parse(in);
+  const nlohmann::json rows = read_json(kOut / "check.json");
   const Csv csv = read_csv(kOut / "energies.csv");
   ASSERT_EQ(rows.size(), csv.rows());
   int crossing_frames = 0;

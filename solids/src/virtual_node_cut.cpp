@@ -50,6 +50,27 @@ double abs_volume6(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   return std::abs(tet_signed_volume6(a, b, c, d));
 }
 
+// The children of the old particles (or element copies) in a topology update: the first child
+// of an old one keeps its index, further children are appended (virtual_node_cut.hpp: indices are
+// stable); parent maps every index to the old one it comes from.
+struct StableChildren {
+  std::vector<char> claimed;
+  std::vector<int> parent;
+  explicit StableChildren(int old_count)
+      : claimed(static_cast<std::size_t>(old_count), 0), parent(static_cast<std::size_t>(old_count)) {
+    std::iota(parent.begin(), parent.end(), 0);
+  }
+  int child_of(int old) {
+    if (!claimed[static_cast<std::size_t>(old)]) {
+      claimed[static_cast<std::size_t>(old)] = 1;
+      return old;
+    }
+    parent.push_back(old);
+    return static_cast<int>(parent.size()) - 1;
+  }
+  bool every_old_has_a_child() const { return std::find(claimed.begin(), claimed.end(), 0) == claimed.end(); }
+};
+
 }  // namespace
 
 VirtualNodeMesh make_virtual_node_mesh(const TetMesh& mesh) {
@@ -199,9 +220,7 @@ TopologyChange update_topology(VirtualNodeMesh& m) {
   for (int r = 0; r < num_root; ++r)
     for (int s = 0; s < 4; ++s) incident[static_cast<std::size_t>(m.root.tets(r, s))].push_back({r, s});
   std::vector<std::array<int, 4>> particle(static_cast<std::size_t>(num_pieces), {-1, -1, -1, -1});
-  std::vector<char> node_claimed(static_cast<std::size_t>(change.old_nodes), 0);
-  std::vector<int> parent_node(static_cast<std::size_t>(change.old_nodes));
-  std::iota(parent_node.begin(), parent_node.end(), 0);
+  StableChildren node_children(change.old_nodes);
   std::vector<int> new_node_root = m.node_root;
   std::vector<int> local, uf;
   for (int q = 0; q < num_root_nodes; ++q) {
@@ -244,26 +263,17 @@ TopologyChange update_topology(VirtualNodeMesh& m) {
       while (m.root.tets(r, slot) != q) ++slot;
       if (id < 0) {
         const int old_element = pieces[static_cast<std::size_t>(r)][static_cast<std::size_t>(p - offset[static_cast<std::size_t>(r)])].old_element;
-        const int old = m.tets(old_element, slot);
-        if (!node_claimed[static_cast<std::size_t>(old)]) {
-          node_claimed[static_cast<std::size_t>(old)] = 1;
-          id = old;
-        } else {
-          id = static_cast<int>(parent_node.size());
-          parent_node.push_back(old);
-          new_node_root.push_back(q);
-        }
+        id = node_children.child_of(m.tets(old_element, slot));
+        if (id == static_cast<int>(new_node_root.size())) new_node_root.push_back(q);  // appended
       }
       particle[static_cast<std::size_t>(p)][static_cast<std::size_t>(slot)] = id;
     }
   }
-  if (std::find(node_claimed.begin(), node_claimed.end(), 0) != node_claimed.end())
+  if (!node_children.every_old_has_a_child())
     throw std::logic_error("virtual node mesh: an old particle has no copy");
 
   // 3. Element copies: the pieces of a root tet with the same 4 particles are one copy.
-  std::vector<char> element_claimed(static_cast<std::size_t>(change.old_elements), 0);
-  std::vector<int> parent_element(static_cast<std::size_t>(change.old_elements));
-  std::iota(parent_element.begin(), parent_element.end(), 0);
+  StableChildren element_children(change.old_elements);
   struct Copy {
     std::array<int, 4> nodes;
     int root;
@@ -286,15 +296,8 @@ TopologyChange update_topology(VirtualNodeMesh& m) {
         }
       int e = element_of[i];
       if (e < 0) {
-        const int old = ps[i].old_element;
-        if (!element_claimed[static_cast<std::size_t>(old)]) {
-          element_claimed[static_cast<std::size_t>(old)] = 1;
-          e = old;
-        } else {
-          e = static_cast<int>(parent_element.size());
-          parent_element.push_back(old);
-          copies.emplace_back();
-        }
+        e = element_children.child_of(ps[i].old_element);
+        if (e == static_cast<int>(copies.size())) copies.emplace_back();  // appended
         copies[static_cast<std::size_t>(e)] = {nodes, r, 0, 0.0};
         element_of[i] = e;
       }
@@ -304,7 +307,7 @@ TopologyChange update_topology(VirtualNodeMesh& m) {
       new_pieces[static_cast<std::size_t>(r)].push_back({ps[i].mask, ps[i].weight, e});
     }
   }
-  if (std::find(element_claimed.begin(), element_claimed.end(), 0) != element_claimed.end())
+  if (!element_children.every_old_has_a_child())
     throw std::logic_error("virtual node mesh: an old element copy has no child");
 
   const Eigen::Index ne = static_cast<Eigen::Index>(copies.size());
@@ -320,8 +323,8 @@ TopologyChange update_topology(VirtualNodeMesh& m) {
   }
   m.pieces = std::move(new_pieces);
   m.node_root = std::move(new_node_root);
-  change.parent_node = std::move(parent_node);
-  change.parent_element = std::move(parent_element);
+  change.parent_node = std::move(node_children.parent);
+  change.parent_element = std::move(element_children.parent);
   return change;
 }
 

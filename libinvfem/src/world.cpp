@@ -211,12 +211,12 @@ void World::advance_to(double t_end, FrameReport& report) {
       // The forces were evaluated at the step's end (plastic flow included); an object the
       // passes moved is evaluated again where it now is, as a checkpoint's restore would
       // (resumed runs stay bit-identical).
-      for (std::size_t k = 0; k < objects_.size(); ++k) {
-        const bool resized = objects_[k].body.x.rows() != x_before_passes[k].rows();
-        if (resized) implicit_[k].normal_force.resize(0);  // per node; none after a topology change
-        if (resized || objects_[k].body.x != x_before_passes[k])
+      // An object whose topology a pass changed (fracture) counts as moved; its implicit
+      // workspace rebuilds itself and drops its lagged contact forces at the next step, as the
+      // node count differs (implicit_step.cpp).
+      for (std::size_t k = 0; k < objects_.size(); ++k)
+        if (objects_[k].body.x.rows() != x_before_passes[k].rows() || objects_[k].body.x != x_before_passes[k])
           for (auto& f : objects_[k].forces) f->update_positions(objects_[k].body.x, time_ + dt);
-      }
     }
     time_ += dt;
     ++report.substeps;

@@ -140,7 +140,7 @@ struct StepPassInput {
 // change the objects' end-of-step positions and velocities, and adds its figures to the report.
 // The world then updates the forces of every object whose positions it changed. A pass may also
 // change an object's topology (its nodes, forces, surface, tets and pins: fracture); the world
-// then updates its forces too and drops its lagged contact forces (implicit step).
+// then updates its forces too (the implicit step rebuilds its workspace for the new node count).
 class StepPass {
  public:
   virtual ~StepPass() = default;

@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <cmath>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <regex>
@@ -31,8 +33,8 @@
 namespace invfem::app {
 
 const char* const kCheckHelp =
-    "usage: invfem check OUT [--frames A-B] [--objects a,b] [--json FILE] [--examples N]\n"
-    "       invfem check MESH [--welds FILE] [MESH [--welds FILE]]... [--json FILE] [--examples N]\n"
+    "usage: invfem check OUT [--frames A-B] [--objects a,b] [options]\n"
+    "       invfem check MESH [--welds FILE] [MESH [--welds FILE]]... [options]\n"
     "\n"
     "An independent intersection certificate. Counts the pairs of triangles that share a point,\n"
     "exactly (exact orientation predicates: a floating-point filter with a GMP fallback), within\n"
@@ -53,15 +55,20 @@ const char* const kCheckHelp =
     "C-IPC `stitch i j k r` lines become welds; other formats (PLY, OFF, STL, ...) are read with\n"
     "assimp, which welds equal positions and drops degenerate triangles.\n"
     "  --welds FILE     seams of the mesh just before it: a welds.txt (lines \"i j\": one point,\n"
-    "                   \"i j k\": i on the edge (j, k)), or an .obj whose stitch lines give them\n"
-    "Both:\n"
+    "                   \"i j k r\": i at (1 - r) x_j + r x_k), or an .obj whose stitch lines give them\n"
+    "Options:\n"
     "  --json FILE      the rows as JSON (per frame: self and cross counts, examples)\n"
     "  --examples N     keep up to N offending triangle pairs per frame (default 3; 0: none):\n"
     "                   printed under the first frame that has any, all of them in --json\n"
+    "  --max-seam-gap M a frame whose widest seam gap exceeds M metres fails like an intersection\n"
     "\n"
-    "Prints a row per frame as it is checked, then a summary. Exit code 0 when no pair intersects,\n"
-    "1 when some do, 2 for bad input (a missing folder or file, a malformed mesh or welds file,\n"
-    "a weld outside its mesh).\n";
+    "Seams: where a surface has welds, each frame also gives the widest seam gap (the distance\n"
+    "between a stitched vertex and its point on the other panel) in millimetres, and the summary\n"
+    "the widest over all frames.\n"
+    "\n"
+    "Prints a row per frame as it is checked, then a summary. Exit code 0 when no pair intersects\n"
+    "(and no seam gapes past --max-seam-gap), 1 otherwise, 2 for bad input (a missing folder or\n"
+    "file, a malformed mesh or welds file, a weld outside its mesh).\n";
 
 namespace {
 
@@ -71,15 +78,30 @@ struct Source {
   std::string name;                      // column name
   std::map<int, fs::path> frames;        // frame -> file (OUT mode); frame 0 only for MESH
   std::optional<fs::path> welds_file;    // welds.txt or an .obj with stitch lines
-  certificate::SurfaceWelds welds;
+  Seams seams;
   bool count_self = true;                // false: a mesh or sequence collider (its own crossings are input)
+};
+
+// The widest seam of one surface in one frame (seam -1: the surface has none).
+struct SeamGap {
+  double gap = 0;  // [m]
+  int seam = -1;   // index in its Seams
 };
 
 struct Row {
   int frame = 0;
   certificate::IntersectionCount count;
+  std::vector<SeamGap> seam_gap;  // per source
   double seconds = 0;
 };
+
+// The widest seam gap of a row over all sources, and which source holds it (-1: no seams).
+std::pair<double, int> widest_seam(const Row& r) {
+  std::pair<double, int> w{0.0, -1};
+  for (std::size_t s = 0; s < r.seam_gap.size(); ++s)
+    if (r.seam_gap[s].seam >= 0 && (w.second < 0 || r.seam_gap[s].gap > w.first)) w = {r.seam_gap[s].gap, static_cast<int>(s)};
+  return w;
+}
 
 TriangleSurface load_surface(const fs::path& path) {
   try {
@@ -121,12 +143,14 @@ Arguments split_arguments(const std::vector<std::string>& raw) {
       continue;
     }
     rest.push_back(a);
-    const bool value_option = a == "--frames" || a == "--objects" || a == "--json" || a == "--examples";
+    const bool value_option =
+        a == "--frames" || a == "--objects" || a == "--json" || a == "--examples" || a == "--max-seam-gap";
     if (value_option && i + 1 < raw.size()) rest.push_back(raw[++i]);
     else if (a.size() >= 2 && a[0] == '-' && a != "--") continue;
     else out.paths.push_back(a);
   }
-  out.options = parse_args(rest, "check", {"--frames", "--objects", "--json", "--examples"}, {"--help", "-h"});
+  out.options =
+      parse_args(rest, "check", {"--frames", "--objects", "--json", "--examples", "--max-seam-gap"}, {"--help", "-h"});
   return out;
 }
 
@@ -234,7 +258,7 @@ std::vector<Source> mesh_sources(const Arguments& a) {
 void load_welds(Source& s) {
   if (!s.welds_file) return;
   const std::string ext = s.welds_file->extension().string();
-  s.welds = (ext == ".obj" || ext == ".OBJ") ? welds_from_obj_stitch_lines(s.welds_file->string())
+  s.seams = (ext == ".obj" || ext == ".OBJ") ? welds_from_obj_stitch_lines(s.welds_file->string())
                                              : read_welds_file(s.welds_file->string());
 }
 
@@ -253,7 +277,7 @@ Row check_frame(int frame, const std::vector<Source>& sources, int examples) {
   std::vector<char> count_self;
   for (std::size_t i = 0; i < sources.size(); ++i) {
     pointers.push_back(&surfaces[i]);
-    welds.push_back(sources[i].welds);
+    welds.push_back(sources[i].seams.welds);
     count_self.push_back(sources[i].count_self ? 1 : 0);
   }
   Row row;
@@ -263,6 +287,13 @@ Row check_frame(int frame, const std::vector<Source>& sources, int examples) {
   } catch (const std::invalid_argument& e) {
     throw InputError(e.what());
   }
+  row.seam_gap.resize(sources.size());
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    const std::vector<double> gaps =
+        seam_gaps(sources[i].seams, surfaces[i].x, sources[i].frames.at(frame).string());
+    if (const auto w = std::max_element(gaps.begin(), gaps.end()); w != gaps.end())
+      row.seam_gap[i] = {*w, static_cast<int>(w - gaps.begin())};
+  }
   row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return row;
 }
@@ -271,6 +302,7 @@ int run_check(const Arguments& a) {
   const ParsedArgs& args = a.options;
   if (a.paths.empty()) throw InputError("check: expected a run's output folder or mesh files (see invfem check --help)");
   const int examples = args.integer("--examples", 3, 0, 1000);
+  const double max_seam_gap = args.real("--max-seam-gap", std::numeric_limits<double>::infinity(), 0.0, 1e6);
   const bool run_mode = a.paths.size() == 1 && fs::is_directory(a.paths[0]);
   if (!run_mode && !fs::exists(a.paths[0]))
     throw InputError(a.paths[0] + ": no such file or folder");
@@ -303,7 +335,10 @@ int run_check(const Arguments& a) {
     width.push_back(std::max<int>(8, static_cast<int>(head.size())));
     std::printf("  %*s", width.back(), head.c_str());
   }
-  std::printf("  %8s  %8s  %8s\n", "cross", "total", "seconds");
+  const bool seams = std::any_of(sources.begin(), sources.end(), [](const Source& s) { return !s.seams.stitches.empty(); });
+  std::printf("  %8s  %8s", "cross", "total");
+  if (seams) std::printf("  %8s", "seam mm");
+  std::printf("  %8s\n", "seconds");
   std::fflush(stdout);
 
   const auto start = std::chrono::steady_clock::now();
@@ -331,7 +366,9 @@ int run_check(const Arguments& a) {
       else
         std::printf("%6s", "");
       for (std::size_t s = 0; s < sources.size(); ++s) std::printf("  %*lld", width[s], r.count.self[s]);
-      std::printf("  %8lld  %8lld  %8.3f\n", r.count.cross_total(), r.count.total(), r.seconds);
+      std::printf("  %8lld  %8lld", r.count.cross_total(), r.count.total());
+      if (seams) std::printf("  %8.3f", widest_seam(r).first * 1e3);
+      std::printf("  %8.3f\n", r.seconds);
       if (r.count.total() > 0 && !shown_examples++)  // under the first offending row only
         for (const auto& e : r.count.examples)
           std::printf("        %s triangle %d x %s triangle %d\n", sources[e.surface_a].name.c_str(), e.triangle_a,
@@ -342,8 +379,15 @@ int run_check(const Arguments& a) {
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  // Summary: frames with intersections, totals per object and per pair of objects.
-  int bad_frames = 0;
+  // Summary: frames with intersections, totals per object and per pair of objects; the widest seam.
+  int bad_frames = 0, gaping_frames = 0;
+  const Row* widest = nullptr;
+  for (const Row& r : rows) {
+    const auto w = widest_seam(r);
+    if (w.second < 0) continue;
+    gaping_frames += w.first > max_seam_gap;
+    if (!widest || w.first > widest_seam(*widest).first) widest = &r;
+  }
   long long total = 0;
   std::vector<long long> self(sources.size(), 0);
   std::map<std::pair<int, int>, long long> cross;
@@ -364,6 +408,19 @@ int run_check(const Arguments& a) {
     for (const auto& [pair, c] : cross)
       std::printf("  %s with %s: %lld\n", sources[pair.first].name.c_str(), sources[pair.second].name.c_str(), c);
   }
+  if (widest) {
+    const auto [gap, s] = widest_seam(*widest);
+    const Stitch& st = sources[static_cast<std::size_t>(s)].seams.stitches[static_cast<std::size_t>(widest->seam_gap[static_cast<std::size_t>(s)].seam)];
+    std::printf("widest seam gap: %.3f mm (%s, frame %d, vertex %d ", gap * 1e3, sources[static_cast<std::size_t>(s)].name.c_str(),
+                widest->frame, st.i);
+    if (st.j == st.k)
+      std::printf("at vertex %d)", st.j);
+    else
+      std::printf("on the edge %d-%d)", st.j, st.k);
+    if (std::isfinite(max_seam_gap))
+      std::printf("; %d frame%s over --max-seam-gap %g m", gaping_frames, gaping_frames == 1 ? "" : "s", max_seam_gap);
+    std::printf("\n");
+  }
 
   if (args.has("--json")) {
     nlohmann::json j = nlohmann::json::array();
@@ -371,6 +428,9 @@ int run_check(const Arguments& a) {
       nlohmann::json row{{"frame", r.frame}, {"total", r.count.total()}, {"candidates", r.count.candidates},
                          {"seconds", r.seconds}};
       row["self"] = nlohmann::json::object();
+      row["seam_gap"] = nlohmann::json::object();  // per object with seams: the widest gap [m]
+      for (std::size_t s = 0; s < sources.size(); ++s)
+        if (r.seam_gap[s].seam >= 0) row["seam_gap"][sources[s].name] = r.seam_gap[s].gap;
       for (std::size_t s = 0; s < sources.size(); ++s) row["self"][sources[s].name] = r.count.self[s];
       row["cross"] = nlohmann::json::array();
       for (const auto& [pair, c] : r.count.cross)
@@ -383,7 +443,7 @@ int run_check(const Arguments& a) {
     }
     atomic_write(args.value("--json"), j.dump(1) + "\n");
   }
-  return total == 0 ? 0 : 1;
+  return total == 0 && gaping_frames == 0 ? 0 : 1;
 }
 
 }  // namespace

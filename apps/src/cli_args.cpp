@@ -1,5 +1,8 @@
 #include "cli_args.hpp"
 
+#include <cmath>
+#include <sstream>
+
 #include "json_fields.hpp"
 
 namespace invfem::app {
@@ -29,6 +32,24 @@ int ParsedArgs::integer(const std::string& name, int fallback, int lo, int hi) c
     throw InputError(name + ": expected a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) +
                      "], found \"" + value(name) + "\"");
   return static_cast<int>(v);
+}
+
+double ParsedArgs::real(const std::string& name, double fallback, double lo, double hi) const {
+  if (!has(name)) return fallback;
+  const std::string& text = value(name);
+  double v = 0;
+  std::size_t used = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || !std::isfinite(v) || v < lo || v > hi) {
+    std::ostringstream range;
+    range << "[" << lo << ", " << hi << "]";
+    throw InputError(name + ": expected a number in " + range.str() + ", found \"" + text + "\"");
+  }
+  return v;
 }
 
 ParsedArgs parse_args(const std::vector<std::string>& args, const std::string& command,

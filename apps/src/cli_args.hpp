@@ -19,6 +19,8 @@ struct ParsedArgs {
   const std::vector<std::string>& all(const std::string& name) const;
   // Typed getters: throw InputError naming the option and the bad text.
   int integer(const std::string& name, int fallback, int lo, int hi) const;
+  // A finite number in [lo, hi].
+  double real(const std::string& name, double fallback, double lo, double hi) const;
 };
 
 ParsedArgs parse_args(const std::vector<std::string>& args, const std::string& command,

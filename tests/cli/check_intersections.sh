@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `invfem check`: a run-like folder with two objects and two frames (frame 0 clean, frame 1 with
 # one tetrahedron's apex pushed through the other's face: exactly 3 crossing pairs), welds.txt
-# honoured, MESH mode, and the bad-input errors (exit 2, naming the file).
+# honoured, seam gaps measured, MESH mode, and the bad-input errors (exit 2, naming the file).
 #   check_intersections.sh INVFEM WORKDIR
 set -uo pipefail
 invfem="$1" work="$2"
@@ -50,6 +50,31 @@ printf '0 99\n' > "$out/frames/c/welds.txt"
 expect_output 2 "weld vertex 99 outside [0, 6)" -- check "$out"
 rm "$out/frames/c/welds.txt"
 
+# Seam gaps: in object d, vertex 0 is stitched at r = 0.25 onto the edge (3, 4), at 0.75 x_3 +
+# 0.25 x_4 = (0, 0, 5): it sits there in frame 0 and 3 mm above it in frame 1.
+mkdir -p "$work/seams/frames/d"
+seam_frame() {
+  printf 'v 0 0 %s\nv 1 0 5\nv 0 1 5\nv -1 0 5\nv 3 0 5\nv 0 -1 5\nf 1 2 3\nf 4 5 6\n' "$2" > "$1"
+}
+seam_frame "$work/seams/frames/d/0000.obj" 5
+seam_frame "$work/seams/frames/d/0001.obj" 5.003
+printf '# welds of "d"\n0 3 4 0.25\n' > "$work/seams/frames/d/welds.txt"
+rows=$("$invfem" check "$work/seams")
+code=$?
+[ "$code" -eq 0 ] || { echo "FAIL: check of the seam folder exited $code (want 0)"; echo "$rows"; fail=1; }
+# Columns: frame d:self cross total seam-mm seconds.
+gaps=$(awk 'NF == 6 && $1 ~ /^[0-9]+$/ { print $5 }' <<<"$rows" | tr '\n' ' ')
+[ "$gaps" = "0.000 3.000 " ] || { echo "FAIL: seam gaps \"$gaps\" (want 0.000 3.000)"; echo "$rows"; fail=1; }
+expect_output 0 "widest seam gap: 3.000 mm (d, frame 1, vertex 0 on the edge 3-4)" -- check "$work/seams"
+expect_output 1 "1 frame over --max-seam-gap 0.002 m" -- check "$work/seams" --max-seam-gap 0.002
+expect_output 0 "0 frames over --max-seam-gap 0.004 m" -- check "$work/seams" --max-seam-gap 0.004
+expect_output 2 "--max-seam-gap: expected a number" -- check "$work/seams" --max-seam-gap 2mm
+# Without r the gap is the distance to the edge: 3 mm as well.
+printf '0 3 4\n' > "$work/seams/frames/d/welds.txt"
+expect_output 0 "widest seam gap: 3.000 mm" -- check "$work/seams"
+printf '0 3 4 1.5\n' > "$work/seams/frames/d/welds.txt"
+expect_output 2 "$work/seams/frames/d/welds.txt:1: r \"1.5\" is not a number in (0, 1)" -- check "$work/seams"
+
 # MESH mode: the two files of frame 1 as meshes (equal stems: named by path); a welds file for
 # the touching pair.
 expect_output 1 "frames/a/0001.obj with $out/frames/b/0001.obj: 3" -- check "$out/frames/a/0001.obj" "$out/frames/b/0001.obj"
@@ -78,5 +103,5 @@ rm "$out/frames/b/00x1.obj" "$out/frames/a/0001.obj" "$out/frames/b/0001.obj"
 expect_output 2 "--objects: no object \"zz\"" -- check "$out" --objects zz
 expect_output 2 "--welds $work/c_welds.txt: give it after the mesh" -- check --welds "$work/c_welds.txt" "$out/frames/c/0000.obj"
 
-[ "$fail" -eq 0 ] && echo "invfem check: counts, welds, MESH mode and errors as documented"
+[ "$fail" -eq 0 ] && echo "invfem check: counts, welds, seam gaps, MESH mode and errors as documented"
 exit "$fail"

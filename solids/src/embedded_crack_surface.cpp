@@ -120,16 +120,28 @@ void crack_polygon(Builder& b, const VirtualNodeMesh& m, int e, std::uint8_t mas
 }
 
 // Root boundary face f of copy e clipped to its material slots (Sutherland-Hodgman on the
-// face's corners: a corner in M, then the cut point where M ends or starts along the edge).
-void boundary_face(Builder& b, int e, std::uint8_t mask, int f) {
+// face's corners: a corner in M, then the cut point where M ends or starts along the edge). A cut
+// edge with both ends in M (a crack's front reaches the edge from a tet around it that is split)
+// also gets its cut point, so that the faces on either side of it meet there: the split tet's
+// faces end at it. Such a polygon is fanned from that point (the edge's ends and it are collinear).
+void boundary_face(Builder& b, const VirtualNodeMesh& m, int e, std::uint8_t mask, int f) {
   std::vector<int> poly;
+  std::size_t first = 0;
+  bool on_edge = false;
+  const int r = m.element_root[static_cast<std::size_t>(e)];
   const int* c = kFaces[f];
   for (int k = 0; k < 3; ++k) {
     const int a = c[k], d = c[(k + 1) % 3];
     if (in(mask, a)) poly.push_back(b.corner(e, a));
-    if (in(mask, a) != in(mask, d)) poly.push_back(b.cut(e, a, d));
+    if (in(mask, a) != in(mask, d)) {
+      poly.push_back(b.cut(e, a, d));
+    } else if (in(mask, a) && m.cuts.count({std::min(m.root.tets(r, a), m.root.tets(r, d)),
+                                            std::max(m.root.tets(r, a), m.root.tets(r, d))})) {
+      if (!on_edge) first = poly.size(), on_edge = true;
+      poly.push_back(b.cut(e, a, d));
+    }
   }
-  if (poly.size() >= 3) b.polygon(poly);
+  if (poly.size() >= 3) b.polygon(poly, first);
 }
 
 }  // namespace
@@ -145,7 +157,7 @@ EmbeddedSurface embedded_material_surface(const VirtualNodeMesh& m, const std::s
     const std::uint8_t mask = m.material[static_cast<std::size_t>(e)];
     if (mask != 0xF) crack_polygon(b, m, e, mask);
     for (int f = 0; f < 4; ++f)
-      if (m.root_neighbors[static_cast<std::size_t>(r)][static_cast<std::size_t>(f)] < 0) boundary_face(b, e, mask, f);
+      if (m.root_neighbors[static_cast<std::size_t>(r)][static_cast<std::size_t>(f)] < 0) boundary_face(b, m, e, mask, f);
   }
   return b.finish(source);
 }

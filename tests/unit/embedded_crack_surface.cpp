@@ -164,6 +164,9 @@ TEST(EmbeddedCrackSurface, ACrackInsideTheBodyLeavesOneConnectedSurface) {
   int count = 0;
   triangle_components(s.surface, count);
   EXPECT_EQ(count, 1);
+  // Closed where the crack's front meets the cube's faces (a cut edge of an unsplit tet's face
+  // carries the cut point where the split neighbour's faces end).
+  expect_closed_and_oriented(s.surface, "partly cracked cube");
   // The crack's two faces enclose no volume: the surface still bounds the whole cube.
   EXPECT_NEAR(enclosed_signed_volume(s.surface), 1.0, 1e-12);
 }

@@ -81,12 +81,6 @@ int remove_stale_temporaries(const std::filesystem::path& out_dir) {
 RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World& world, std::set<std::string> formats,
                      int first_frame, const std::string& resume_csv)
     : dir_(std::move(dir)), formats_(std::move(formats)) {
-  // A USD animation holds one topology (usd_writer.hpp); a fracturing solid's changes.
-  if (formats_.count("usd"))
-    for (const auto& s : scene.solids)
-      if (s.fracture)
-        throw InputError("--format usd: solid \"" + s.name + "\" fractures and a USD animation holds one topology; "
-                         "write obj, ply or vtu frames (each frame file carries its own topology)");
   std::filesystem::create_directories(dir_ / "frames");
   for (const auto& o : world.objects()) std::filesystem::create_directories(dir_ / "frames" / o.name);
   for (const auto& k : world.kinematic_bodies())
@@ -110,11 +104,14 @@ RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World&
     }
     if (formats_.count("usd")) {
       usd_[o.name] = std::make_unique<UsdaAnimationWriter>((dir_ / "frames" / (o.name + ".usda")).string(), o.name,
-                                                           o.surface.tris, fps);
+                                                           o.material_surface().tris, fps);
       // A resumed run rebuilds the animation's earlier samples from the OBJ frames.
       for (int f = 0; f < first_frame; ++f) {
         const auto obj = dir_ / "frames" / o.name / (frame_name(f) + ".obj");
-        if (std::filesystem::exists(obj)) usd_[o.name]->add_frame(f, read_obj_surface(obj.string()).x);
+        if (std::filesystem::exists(obj)) {
+          const TriangleSurface s = read_obj_surface(obj.string());
+          usd_[o.name]->add_frame(f, s.x, s.tris);
+        }
       }
     }
   }
@@ -131,9 +128,11 @@ std::string RunOutput::frame_name(int frame) {
 void RunOutput::write_frame(int frame, const World& world, const FrameReport& r) {
   for (const auto& o : world.objects()) {
     const auto base = dir_ / "frames" / o.name / frame_name(frame);
-    if (formats_.count("obj")) write_obj(base.string() + ".obj", o.surface);
-    if (formats_.count("ply")) write_ply(base.string() + ".ply", o.surface.x, o.surface.tris);
-    if (auto it = usd_.find(o.name); it != usd_.end()) it->second->add_frame(frame, o.surface.x);
+    const TriangleSurface& surface = o.material_surface();  // a cut solid's embedded surface
+    if (formats_.count("obj")) write_obj(base.string() + ".obj", surface);
+    if (formats_.count("ply")) write_ply(base.string() + ".ply", surface.x, surface.tris);
+    // Each frame with its own triangles: a fracturing solid's topology changes (usd_writer.hpp).
+    if (auto it = usd_.find(o.name); it != usd_.end()) it->second->add_frame(frame, surface.x, surface.tris);
     if (auto it = pvd_.find(o.name); it != pvd_.end()) {
       VtuFields fields;
       for (const auto& f : o.forces) f->add_cell_fields(fields.cell_scalars);

@@ -552,9 +552,6 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
         if (solid.material.model == "mass_spring")
           f.fail("fracture", "a finite-element material.model (the virtual node algorithm cuts tets; springs have "
                              "no stress to cut by)");
-        if (solid.cloth_coupling.enabled && !solid.cloth_coupling.cloths.empty())
-          f.fail("fracture", "no cloth_coupling (the coupling's collision surface does not follow a changing "
-                             "topology yet)");
       }
       s.solids.push_back(std::move(solid));
     }
@@ -568,11 +565,6 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
     }
   }
   if (s.solids.empty() && s.cloths.empty()) root.fail("solids", "at least one solid or cloth object");
-  for (std::size_t i = 0; i < s.solids.size(); ++i)
-    if (s.solids[i].fracture && s.self_collision.enabled && s.solids[i].self_collision)
-      Fields(j["solids"][i], fname, "$.solids[" + std::to_string(i) + "]")
-          .fail("fracture", "\"self_collision\": false on a fracturing solid (the self-collision layer does not "
-                            "follow a changing topology yet)");
   // Couplings and attachments name objects of the other kind.
   for (std::size_t i = 0; i < s.solids.size(); ++i)
     for (std::size_t k = 0; k < s.solids[i].cloth_coupling.cloths.size(); ++k) {

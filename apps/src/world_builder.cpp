@@ -91,7 +91,6 @@ World build_world(const Scene& scene) {
   try {
     World world(settings, std::move(objects), std::move(colliders.bodies),
                 std::make_unique<RigidCollisions>(std::move(colliders.collision), std::move(couplings)));
-    if (!fracturing.empty()) world.add_pass(std::make_unique<FracturePass>(std::move(fracturing)));
     const SelfCollisionSpec& sc = scene.self_collision;
     if (sc.enabled) {
       collisions::SelfCollisionSettings s;
@@ -107,6 +106,10 @@ World build_world(const Scene& scene) {
         if (!c.self_collision) s.excluded.push_back(c.name);
       world.add_pass(std::make_unique<collisions::SelfCollisionPass>(s));
     }
+    // Fracture runs after the self-collision layer: the layer reads the step's start positions
+    // (StepPassInput::x_start), which hold the topology before a cut; the layer rebuilds its mesh
+    // at the next step, when the start positions hold the new one.
+    if (!fracturing.empty()) world.add_pass(std::make_unique<FracturePass>(std::move(fracturing)));
     return world;
   } catch (const std::invalid_argument& e) {
     throw InputError(scene.file.string() + ": " + e.what());

@@ -29,6 +29,7 @@ void RigidCollisions::begin_object(const SimObject& object) {
 
 void RigidCollisions::solids_stepped(const std::vector<SimObject>& objects, double, double) {
   solid_surfaces_.resize(couplings_.size());
+  surface_versions_.resize(couplings_.size(), 0);
   for (std::size_t c = 0; c < couplings_.size(); ++c) {
     const auto it = std::find_if(objects.begin(), objects.end(), [&](const SimObject& o) {
       return o.name == couplings_[c].solid && o.kind == ObjectKind::Solid;
@@ -37,12 +38,23 @@ void RigidCollisions::solids_stepped(const std::vector<SimObject>& objects, doub
       throw std::invalid_argument("collisions: coupling names \"" + couplings_[c].solid + "\", no solid of the world");
     // The surface's velocity is the solid's node velocities at t + dt (not (x - x_before) / dt:
     // that would be wrong for one step after a checkpoint restore).
-    Points vel(static_cast<Eigen::Index>(it->surface_nodes.size()), 3);
-    for (std::size_t s = 0; s < it->surface_nodes.size(); ++s)
-      vel.row(static_cast<Eigen::Index>(s)) = it->body.v.row(it->surface_nodes[s]);
-    if (!solid_surfaces_[c])
-      solid_surfaces_[c] = std::make_shared<MeshSurface>(it->surface, MeshSurfaceOptions{couplings_[c].query_radius, couplings_[c].offset});
-    solid_surfaces_[c]->update(it->surface.x, vel);
+    // A fractured solid's material surface is its embedded surface (world.hpp), whose vertices
+    // move with their elements' nodes.
+    const TriangleSurface& surface = it->material_surface();
+    Points vel;
+    if (!it->embedded.empty()) {
+      vel = embedded_values(it->embedded.vertices, it->body.v, it->tets);
+    } else {
+      vel.resize(static_cast<Eigen::Index>(it->surface_nodes.size()), 3);
+      for (std::size_t s = 0; s < it->surface_nodes.size(); ++s)
+        vel.row(static_cast<Eigen::Index>(s)) = it->body.v.row(it->surface_nodes[s]);
+    }
+    // Built at the first step and again after each change of the solid's topology (fracture).
+    if (!solid_surfaces_[c] || surface_versions_[c] != it->topology_version) {
+      solid_surfaces_[c] = std::make_shared<MeshSurface>(surface, MeshSurfaceOptions{couplings_[c].query_radius, couplings_[c].offset});
+      surface_versions_[c] = it->topology_version;
+    }
+    solid_surfaces_[c]->update(surface.x, vel);
   }
 }
 

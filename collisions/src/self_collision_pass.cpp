@@ -52,9 +52,14 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
       inv_mass(s) = pinned[static_cast<std::size_t>(i)] || !(o.body.mass(i) > 0) ? 0.0 : 1.0 / o.body.mass(i);
     }
   };
+  // A taking-part object whose topology changed (fracture: new nodes, tets and boundary) makes
+  // the mesh be built again from the objects as they now are.
+  for (std::size_t r = 0; built_ && r < source_.size(); ++r)
+    if (source_[r] >= 0 && objects[static_cast<std::size_t>(source_[r])].topology_version != versions_[r]) built_ = false;
   if (!built_) {
     mesh_ = CollisionMesh{};
     source_.clear();
+    versions_.clear();
     for (std::size_t k = 0; k < objects.size(); ++k) {
       if (excluded(objects[k].name) || objects[k].surface.tris.rows() == 0) continue;
       Points x0, v;
@@ -79,6 +84,7 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
       mesh_.surfaces.back().untangle = objects[k].kind == ObjectKind::Solid;
       mesh_.surfaces.back().level = objects[k].kind == ObjectKind::Solid ? 1 : 0;  // one-way coupling
       source_.push_back(static_cast<int>(k));
+      versions_.push_back(o.topology_version);
     }
     if (settings_.kinematic_bodies)
       for (std::size_t b = 0; b < step.kinematic.size(); ++b) {
@@ -88,6 +94,7 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
         const Points v = (s->x - step.kinematic_start[b]) / dt;
         append_surface(mesh_, step.kinematic[b]->name(), s->tris, step.kinematic_start[b], v, Eigen::VectorXd(), true);
         source_.push_back(-1 - static_cast<int>(b));
+        versions_.push_back(0);
       }
     built_ = true;
     return;

@@ -46,6 +46,7 @@ Vec3 attachment_target(const Attachment& a, const Points& x) {
 void SimObject::refresh_surface() {
   for (std::size_t s = 0; s < surface_nodes.size(); ++s)
     surface.x.row(static_cast<Eigen::Index>(s)) = body.x.row(surface_nodes[s]);
+  if (!embedded.empty()) refresh_embedded_surface(embedded, body.x, tets);
 }
 
 World::World(WorldSettings settings, std::vector<SimObject> objects,

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "invfem/solids/boundary.hpp"
+#include "invfem/solids/embedded_crack_surface.hpp"
 
 namespace invfem {
 namespace {
@@ -57,7 +58,11 @@ void rebuild_fractured_solid(SimObject& o, const VirtualNodeMesh& m, const Fract
   const std::string source = o.surface.source;
   o.surface = extract_surface(rest_positions(m), boundary_triangles(m.tets), o.surface_nodes);
   o.surface.source = source;
+  // What is written and drawn once a crack opens: the embedded material surface (a copy shows
+  // only its side of the cut); before, the boundary as built (bit-identical output).
+  o.embedded = has_open_cut(m) ? embedded_material_surface(m, source) : EmbeddedSurface{};
   o.refresh_surface();
+  ++o.topology_version;
   // Pins: the original groups, then every copy of each pinned node at its original's anchor.
   std::vector<std::vector<int>> copies(static_cast<std::size_t>(m.root.X.rows()));
   for (int i = static_cast<int>(m.root.X.rows()); i < m.num_nodes(); ++i)

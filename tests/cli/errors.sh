@@ -52,12 +52,8 @@ expect 2 "\$.solids[0].fracture.front_fraction: expected a fraction in (0, 1]" -
   run "$(scene frac_front '{ '"$solid"', "fracture": {"max_principal_stress": 1e4, "front_fraction": 2} }] }')" --out "$work/o"
 expect 2 "\$.solids[0].fracture: expected a \"plasticity\" block as well for max_plastic_strain" -- \
   run "$(scene frac_plastic '{ '"$solid"', "fracture": {"max_plastic_strain": 0.5} }] }')" --out "$work/o"
-expect 2 "\$.solids[0].fracture: expected \"self_collision\": false on a fracturing solid" -- \
-  run "$(scene frac_self '{ "self_collision": {"enabled": true}, '"$solid"', "fracture": {"max_principal_stress": 1e4} }] }')" --out "$work/o"
 expect 2 "\$.solids[0].fracture: expected a finite-element material.model" -- \
   run "$(scene frac_springs '{ '"$solid"', "material": {"model": "mass_spring"}, "fracture": {"max_principal_stress": 1e4} }] }')" --out "$work/o"
-expect 2 "--format usd: solid \"t\" fractures" -- \
-  run "$(scene frac_usd '{ "self_collision": {"enabled": false}, '"$solid"', "fracture": {"max_principal_stress": 1e4} }] }')" --out "$work/o" --format usd
 # Garments: a cloth field, a group, a vertex and a stitch that do not exist, a pattern asked of a non-OBJ.
 printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\ng front\nf 1 2 3\nf 1 3 4\n' > "$work/data/sheet.obj"
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' > "$work/data/tri.ply"

@@ -1,16 +1,22 @@
 #!/usr/bin/env bash
 # Issue 13: a run resumed from a checkpoint taken after a fracture (plate_tear tears at frame 2;
 # the checkpoint of frame 6 holds the cut mesh) writes the same frames (OBJ and VTU, each with its
-# own topology) and energies, bit for bit, as the run that was never stopped.
+# own topology, and the USD animation with its time-varying topology) and energies, bit for bit, as
+# the run that was never stopped.
 #   fracture_resume.sh INVFEM SCENE WORKDIR
 set -uo pipefail
 invfem="$1" scene="$2" work="$3"
 source "$(dirname "$0")/lib.sh"
 cli_setup
-run() { "$invfem" run "$scene" --quick --set frames=12 --threads 1 --checkpoint-every 3 --format obj,vtu "$@"; }
+run() { "$invfem" run "$scene" --quick --set frames=12 --threads 1 --checkpoint-every 3 --format obj,vtu,usd "$@"; }
 run --out "$work/reference" > "$work/reference.log" 2>&1 || { echo "FAIL: the reference run failed"; exit 1; }
 cells=$(grep -o 'NumberOfCells="[0-9]*"' "$work/reference/frames/slab/0012.vtu")
 if [ "$cells" != 'NumberOfCells="1056"' ]; then echo "FAIL: the slab did not tear as expected: $cells"; fail=1; fi
+# The USD animation: one topology sample before the tear, one more at each frame that changed it.
+usd="$work/reference/frames/slab.usda"
+if ! grep -q "faceVertexIndices.timeSamples" "$usd" || [ "$(sed -n '/faceVertexCounts.timeSamples/,/}/p' "$usd" | grep -c '^ *[0-9]*: \[')" -lt 2 ]; then
+  echo "FAIL: $usd has no time-varying topology"; fail=1
+fi
 cp -r "$work/reference" "$work/resumed"
 rm "$work/resumed/checkpoints/0009.ckpt" "$work/resumed/checkpoints/0012.ckpt"
 rm "$work/resumed/frames/slab/"00{07,08,09,10,11,12}.*

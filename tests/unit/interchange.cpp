@@ -338,6 +338,7 @@ struct UsdaSummary {
   std::map<std::string, std::string> layer;  // layer metadata, values unquoted
   std::vector<double> counts, indices, points, extent;
   std::map<int, std::vector<double>> point_samples, extent_samples;
+  std::map<int, std::vector<double>> count_samples, index_samples;  // a topology that varies
 };
 
 // Numbers in "[(a, b, c), ...]" or "[1, 2, ...]": strips brackets, parens and commas, and
@@ -399,6 +400,8 @@ UsdaSummary check_usda(const std::string& text) {
     else if (line.find("float3[] extent = ") != std::string::npos) s.extent = usda_numbers(value_of(line));
     else if (line.find("point3f[] points.timeSamples = {") != std::string::npos) sample(s.point_samples);
     else if (line.find("float3[] extent.timeSamples = {") != std::string::npos) sample(s.extent_samples);
+    else if (line.find("int[] faceVertexCounts.timeSamples = {") != std::string::npos) sample(s.count_samples);
+    else if (line.find("int[] faceVertexIndices.timeSamples = {") != std::string::npos) sample(s.index_samples);
   }
   return s;
 }
@@ -452,6 +455,45 @@ TEST(UsdaWriter, EveryIntermediateFileIsStructurallyValid) {
   }
   EXPECT_EQ(usd.num_frames(), static_cast<std::size_t>(frames));
   // Optional: the real USD parser, when it is installed (it is not by default).
+  if (std::system("command -v usdcat > /dev/null 2>&1") == 0) {
+    EXPECT_EQ(std::system(("usdcat '" + p + "' > /dev/null").c_str()), 0);
+  }
+}
+
+TEST(UsdaWriter, ATopologyThatChangesIsTimeSampledWhereItChanges) {
+  // A fracturing solid's frames: two frames of one topology, then three of another with more
+  // points and triangles (frame 3 repeats frame 2's, so it adds no topology sample).
+  TempDir dir;
+  const TriangleSurface a = curved_sheet(3, 2), b = curved_sheet(5, 4);
+  const std::string p = dir.path("slab.usda"), q = dir.path("same.usda");
+  UsdaAnimationWriter usd(p, "slab", a.tris, 30), fixed(q, "slab", a.tris, 30);
+  for (int f = 0; f < 2; ++f) {
+    usd.add_frame(f, wobble(a.x, f), a.tris);
+    fixed.add_frame(f, wobble(a.x, f));
+  }
+  // While the topology is the first one, the file is the fixed-topology one, byte for byte.
+  EXPECT_FALSE(usd.topology_varies());
+  EXPECT_EQ(slurp(p), slurp(q));
+  EXPECT_EQ(check_usda(slurp(p)).count_samples.size(), 0u);
+  for (int f = 2; f < 5; ++f) usd.add_frame(f, wobble(b.x, f), b.tris);
+  EXPECT_TRUE(usd.topology_varies());
+  const UsdaSummary s = check_usda(slurp(p));
+  // The default value is the first frame's topology; samples at frame 0 and where it changed.
+  EXPECT_EQ(s.counts.size(), static_cast<std::size_t>(a.tris.rows()));
+  ASSERT_EQ(s.count_samples.size(), 2u);
+  ASSERT_EQ(s.index_samples.size(), 2u);
+  EXPECT_EQ(s.count_samples.at(0).size(), static_cast<std::size_t>(a.tris.rows()));
+  EXPECT_EQ(s.count_samples.at(2).size(), static_cast<std::size_t>(b.tris.rows()));
+  for (Eigen::Index i = 0; i < 3 * b.tris.rows(); ++i) EXPECT_EQ(s.index_samples.at(2)[static_cast<std::size_t>(i)], b.tris.data()[i]);
+  for (Eigen::Index i = 0; i < 3 * a.tris.rows(); ++i) EXPECT_EQ(s.index_samples.at(0)[static_cast<std::size_t>(i)], a.tris.data()[i]);
+  ASSERT_EQ(s.point_samples.size(), 5u);
+  EXPECT_EQ(s.point_samples.at(1).size(), static_cast<std::size_t>(3 * a.x.rows()));
+  EXPECT_EQ(s.point_samples.at(4).size(), static_cast<std::size_t>(3 * b.x.rows()));
+  // Triangles naming a point the frame does not have are refused, and the file is unchanged.
+  const std::string before = slurp(p);
+  EXPECT_THROW(usd.add_frame(5, a.x, b.tris), std::invalid_argument);
+  EXPECT_EQ(slurp(p), before);
+  EXPECT_EQ(usd.num_frames(), 5u);
   if (std::system("command -v usdcat > /dev/null 2>&1") == 0) {
     EXPECT_EQ(std::system(("usdcat '" + p + "' > /dev/null").c_str()), 0);
   }

@@ -2,7 +2,7 @@
 // boundary acts as infinite mass against a cloth (per-surface levels) in pair impulses and impact
 // zones; a solid's deformed boundary is a moving collider for cloths only (RigidCollisions
 // couplings); attached cloth vertices stay on their embedding in a solid that falls, bounces and
-// squashes.
+// squashes; a coupled solid that fractures is a collider of its new, embedded surface.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,6 +18,7 @@
 #include "invfem/core/world.hpp"
 #include "invfem/shells/cloth_object.hpp"
 #include "invfem/shells/shapes.hpp"
+#include "invfem/solids/fracture_pass.hpp"
 #include "invfem/solids/solid_object.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
@@ -182,6 +183,55 @@ TEST(OneWayCoupling, AttachedVerticesStayOnTheirEmbeddingWhileTheSolidBouncesAnd
   EXPECT_LT(min_vy, -1.5);           // it fell (free fall from 0.3 m: about -2.4 m/s)...
   EXPECT_GT(max_vy_after, 0.1);      // ...and bounced
   EXPECT_LT(lowest_top, 0.2 * 0.9);  // and squashed by more than 10% of its height
+}
+
+TEST(OneWayCoupling, AFracturedSolidCollidesWithItsEmbeddedSurface) {
+  // The 0.2 m cube torn at y = 0.15 (through its upper cell layer) and its upper piece lifted by
+  // 0.1 m: a cloth point at y = 0.2, inside the cube before, now lies in the crack's gap
+  // (0.15 < y < 0.25) and is free; one at y = 0.14 is inside the lower piece, under its crack face.
+  std::vector<SimObject> objects;
+  objects.push_back(cube("solid", 0, Vec3::Zero()));
+  objects.push_back(make_cloth_object("cloth", make_grid(0.1, 0.1, 1, 1), ClothObjectParams{}));
+  RigidCollisions c({}, {SolidCoupling{"solid", {}, 0.0, 0.05}});
+  c.solids_stepped(objects, 0.01, 0.01);
+  c.begin_object(objects[1]);
+  Points x_old(1, 3), x_new(1, 3), v = Points::Zero(1, 3);
+  NodeConstraints found;
+  x_old << 0.07, 0.3, 0.07;
+  x_new << 0.07, 0.2 - 0.01, 0.07;
+  EXPECT_EQ(c.process(x_old, x_new, v, 0.01, 0.01, found), 1);  // whole: inside the cube
+
+  SimObject& solid = objects[0];
+  TetMesh mesh{solid.body.x, solid.tets, "cube"};
+  VirtualNodeMesh m = make_virtual_node_mesh(mesh);
+  for (int r = 0; r < static_cast<int>(m.root.tets.rows()); ++r) cut_tet_by_plane(m, r, Vec3(0, 0.15, 0), Vec3::UnitY());
+  const TopologyChange change = update_topology(m);
+  ASSERT_TRUE(change.changed());
+  FractureBase base;
+  base.material = soft_material();
+  base.density = base.material.density;
+  const std::uint64_t version = solid.topology_version;
+  rebuild_fractured_solid(solid, m, base, &change);
+  EXPECT_GT(solid.topology_version, version);
+  ASSERT_FALSE(solid.embedded.empty());
+  std::vector<int> component;
+  ASSERT_EQ(count_pieces(m, &component), 2);
+  // Lift the piece holding the cube's top corner nodes (rest y = 0.2).
+  int top = -1;
+  for (int i = 0; i < m.num_nodes(); ++i)
+    if (rest_positions(m)(i, 1) > 0.19) top = component[static_cast<std::size_t>(i)];
+  for (int i = 0; i < m.num_nodes(); ++i)
+    if (component[static_cast<std::size_t>(i)] == top) solid.body.x(i, 1) += 0.1;
+  solid.refresh_surface();
+  c.solids_stepped(objects, 0.02, 0.01);
+  c.begin_object(objects[1]);
+  x_new << 0.07, 0.2, 0.07;
+  EXPECT_EQ(c.process(x_old, x_new, v, 0.02, 0.01, found), 0);  // in the gap
+  x_old << 0.07, 0.2, 0.07;
+  x_new << 0.07, 0.14, 0.07;
+  v.setZero();
+  EXPECT_EQ(c.process(x_old, x_new, v, 0.02, 0.01, found), 1);  // under the lower crack face
+  EXPECT_NEAR(x_new(0, 1), 0.15, 1e-9);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // Collision processing against kinematic rigid bodies represented as implicit surfaces
 // (ITF04 section 9). Every node is processed, interior nodes included, so small bodies cannot
 // slip between surface nodes.
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,9 +19,11 @@ struct RigidCollider {
 };
 
 // One-way coupling (ITF04 section 10): a simulated solid whose deformed boundary is a moving
-// collider for cloths. Its surface (SimObject::surface) becomes a MeshSurface at the first step,
-// refit after the solids step each step, with the closest-point normal rule and the velocity of
-// the solid's surface nodes at t + dt. It acts on the named cloths only (never on itself or on
+// collider for cloths. Its material surface (SimObject::material_surface: the boundary, or a
+// fractured solid's embedded surface) becomes a MeshSurface at the first step and again after
+// each change of the solid's topology (SimObject::topology_version), refit after the solids step
+// each step, with the closest-point normal rule and the velocity of the solid's surface points
+// at t + dt. It acts on the named cloths only (never on itself or on
 // another solid), and nothing acts back on the solid.
 struct SolidCoupling {
   std::string solid;
@@ -58,6 +61,7 @@ class RigidCollisions final : public CollisionProcessor {
   std::vector<RigidCollider> colliders_;
   std::vector<SolidCoupling> couplings_;
   std::vector<std::shared_ptr<MeshSurface>> solid_surfaces_;  // per coupling, once built
+  std::vector<std::uint64_t> surface_versions_;                // the solid's topology_version it was built at
   std::vector<RigidCollider> active_;  // what process() uses for the current object
 };
 

@@ -22,6 +22,7 @@
 //      change as its average velocity (for the implicit step the two are one).
 // Nodes off the surface (a solid's interior) are not touched. The start state must be free of
 // intersections; then the end state is too (up to the fail-safe's iteration cap, reported).
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -53,7 +54,11 @@ class SelfCollisionPass final : public StepPass {
   const SelfCollisionSettings& settings() const { return settings_; }
 
  private:
-  // Gathers the taking-part surfaces into mesh_ (topology built once, positions every step).
+  // Gathers the taking-part surfaces into mesh_ (topology built at the first step and again when
+  // an object's topology_version changes, world.hpp; positions every step). A solid takes part
+  // with its boundary SimObject::surface: for a fractured solid the enlarged mesh's boundary,
+  // whose vertices are nodes (the embedded surface's vertices are not; impulses on them would
+  // have to be spread to their elements' nodes).
   void gather(const std::vector<SimObject>& objects, const StepPassInput& step);
   // Stages 1-4 on mesh_ (its inverse masses and exemptions as set), changing v. have_candidates:
   // candidates_ already holds the repulsion's candidates for these velocities and filters.
@@ -70,6 +75,7 @@ class SelfCollisionPass final : public StepPass {
 
   // Per mesh surface: the object it comes from (or -1 - k for kinematic body k).
   std::vector<int> source_;
+  std::vector<std::uint64_t> versions_;  // per mesh surface: its object's topology_version when built
   Candidates candidates_;
   std::vector<std::pair<int, int>> edge_triangles_;
 };

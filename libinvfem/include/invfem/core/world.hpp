@@ -20,6 +20,7 @@
 // shortened so the steps of a frame are equal and land exactly on the frame time. The implicit
 // step has no stability limit: its dt is max_dt (a frame or a fraction of one).
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -28,6 +29,7 @@
 #include <vector>
 
 #include "invfem/core/collision_processor.hpp"
+#include "invfem/core/embedded_surface.hpp"
 #include "invfem/core/force.hpp"
 #include "invfem/core/implicit_step.hpp"
 #include "invfem/core/newmark_step.hpp"
@@ -91,6 +93,15 @@ struct SimObject {
   // end of every advance_to (refresh_surface).
   TriangleSurface surface;
   std::vector<int> surface_nodes;
+  // A fracturing solid once it is cut: its material surface embedded in the element copies
+  // (embedded_surface.hpp; the enlarged mesh's boundary `surface` shows each cut element's
+  // copies whole, so the two sides of a crack would overlap by one element). Written and drawn
+  // instead of `surface` (output_surface) when not empty; refreshed with it. Empty otherwise.
+  EmbeddedSurface embedded;
+  // Counts the changes of this object's topology (nodes, tets, surfaces): a pass that changes it
+  // (fracture) increments it, and what caches an object's topology (the self-collision layer's
+  // CollisionMesh, a coupling's collider BVH) rebuilds when it differs from the value it saw.
+  std::uint64_t topology_version = 0;
   // The seam points of a garment's stitches, in surface vertices (Weld).
   std::vector<Weld> welds;
   Tets tets;  // solids: the tet mesh, for volumetric output; empty otherwise
@@ -102,6 +113,9 @@ struct SimObject {
   // Kind::Full constraints of every pinned node for a step of length dt from the current x.
   NodeConstraints pin_constraints(double t, double dt) const;
   void refresh_surface();
+  // The surface of the object's material: the embedded surface when there is one, else
+  // `surface`. What the run writes and draws, and the collider a coupled cloth meets.
+  const TriangleSurface& material_surface() const { return embedded.empty() ? surface : embedded.surface; }
 };
 
 // Where attachment a of a group puts its cloth vertex, given the solid's node positions x.

@@ -9,10 +9,11 @@
 //  - the force: a new TetSolidForce on the weighted rest data with the parent copies' plastic
 //    state (restore_plastic_state: the World re-evaluates the object where it is without a second
 //    plastic flow, as a checkpoint's restore does, so resumed runs stay bit-identical);
-//  - the boundary surface (what is written, drawn and collided): the boundary of the enlarged
-//    mesh. That is the simplest correct choice: closed, one surface per piece, and the crack faces
-//    are the outer faces of the copies on each side, so they lie within one element of the
-//    embedded cut. (The embedded cut triangles of 2.3 are not drawn yet.)
+//  - the surfaces: SimObject::surface (what the collision code reads) is the boundary of the
+//    enlarged mesh: closed, one surface per piece, but each cut element's copies show whole, so
+//    the two sides of a crack overlap by one element; SimObject::embedded (what is written and
+//    drawn, once a crack opens) is the material surface of embedded_crack_surface.hpp: each copy
+//    clipped to its side of the cut, with the crack polygons.
 //  - pins: every copy of a pinned node is pinned to its original's anchor.
 // Indices are stable (virtual_node_cut.hpp): old nodes keep theirs, so a cloth attached to the
 // solid stays attached. Per-frame outputs are written with each frame's own topology.

@@ -124,7 +124,8 @@ PlasticitySpec parse_plasticity(const Fields& f) {
 }
 
 FractureSpec parse_fracture(const Fields& f) {
-  f.reject_unknown({"max_principal_stress", "max_plastic_strain", "front_fraction", "max_cuts_per_step", "max_elements"});
+  f.reject_unknown({"max_principal_stress", "max_plastic_strain", "front_fraction", "max_cuts_per_step", "max_elements",
+                    "seed"});
   FractureSpec s;
   if (f.has("max_principal_stress")) s.max_principal_stress = f.number_in("max_principal_stress", 1e6, 1e-6, 1e12);
   if (f.has("max_plastic_strain")) s.max_plastic_strain = f.number_in("max_plastic_strain", 1, 1e-6, 10);
@@ -134,6 +135,28 @@ FractureSpec parse_fracture(const Fields& f) {
   if (!(s.front_fraction > 0 && s.front_fraction <= 1)) f.fail("front_fraction", "a fraction in (0, 1]");
   s.max_cuts_per_step = f.integer("max_cuts_per_step", s.max_cuts_per_step, 1, 1000000);
   s.max_elements = f.integer("max_elements", s.max_elements, 0, 1000000000);
+  if (f.has("seed")) {
+    const Fields b = f.object("seed");
+    b.reject_unknown({"point", "normal", "min", "max", "factor"});
+    if (!b.has("point")) b.fail("point", "a point [x, y, z] (m) of the seed plane");
+    if (!b.has("normal")) b.fail("normal", "the seed plane's normal [x, y, z]");
+    FractureSpec::Seed seed;
+    seed.point = b.vec3("point", seed.point, limits::kLength);
+    seed.normal = b.vec3("normal", seed.normal, limits::kDirection);
+    const double n = std::hypot(seed.normal[0], seed.normal[1], seed.normal[2]);
+    if (!(n > 1e-12)) b.fail("normal", "a non-zero vector");
+    for (double& x : seed.normal) x /= n;
+    if (b.has("min") != b.has("max")) b.fail(b.has("min") ? "max" : "min", "both corners of the seed's box, or neither");
+    if (b.has("min")) {
+      seed.min = b.vec3("min", {0, 0, 0}, limits::kLength);
+      seed.max = b.vec3("max", {0, 0, 0}, limits::kLength);
+      for (int k = 0; k < 3; ++k)
+        if ((*seed.min)[k] > (*seed.max)[k]) b.fail("max", "a box with min <= max in every coordinate");
+    }
+    seed.factor = b.number("factor", seed.factor);
+    if (!(seed.factor > 0 && seed.factor <= 1)) b.fail("factor", "a fraction of the thresholds in (0, 1]");
+    s.seed = seed;
+  }
   return s;
 }
 
@@ -698,6 +721,11 @@ nlohmann::json solid_json(const SolidSpec& o) {
                      {"max_elements", o.fracture->max_elements}};
     if (o.fracture->max_principal_stress) f["max_principal_stress"] = *o.fracture->max_principal_stress;
     if (o.fracture->max_plastic_strain) f["max_plastic_strain"] = *o.fracture->max_plastic_strain;
+    if (const auto& seed = o.fracture->seed) {
+      nlohmann::json sj{{"point", seed->point}, {"normal", seed->normal}, {"factor", seed->factor}};
+      if (seed->min) sj["min"] = *seed->min, sj["max"] = *seed->max;
+      f["seed"] = sj;
+    }
     j["fracture"] = f;
   }
   if (o.plastic_goal) j["plastic_goal"] = {{"scale", o.plastic_goal->scale}, {"center", o.plastic_goal->center}};

@@ -64,6 +64,15 @@ struct FractureSpec {
   double front_fraction = 0.5;                 // a crack front's element is cut at this fraction of a threshold
   int max_cuts_per_step = 4;                   // element copies cut per step, crack front first
   int max_elements = 0;                        // no cut once the mesh has this many copies (0: none)
+  // A crack seed (fracture_criterion.hpp): the tets the rest plane (point, normal) crosses, with
+  // their rest centroid in the box, are cut at `factor` x the thresholds, through the plane.
+  struct Seed {
+    std::array<double, 3> point{0, 0, 0};  // [m], rest (transformed) positions
+    std::array<double, 3> normal{0, 1, 0};
+    std::optional<std::array<double, 3>> min, max;  // [m], the box (none: all of the plane)
+    double factor = 0.5;                   // in (0, 1]
+  };
+  std::optional<Seed> seed;
 };
 
 struct PlasticitySpec {       // ITF04 6.3

@@ -57,6 +57,13 @@ World build_world(const Scene& scene) {
     f.criterion.front_fraction = spec.fracture->front_fraction;
     f.criterion.max_cuts_per_step = spec.fracture->max_cuts_per_step;
     f.criterion.max_elements = spec.fracture->max_elements;
+    if (const auto& seed = spec.fracture->seed) {
+      auto v = [](const std::array<double, 3>& a) { return Vec3(a[0], a[1], a[2]); };
+      f.criterion.seed_factor = seed->factor;
+      f.criterion.seed_point = v(seed->point);
+      f.criterion.seed_normal = v(seed->normal).normalized();
+      if (seed->min) f.criterion.seed_min = v(*seed->min), f.criterion.seed_max = v(*seed->max);
+    }
     fracturing.push_back(std::move(f));
   }
   for (const auto& spec : scene.cloths) objects.push_back(build_cloth(spec, scene));

@@ -17,6 +17,11 @@ void FractureCriterion::validate(const std::string& where) const {
   if (!(front_fraction > 0 && front_fraction <= 1)) throw std::invalid_argument(where + ": front_fraction must lie in (0, 1]");
   if (max_cuts_per_step < 1) throw std::invalid_argument(where + ": max_cuts_per_step must be >= 1");
   if (max_elements < 0) throw std::invalid_argument(where + ": max_elements must be >= 0");
+  if (!(seed_factor > 0 && seed_factor <= 1)) throw std::invalid_argument(where + ": seed factor must lie in (0, 1]");
+  if (seed_factor < 1 && !(seed_min.array() <= seed_max.array()).all())
+    throw std::invalid_argument(where + ": seed min must not exceed its max on any axis");
+  if (seed_factor < 1 && !(std::abs(seed_normal.norm() - 1) < 1e-9 && seed_point.allFinite()))
+    throw std::invalid_argument(where + ": the seed plane needs a finite point and a unit normal");
 }
 
 double plastic_strain(const Mat3& Fp_inv) {
@@ -41,14 +46,30 @@ std::vector<CrackStart> find_crack_starts(const VirtualNodeMesh& mesh, const Tet
     p.maxCoeff(&k);
     double load = p(k) > 0 ? p(k) / c.max_principal_stress : 0.0;
     if (plastic) load = std::max(load, plastic_strain(force.plastic_state().Fp_inv[static_cast<std::size_t>(e)]) / c.max_plastic_strain);
-    if (!(load >= c.front_fraction)) continue;
     const int r = mesh.element_root[static_cast<std::size_t>(e)];
+    Vec3 centroid = Vec3::Zero();
+    for (int j = 0; j < 4; ++j) centroid += mesh.root.X.row(mesh.root.tets(r, j)).transpose() / 4;
+    Vec3 point = centroid, normal = force.diagonalization(e).V.col(k).normalized();
+    if (c.seed_factor < 1 && (centroid.array() >= c.seed_min.array()).all() &&
+        (centroid.array() <= c.seed_max.array()).all()) {
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (int j = 0; j < 4; ++j) {
+        const double d = c.seed_normal.dot(mesh.root.X.row(mesh.root.tets(r, j)).transpose() - c.seed_point);
+        lo = std::min(lo, d), hi = std::max(hi, d);
+      }
+      if (lo < 0 && hi > 0) {
+        load /= c.seed_factor;
+        point = centroid - c.seed_normal.dot(centroid - c.seed_point) * c.seed_normal;
+        normal = c.seed_normal;
+      }
+    }
+    if (!(load >= c.front_fraction)) continue;
     bool front = false;
     for (const auto& ed : kEdges)
       front = front || mesh.cuts.count({std::min(mesh.root.tets(r, ed[0]), mesh.root.tets(r, ed[1])),
                                         std::max(mesh.root.tets(r, ed[0]), mesh.root.tets(r, ed[1]))}) != 0;
     if (!front && !(load >= 1)) continue;
-    starts.push_back({e, load, front, force.diagonalization(e).V.col(k).normalized()});
+    starts.push_back({e, load, front, normal, point});
   }
   std::sort(starts.begin(), starts.end(), [](const CrackStart& a, const CrackStart& b) {
     if (a.front != b.front) return a.front;
@@ -63,14 +84,13 @@ int apply_crack_starts(VirtualNodeMesh& mesh, const std::vector<CrackStart>& sta
   int added = 0;
   for (const CrackStart& s : starts) {
     const int r = mesh.element_root[static_cast<std::size_t>(s.element)];
-    Vec3 sum = Vec3::Zero(), centroid = Vec3::Zero();
+    Vec3 sum = Vec3::Zero();
     int count = 0;
     for (const auto& e : kEdges) {
       Vec3 p;
       if (cut_point(mesh, mesh.root.tets(r, e[0]), mesh.root.tets(r, e[1]), p)) sum += p, ++count;
     }
-    for (int k = 0; k < 4; ++k) centroid += mesh.root.X.row(mesh.root.tets(r, k)).transpose() / 4;
-    added += cut_tet_by_plane(mesh, r, count ? Vec3(sum / count) : centroid, s.normal);
+    added += cut_tet_by_plane(mesh, r, count ? Vec3(sum / count) : s.point, s.normal);
   }
   return added;
 }

@@ -234,8 +234,18 @@ TopologyChange update_topology(VirtualNodeMesh& m) {
     auto local_index = [&](int piece) {
       return static_cast<int>(std::lower_bound(local.begin(), local.end(), piece) - local.begin());
     };
+    // A node whose incident tets are all whole (one piece each, no crack near it) stays one
+    // particle, as in the uncut mesh. Gluing across faces alone would split it where its tets meet
+    // only at the node or along an edge (a BCC-meshed surface has such pinches: the shipped
+    // Buddha at 18 cells has a dozen), shedding those parts the first time any tet is cut.
+    const bool whole = std::all_of(ring.begin(), ring.end(), [&](const std::pair<int, int>& rs) {
+      const auto& ps = pieces[static_cast<std::size_t>(rs.first)];
+      return ps.size() == 1 && ps[0].mask == 0xF;
+    });
+    if (whole)
+      for (std::size_t i = 1; i < local.size(); ++i) unite(uf, 0, static_cast<int>(i));
     for (const auto& [r, s] : ring)
-      for (int f = 0; f < 4; ++f) {
+      for (int f = 0; f < 4 && !whole; ++f) {
         const int r2 = m.root_neighbors[static_cast<std::size_t>(r)][static_cast<std::size_t>(f)];
         if (f == s || r2 < r) continue;  // face f holds q iff f != s; each pair once
         for (int p = offset[static_cast<std::size_t>(r)]; p < offset[static_cast<std::size_t>(r) + 1]; ++p)

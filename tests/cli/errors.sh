@@ -50,6 +50,12 @@ expect 2 "\$.solids[0].fracture.max_principal_stress: expected a threshold" -- \
   run "$(scene frac_none '{ '"$solid"', "fracture": {"max_cuts_per_step": 2} }] }')" --out "$work/o"
 expect 2 "\$.solids[0].fracture.front_fraction: expected a fraction in (0, 1]" -- \
   run "$(scene frac_front '{ '"$solid"', "fracture": {"max_principal_stress": 1e4, "front_fraction": 2} }] }')" --out "$work/o"
+expect 2 "\$.solids[0].fracture.seed.factor: expected a fraction of the thresholds in (0, 1]" -- \
+  run "$(scene frac_seed_factor '{ '"$solid"', "fracture": {"max_principal_stress": 1e4, "seed": {"point": [0, 0, 0], "normal": [0, 1, 0], "factor": 0}} }] }')" --out "$work/o"
+expect 2 "\$.solids[0].fracture.seed.normal: expected a non-zero vector" -- \
+  run "$(scene frac_seed_normal '{ '"$solid"', "fracture": {"max_principal_stress": 1e4, "seed": {"point": [0, 0, 0], "normal": [0, 0, 0]}} }] }')" --out "$work/o"
+expect 2 "\$.solids[0].fracture.seed.max: expected both corners of the seed's box, or neither" -- \
+  run "$(scene frac_seed_box '{ '"$solid"', "fracture": {"max_principal_stress": 1e4, "seed": {"point": [0, 0, 0], "normal": [0, 1, 0], "min": [0, 0, 0]}} }] }')" --out "$work/o"
 expect 2 "\$.solids[0].fracture: expected a \"plasticity\" block as well for max_plastic_strain" -- \
   run "$(scene frac_plastic '{ '"$solid"', "fracture": {"max_plastic_strain": 0.5} }] }')" --out "$work/o"
 expect 2 "\$.solids[0].fracture: expected a finite-element material.model" -- \

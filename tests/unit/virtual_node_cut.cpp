@@ -161,6 +161,31 @@ TEST(VirtualNodeCut, PartialCrackKeepsOnePieceAndDoesNotSeparateAtItsTip) {
   EXPECT_NEAR(total_weighted_volume(m), 1.0, 1e-13);
 }
 
+// Tets that meet only at a node (a pinch of a BCC-meshed surface) stay joined there until a crack
+// reaches the node: a cut elsewhere must not shed them.
+TEST(VirtualNodeCut, TetsMeetingOnlyAtAnUncutNodeStayJoined) {
+  // A and B share node 0 only; C shares B's face (1, 2, 3) and is cut below its apex 4.
+  Points X(8, 3);
+  X << 0, 0, 0,  1, 0, 0,  0, 1, 0,  0, 0, 1,  1, 1, 1,  -1, 0, 0,  0, -1, 0,  0, 0, -1;
+  Tets T(3, 4);
+  T << 0, 1, 2, 3,  0, 5, 7, 6,  1, 2, 3, 4;
+  VirtualNodeMesh m = make_virtual_node_mesh(TetMesh{X, T, "pinch"});
+  const int nodes = m.num_nodes();
+  update_topology(m);  // nothing cut: nothing changes
+  EXPECT_EQ(m.num_nodes(), nodes);
+  EXPECT_EQ(count_pieces(m), 1);
+  // The plane x + y + z = 2.4 separates C's apex (x + y + z = 3) from its base face (1).
+  int c = -1;
+  for (int r = 0; r < 3; ++r)
+    if ((m.root.tets.row(r).array() == 4).any()) c = r;
+  ASSERT_GE(c, 0);
+  ASSERT_GT(cut_tet_by_plane(m, c, Vec3(0.8, 0.8, 0.8), Vec3(1, 1, 1).normalized()), 0);
+  update_topology(m);
+  EXPECT_EQ(count_pieces(m), 2);  // the apex's piece; A stays joined to B at node 0
+  EXPECT_EQ(m.num_elements(), 4);
+  EXPECT_NEAR(total_weighted_volume(m), 1.0 / 6 + 1.0 / 6 + 1.0 / 3, 1e-13);  // C has volume 1/3
+}
+
 TEST(VirtualNodeCut, PiecesMoveApartFreelyAndForcesPassTheFiniteDifferenceCheck) {
   VirtualNodeMesh m = unit_cube();
   cut_all(m, Vec3(0.4, 0, 0), Vec3(1, 0, 0));
@@ -214,6 +239,67 @@ TEST(VirtualNodeCut, CriterionCutsOrthogonalToTheLargestPrincipalStress) {
   update_topology(m);
   EXPECT_GT(m.num_elements(), 384);
   EXPECT_THROW(FractureCriterion{}.validate("test"), std::invalid_argument);
+}
+
+// A seed plane lowers the thresholds of the tets it crosses (inside its box) and cuts them along
+// itself: the body stretched along y is cut only there, and a crack along the seed separates it.
+TEST(VirtualNodeCut, SeedPlaneStartsTheCrackThereAndCutsAlongIt) {
+  VirtualNodeMesh m = unit_cube();
+  TetSolidForce force(weighted_tet_rest(m), TetMaterial{NeoHookean{1e4, 1e4}});
+  Points x = rest_positions(m);
+  x.col(1) *= 1.2;
+  force.update_positions(x, 0);
+  double most = 0;  // the largest principal stress anywhere: the threshold is set above it
+  for (int e = 0; e < m.num_elements(); ++e) most = std::max(most, force.principal_stresses(e).maxCoeff());
+  FractureCriterion c;
+  c.max_principal_stress = 2 * most;
+  c.max_cuts_per_step = 1000;
+  c.seed_factor = 0.25;  // seed tets reach 4 x their load: over 1
+  c.seed_point = Vec3(0, 0.6, 0);
+  c.seed_normal = Vec3(0.6, 0.8, 0);  // tilted off the stress direction: the cut follows the seed
+  c.validate("test");
+  std::vector<CrackStart> starts = find_crack_starts(m, force, c);
+  ASSERT_FALSE(starts.empty());
+  for (const CrackStart& s : starts) {
+    const int r = m.element_root[static_cast<std::size_t>(s.element)];
+    double lo = 1e9, hi = -1e9;
+    for (int k = 0; k < 4; ++k) {
+      const double d = c.seed_normal.dot(m.root.X.row(m.root.tets(r, k)).transpose() - c.seed_point);
+      lo = std::min(lo, d), hi = std::max(hi, d);
+    }
+    EXPECT_LT(lo, 0);  // crossed by the seed plane
+    EXPECT_GT(hi, 0);
+    EXPECT_NEAR((s.normal - c.seed_normal).norm(), 0, 1e-12);
+    EXPECT_NEAR(c.seed_normal.dot(s.point - c.seed_point), 0, 1e-12);
+  }
+  // Without the seed nothing is over the threshold.
+  FractureCriterion plain = c;
+  plain.seed_factor = 1;
+  EXPECT_TRUE(find_crack_starts(m, force, plain).empty());
+  // A box keeps the seed to part of the plane (x < 0.5: a notch from one side).
+  FractureCriterion notch = c;
+  notch.seed_max = Vec3(0.5, 2, 2);
+  const std::vector<CrackStart> notched = find_crack_starts(m, force, notch);
+  EXPECT_FALSE(notched.empty());
+  EXPECT_LT(notched.size(), starts.size());
+  // Cutting along the seed until nothing more passes separates the cube in two.
+  for (int round = 0; round < 20 && !starts.empty(); ++round) {
+    apply_crack_starts(m, starts);
+    update_topology(m);
+    TetSolidForce f(weighted_tet_rest(m), TetMaterial{NeoHookean{1e4, 1e4}});
+    Points y = rest_positions(m);
+    y.col(1) *= 1.2;
+    f.update_positions(y, 0);
+    starts = find_crack_starts(m, f, c);
+  }
+  EXPECT_EQ(count_pieces(m), 2);
+  EXPECT_NEAR(total_weighted_volume(m), 1.0, 1e-12);
+  FractureCriterion bad = c;
+  bad.seed_factor = 0;
+  EXPECT_THROW(bad.validate("test"), std::invalid_argument);
+  bad = c;
+  bad.seed_normal = Vec3(0, 2, 0);
+  EXPECT_THROW(bad.validate("test"), std::invalid_argument);
 }
 
 TEST(VirtualNodeCut, RejectsBadCuts) {

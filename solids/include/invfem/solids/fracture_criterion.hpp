@@ -29,6 +29,18 @@ struct FractureCriterion {
   double front_fraction = 0.5;
   int max_cuts_per_step = 4;   // element copies cut per check, crack front first, most loaded first (>= 1)
   int max_elements = 0;        // no cut once the mesh has this many element copies (0: no limit)
+  // A crack seed (a scored plane, a notch): element copies whose root tet the rest-space plane
+  // through seed_point with normal seed_normal crosses (its nodes on both sides), and whose rest
+  // centroid lies in the box [seed_min, seed_max], are cut at seed_factor times the thresholds
+  // (their load is divided by it) and cut along the seed plane (a scored plane: the scene says
+  // where, the stress when; a first cut goes through the centroid projected onto the plane, later
+  // ones through the cut points the neighbours left on it). So a crack starts and runs there
+  // rather than where a pin or a collider concentrates the load, and one crack, not a band of
+  // chips, grows. Beyond the box, a crack runs on by the stress criterion. seed_factor in (0, 1]; 1: no seed. Rest space is the mesh's (the transform applied).
+  double seed_factor = 1;
+  Vec3 seed_point = Vec3::Zero(), seed_normal = Vec3::UnitY();  // normal: unit
+  Vec3 seed_min = Vec3::Constant(-std::numeric_limits<double>::infinity());
+  Vec3 seed_max = Vec3::Constant(std::numeric_limits<double>::infinity());
   // Throws std::invalid_argument "<where>: <field> ..." when a field is out of range or no
   // threshold is finite.
   void validate(const std::string& where) const;
@@ -36,9 +48,11 @@ struct FractureCriterion {
 
 struct CrackStart {
   int element = -1;      // the element copy
-  double load = 0;       // max(stress / its threshold, plastic strain / its threshold)
+  double load = 0;       // max(stress / its threshold, plastic strain / its threshold), over the seed factor
   bool front = false;    // its root tet already carries a cut point
   Vec3 normal;           // unit, rest space
+  Vec3 point;            // rest space: the cut plane goes through it when the tet has no cut point
+                         // yet (its centroid, or that projected onto the seed plane)
 };
 
 // max_i |log s_i| over the singular values of Fp^-1 (the plastic strain of the criterion).

@@ -462,11 +462,14 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   s.gravity = root.vec3("gravity", s.gravity, limits::kAcceleration);
 
   const Fields solver = root.object_or_empty("solver");
-  solver.reject_unknown({"integrator", "cfl", "max_dt", "cg_tolerance", "cg_max_iterations", "newton_tolerance",
-                         "newton_max_iterations", "max_substeps_per_frame"});
+  solver.reject_unknown({"integrator", "linear", "cfl", "max_dt", "cg_tolerance", "cg_max_iterations",
+                         "newton_tolerance", "newton_max_iterations", "max_substeps_per_frame"});
   s.solver.integrator = solver.string("integrator", "");
   if (!s.solver.integrator.empty() && s.solver.integrator != "itf04" && s.solver.integrator != "implicit")
     solver.fail("integrator", "\"itf04\" or \"implicit\"");
+  s.solver.linear = solver.string("linear", "");
+  if (!s.solver.linear.empty() && s.solver.linear != "cg" && s.solver.linear != "direct")
+    solver.fail("linear", "\"cg\" or \"direct\"");
   s.solver.cfl = solver.number_in("cfl", s.solver.cfl, 1e-3, 1);
   const bool max_dt_given = j.contains("solver") && j["solver"].is_object() && j["solver"].contains("max_dt");
   s.solver.max_dt = solver.number_in("max_dt", s.solver.max_dt, 1e-9, 1);
@@ -593,6 +596,9 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   // in-plane stiffness would cost hundreds of explicit substeps a frame).
   if (s.solver.integrator.empty()) s.solver.integrator = s.cloths.empty() ? "itf04" : "implicit";
   if (s.solver.integrator == "implicit" && !max_dt_given) s.solver.max_dt = 0.5 / s.fps;
+  // The implicit step's Newton systems: factorized directly with a cloth (its stiff membranes take
+  // CG thousands of iterations a step in contact), by CG otherwise (see apps/scenes/README.md).
+  if (s.solver.linear.empty()) s.solver.linear = s.cloths.empty() ? "cg" : "direct";
   s.render = parse_render(root.object_or_empty("render"));
   if (j.contains("quick")) {
     if (!j["quick"].is_object()) root.fail("quick", "an object of field overrides, e.g. {\"frames\": 30}");
@@ -775,6 +781,7 @@ nlohmann::json to_json(const Scene& s) {
   j["frames"] = s.frames;
   j["gravity"] = s.gravity;
   j["solver"] = {{"integrator", s.solver.integrator},
+                 {"linear", s.solver.linear},
                  {"cfl", s.solver.cfl},
                  {"max_dt", s.solver.max_dt},
                  {"cg_tolerance", s.solver.cg_tolerance},

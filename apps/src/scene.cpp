@@ -467,8 +467,8 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   s.solver.integrator = solver.string("integrator", "");
   if (!s.solver.integrator.empty() && s.solver.integrator != "itf04" && s.solver.integrator != "implicit")
     solver.fail("integrator", "\"itf04\" or \"implicit\"");
-  s.solver.linear = solver.string("linear", "");
-  if (!s.solver.linear.empty() && s.solver.linear != "cg" && s.solver.linear != "direct")
+  s.solver.linear = solver.string("linear", s.solver.linear);
+  if (s.solver.linear != "cg" && s.solver.linear != "direct")
     solver.fail("linear", "\"cg\" or \"direct\"");
   s.solver.cfl = solver.number_in("cfl", s.solver.cfl, 1e-3, 1);
   const bool max_dt_given = j.contains("solver") && j["solver"].is_object() && j["solver"].contains("max_dt");
@@ -596,9 +596,6 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   // in-plane stiffness would cost hundreds of explicit substeps a frame).
   if (s.solver.integrator.empty()) s.solver.integrator = s.cloths.empty() ? "itf04" : "implicit";
   if (s.solver.integrator == "implicit" && !max_dt_given) s.solver.max_dt = 0.5 / s.fps;
-  // The implicit step's Newton systems: factorized directly with a cloth (its stiff membranes take
-  // CG thousands of iterations a step in contact), by CG otherwise (see apps/scenes/README.md).
-  if (s.solver.linear.empty()) s.solver.linear = s.cloths.empty() ? "cg" : "direct";
   s.render = parse_render(root.object_or_empty("render"));
   if (j.contains("quick")) {
     if (!j["quick"].is_object()) root.fail("quick", "an object of field overrides, e.g. {\"frames\": 30}");

@@ -257,8 +257,9 @@ struct SolverSpec {
   // Default: implicit when the scene has a cloth, else itf04.
   std::string integrator;
   // implicit: how the Newton systems are solved, "cg" (block-Jacobi PCG) | "direct" (sparse LDL^T,
-  // core/sparse_direct.hpp). Default: direct when the scene has a cloth, else cg.
-  std::string linear;
+  // core/sparse_direct.hpp). CG is the default: the direct solve measured slower on every scene
+  // tried (apps/scenes/README.md).
+  std::string linear = "cg";
   double cfl = 0.5;
   double max_dt = 0.005;          // [s]; implicit default: half a frame
   double cg_tolerance = 1e-8;     // relative residual (itf04 solves; floor of the implicit forcing term)

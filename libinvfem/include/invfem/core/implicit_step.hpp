@@ -53,6 +53,10 @@ enum class LinearSolver { CG, Direct };
 
 struct ImplicitSettings {
   LinearSolver linear = LinearSolver::CG;
+  // Direct: 0 factorizes every Newton iteration's system and solves it exactly; k > 0 keeps the
+  // factorization of a solve's first iteration as the preconditioner of CG in the later ones, and
+  // factorizes again after a CG that took more than k iterations.
+  int refactor_after = 0;
   int max_newton_iterations = 12;
   double tolerance = 1e-4;   // relative residual of the stopping rule above
   int max_line_search = 12;  // halvings of the Newton step before giving up on descent
@@ -71,6 +75,7 @@ struct ImplicitWorkspace {
   Eigen::VectorXd normal_force;     // per node: its contact force at the end of the last step [N]
   CGWorkspace cg;
   FilteredDirectSolver direct;      // LinearSolver::Direct: analyzed at its first use on this pattern
+  bool factor_valid = false, refactor = false;
   Points x_hat, x_trial, grad, grad_trial, dir, rhs, scratch, product;
 };
 

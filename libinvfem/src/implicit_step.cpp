@@ -165,31 +165,14 @@ void assemble(const Body& body, const std::vector<Force*>& forces, const Contact
 
 // The Newton direction: ws.dir = d with S A S d = S rhs on the free subspace of `fixed`, by the
 // settings' linear solver (ws.A assembled). CG starts from zero and stops at the Eisenstat-Walker
-// forcing term min(0.1, |g| / |g_0|) (floored by cg.relative_tolerance). Direct: see
-// ImplicitSettings::refactor_after; the factorization is made afresh at the first Newton iteration
-// of a solve (`first`: the constraints may have changed). Adds its CG iterations.
-void solve_newton_system(const NodeConstraints& fixed, double g_norm, double g0, bool first,
-                         const ImplicitSettings& settings, ImplicitWorkspace& ws, StepStats& stats) {
-  CGSettings cg = settings.cg;
-  cg.relative_tolerance = std::max(settings.cg.relative_tolerance, std::min(0.1, g_norm / g0));
-  auto apply_A = [&](const Points& p, Points& Ap) { ws.A.multiply(p, Ap); };
+// forcing term min(0.1, |g| / |g_0|) (floored by cg.relative_tolerance); the direct solve is exact
+// and falls back to CG when the filtered matrix is found not definite. Adds its CG iterations.
+void solve_newton_system(const NodeConstraints& fixed, double g_norm, double g0, const ImplicitSettings& settings,
+                         ImplicitWorkspace& ws, StepStats& stats) {
   if (settings.linear == LinearSolver::Direct) {
     if (!ws.direct.analyzed_for(ws.A)) ws.direct.analyze(ws.A);
-    if (first || ws.refactor || settings.refactor_after <= 0) {
-      ws.factor_valid = ws.direct.factorize(ws.A, fixed);
-      ws.refactor = false;
-      if (ws.factor_valid && settings.refactor_after <= 0) {  // exact solve of this iteration's system
-        ws.direct.solve(ws.rhs, ws.dir);
-        return;
-      }
-    }
-    if (ws.factor_valid) {  // CG preconditioned by the last factorization
-      ws.dir.setZero();
-      const CGResult res = projected_pcg(
-          apply_A, [&](const Points& r, Points& z) { ws.direct.solve(r, z); }, ws.rhs, fixed, ws.dir, cg, ws.cg);
-      stats.cg_iterations += res.iterations;
-      stats.cg_converged = stats.cg_converged && res.converged;
-      ws.refactor = res.iterations > settings.refactor_after || !res.converged;
+    if (ws.direct.factorize(ws.A, fixed)) {
+      ws.direct.solve(ws.rhs, ws.dir);
       return;
     }
   }
@@ -200,7 +183,10 @@ void solve_newton_system(const NodeConstraints& fixed, double g_norm, double g0,
     });
     project_free(fixed, z);
   };
+  auto apply_A = [&](const Points& p, Points& Ap) { ws.A.multiply(p, Ap); };
   ws.dir.setZero();
+  CGSettings cg = settings.cg;
+  cg.relative_tolerance = std::max(settings.cg.relative_tolerance, std::min(0.1, g_norm / g0));
   const CGResult res = projected_pcg(apply_A, precondition, ws.rhs, fixed, ws.dir, cg, ws.cg);
   stats.cg_iterations += res.iterations;
   stats.cg_converged = stats.cg_converged && res.converged;
@@ -245,7 +231,7 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
     // Newton direction: (M + h^2 K + h C) d = -S grad on the free subspace.
     assemble(body, forces, k, x, x_start, h, ws);
     ws.rhs = -ws.grad;
-    solve_newton_system(fixed, g_norm, g0, it == 0, settings, ws, stats);
+    solve_newton_system(fixed, g_norm, g0, settings, ws, stats);
 
     // Backtracking line search on E (Armijo with c = 1e-4): A is definite, so d is a descent
     // direction of E.

@@ -2,9 +2,6 @@
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
-#ifdef INVFEM_HAVE_CHOLMOD
-#include <Eigen/CholmodSupport>
-#endif
 
 #include <stdexcept>
 
@@ -12,12 +9,7 @@ namespace invfem {
 
 struct FilteredDirectSolver::Factorization {
   Eigen::SparseMatrix<double> K;  // 3n x 3n, lower triangle of K only
-#ifdef INVFEM_HAVE_CHOLMOD
-  // Supernodal LL^T (BLAS on dense supernodes); its info() is NumericalIssue when K is not definite.
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
-#else
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
-#endif
 };
 
 FilteredDirectSolver::FilteredDirectSolver() = default;
@@ -138,10 +130,8 @@ bool FilteredDirectSolver::factorize(const BlockSparseMatrix& A, const NodeConst
 
   f_->ldlt.factorize(f_->K);
   if (f_->ldlt.info() != Eigen::Success) return false;
-#ifndef INVFEM_HAVE_CHOLMOD
   // SimplicialLDLT succeeds on any nonzero pivots; K is SPD exactly when every pivot is positive.
   if (!(f_->ldlt.vectorD().array() > 0).all()) return false;
-#endif
   factorized_ = true;
   return true;
 }

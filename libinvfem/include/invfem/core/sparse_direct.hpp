@@ -17,7 +17,12 @@
 // workspace: the pattern of A never changes within a body's life), factorize() at every Newton
 // iteration. The scalar matrix is the lower triangle of K in compressed columns (3n x 3n, scalar
 // row/column 3 i + c for node i, component c), filled through an index map built by analyze(), so
-// refilling it allocates nothing (Eigen's numeric factorization reuses its symbolic arrays).
+// refilling it allocates nothing (Eigen's factorize() still permutes K into a temporary).
+//
+// Cost, measured (README "Benchmarks"): a factorization per Newton iteration costs more than CG's
+// iterations on the cloth drapes and the dress, so CG stays the default (solver.linear). CHOLMOD's
+// supernodal LL^T was tried in its place (faster than SimplicialLDLT by a third, still slower
+// than CG) and not adopted.
 #include <memory>
 #include <vector>
 

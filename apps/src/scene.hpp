@@ -257,8 +257,8 @@ struct SolverSpec {
   // Default: implicit when the scene has a cloth, else itf04.
   std::string integrator;
   // implicit: how the Newton systems are solved, "cg" (block-Jacobi PCG) | "direct" (sparse LDL^T,
-  // core/sparse_direct.hpp). CG is the default: the direct solve measured slower on every scene
-  // tried (apps/scenes/README.md).
+  // core/sparse_direct.hpp). CG is the default: the direct solve measured slower on the cloth
+  // drapes and the dress, faster on the stiff half torus shell (README "Benchmarks").
   std::string linear = "cg";
   double cfl = 0.5;
   double max_dt = 0.005;          // [s]; implicit default: half a frame

@@ -265,6 +265,10 @@ struct SolverSpec {
   // "itf04" (the ITF04 section 9 step) | "implicit" (backward Euler by Newton, core/implicit_step.hpp).
   // Default: implicit when the scene has a cloth, else itf04.
   std::string integrator;
+  // implicit: how the Newton systems are solved, "cg" (block-Jacobi PCG) | "direct" (sparse LDL^T,
+  // core/sparse_direct.hpp). CG is the default: the direct solve measured slower on the cloth
+  // drapes and the dress, faster on the stiff half torus shell (README "Benchmarks").
+  std::string linear = "cg";
   double cfl = 0.5;
   double max_dt = 0.005;          // [s]; implicit default: half a frame
   double cg_tolerance = 1e-8;     // relative residual (itf04 solves; floor of the implicit forcing term)

@@ -38,6 +38,7 @@ void prepare(ImplicitWorkspace& ws, const Body& body, const std::vector<Force*>&
     ws.damping_scatter.emplace_back(ws.damping[k], ws.A);
   }
   ws.block_inverse.resize(static_cast<std::size_t>(n));
+  ws.direct = FilteredDirectSolver{};  // a new pattern: analyzed again at its first direct solve
   for (Points* p : {&ws.x_hat, &ws.x_trial, &ws.grad, &ws.grad_trial, &ws.dir, &ws.rhs, &ws.scratch, &ws.product})
     p->resize(n, 3);
   ws.ready = true;
@@ -162,12 +163,19 @@ void assemble(const Body& body, const std::vector<Force*>& forces, const Contact
   });
 }
 
-// Newton's method on E from the iterate x (the forces evaluated there) under the filter `fixed`.
-// Adds its iterations to stats; leaves the forces evaluated at the final x and f = the total force.
-void newton_solve(const Body& body, const std::vector<Force*>& forces, const Points& x_start, const Contacts& k,
-                  double h, double t_new, const ImplicitSettings& settings, ImplicitWorkspace& ws, Points& x,
-                  Points& f, StepStats& stats) {
-  const NodeConstraints& fixed = k.fixed;
+// The Newton direction: ws.dir = d with S A S d = S rhs on the free subspace of `fixed`, by the
+// settings' linear solver (ws.A assembled). CG starts from zero and stops at the Eisenstat-Walker
+// forcing term min(0.1, |g| / |g_0|) (floored by cg.relative_tolerance); the direct solve is exact
+// and falls back to CG when the filtered matrix is found not definite. Adds its CG iterations.
+void solve_newton_system(const NodeConstraints& fixed, double g_norm, double g0, const ImplicitSettings& settings,
+                         ImplicitWorkspace& ws, StepStats& stats) {
+  if (settings.linear == LinearSolver::Direct) {
+    if (!ws.direct.analyzed_for(ws.A)) ws.direct.analyze(ws.A);
+    if (ws.direct.factorize(ws.A, fixed)) {
+      ws.direct.solve(ws.rhs, ws.dir);
+      return;
+    }
+  }
   auto precondition = [&](const Points& r, Points& z) {
     parallel_for_each(ws.block_inverse.size(), kGrain, [&](std::size_t i) {
       const auto k = static_cast<Eigen::Index>(i);
@@ -176,6 +184,20 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
     project_free(fixed, z);
   };
   auto apply_A = [&](const Points& p, Points& Ap) { ws.A.multiply(p, Ap); };
+  ws.dir.setZero();
+  CGSettings cg = settings.cg;
+  cg.relative_tolerance = std::max(settings.cg.relative_tolerance, std::min(0.1, g_norm / g0));
+  const CGResult res = projected_pcg(apply_A, precondition, ws.rhs, fixed, ws.dir, cg, ws.cg);
+  stats.cg_iterations += res.iterations;
+  stats.cg_converged = stats.cg_converged && res.converged;
+}
+
+// Newton's method on E from the iterate x (the forces evaluated there) under the filter `fixed`.
+// Adds its iterations to stats; leaves the forces evaluated at the final x and f = the total force.
+void newton_solve(const Body& body, const std::vector<Force*>& forces, const Points& x_start, const Contacts& k,
+                  double h, double t_new, const ImplicitSettings& settings, ImplicitWorkspace& ws, Points& x,
+                  Points& f, StepStats& stats) {
+  const NodeConstraints& fixed = k.fixed;
   const Eigen::VectorXd& mass = body.mass;
   stats.newton_converged = false;
   double force_scale = 0, g0 = 0;
@@ -209,12 +231,7 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
     // Newton direction: (M + h^2 K + h C) d = -S grad on the free subspace.
     assemble(body, forces, k, x, x_start, h, ws);
     ws.rhs = -ws.grad;
-    ws.dir.setZero();
-    CGSettings cg = settings.cg;
-    cg.relative_tolerance = std::max(settings.cg.relative_tolerance, std::min(0.1, g_norm / g0));
-    const CGResult res = projected_pcg(apply_A, precondition, ws.rhs, fixed, ws.dir, cg, ws.cg);
-    stats.cg_iterations += res.iterations;
-    stats.cg_converged = stats.cg_converged && res.converged;
+    solve_newton_system(fixed, g_norm, g0, settings, ws, stats);
 
     // Backtracking line search on E (Armijo with c = 1e-4): A is definite, so d is a descent
     // direction of E.

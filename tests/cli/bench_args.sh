@@ -16,6 +16,7 @@ expect 2 "--json: cannot write \"$work\": it is a folder" -- bench --units svd -
 expect 2 "bench: unknown option \"--bogus\"" -- bench --bogus
 expect 2 "bench: option --units needs a value" -- bench --units
 expect 2 "bench: unexpected argument \"svd\"" -- bench svd
+expect 2 "bench: --linear: expected cg or direct, found \"lu\"" -- bench --units svd --linear lu
 # Nothing was written by the failed runs.
 if [ -n "$(ls -A "$work")" ]; then
   echo "FAIL: a rejected bench left files in $work: $(ls -A "$work")"

@@ -31,6 +31,10 @@ expect 2 "\$.solids[0].mesh: expected an existing mesh file" -- \
   run "$(scene nomesh '{ "solids": [{"name": "t", "mesh": "data/none.vtk"}] }')" --out "$work/o"
 expect 2 "a name unique in the scene" -- \
   run "$(scene dup '{ '"$solid"' }, {"name": "t", "mesh": "data/torus_polyfem.msh"}] }')" --out "$work/o"
+expect 2 "\$.solver.linear: expected \"cg\" or \"direct\"" -- \
+  run "$(scene linear '{ "solver": {"integrator": "implicit", "linear": "lu"}, '"$solid"' }] }')" --out "$work/o"
+expect 2 "\$.solver.linear: expected a string" -- \
+  run "$(scene linear_type '{ "solver": {"linear": 1}, '"$solid"' }] }')" --out "$work/o"
 expect 2 "\$.gravity: expected an array of 3" -- run "$(scene grav '{ "gravity": [0, 1], '"$solid"' }] }')" --out "$work/o"
 printf 'ASCII garbage\n' > "$work/data/broken.vtk"
 expect 2 "broken.vtk" -- run "$(scene broken '{ "solids": [{"name": "t", "mesh": "data/broken.vtk"}] }')" --out "$work/o"

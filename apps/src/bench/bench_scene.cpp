@@ -13,4 +13,8 @@ void set_integrator(nlohmann::json& scene, const char* integrator) {
   if (integrator) scene["solver"]["integrator"] = integrator;
 }
 
+void set_linear(nlohmann::json& scene, const std::string& linear) {
+  if (!linear.empty()) scene["solver"]["linear"] = linear;
+}
+
 }  // namespace invfem::app::bench

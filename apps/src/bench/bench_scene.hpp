@@ -17,4 +17,7 @@ World world_from_json(const nlohmann::json& scene, const std::filesystem::path& 
 // Sets solver.integrator when `integrator` is not null; null leaves the scene's default step.
 void set_integrator(nlohmann::json& scene, const char* integrator);
 
+// Sets solver.linear when `linear` is not empty (invfem bench --linear); "" leaves the scene's default.
+void set_linear(nlohmann::json& scene, const std::string& linear);
+
 }  // namespace invfem::app::bench

@@ -35,6 +35,8 @@ UnitResult time_frames(World& world, double fps, int frames, const RunOptions& o
   }
   const double mean = std::accumulate(r.samples.begin(), r.samples.end(), 0.0) / frames;
   r.note = strf("%d frames, mean %.3g s/frame, %d threads", frames, mean, tbb::this_task_arena::max_concurrency());
+  if (world.settings().integrator == Integrator::Implicit)
+    r.note += world.settings().implicit.linear == LinearSolver::Direct ? ", direct Newton solves" : ", CG Newton solves";
   return r;
 }
 
@@ -79,7 +81,8 @@ TriangleSurface make_torus_surface(double R, double r, int around, int across) {
 // full in frames 3 to 5. The torus is then still falling, but the explicit step's cost per frame
 // is set by the strength (the damping solve's CG iterations grow with it), so the median is a
 // full-strength frame, as it is in the full shot (45 of its 90 frames are at full strength).
-nlohmann::json torus_scene(bool quick) {
+nlohmann::json torus_scene(const RunOptions& o) {
+  const bool quick = o.quick;
   const nlohmann::json strength = quick ? nlohmann::json{{0.0, 0.002}, {1.0 / 30, 0.002}, {2.0 / 30, 1.0}}
                                         : nlohmann::json{{0.0, 0.002}, {1.0, 0.002}, {1.5, 1.0}};
   nlohmann::json j = {
@@ -98,12 +101,13 @@ nlohmann::json torus_scene(bool quick) {
       {"colliders",
        {{{"name", "ground"}, {"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 1, 0}}, {"friction", 0.3}}}}};
   set_integrator(j, kTorusIntegrator);
+  set_linear(j, o.linear);
   return j;
 }
 
 UnitResult torus_115k(const RunOptions& o) {
   write_obj((o.temp_dir / "torus.obj").string(), make_torus_surface(kTorusMajor, kTorusMinor, kTorusAround, kTorusAcross));
-  const nlohmann::json scene = torus_scene(o.quick);
+  const nlohmann::json scene = torus_scene(o);
   o.progress("meshing the torus (BCC resolution " + std::to_string(kTorusResolution) + ")");
   World world = world_from_json(scene, o.temp_dir, "torus_115k");
   const long long tets = world.objects().at(0).tets.rows();
@@ -120,7 +124,7 @@ UnitResult torus_115k(const RunOptions& o) {
 // lands at about t = 0.25 s (frame 7) and frames in contact cost about 5 times more (CG): the full
 // run is 50 frames (2 s), --quick 13 (6 falling, 7 in contact), so that the median is a frame in
 // contact in both.
-nlohmann::json cloth_drape_scene(int cells, int frames) {
+nlohmann::json cloth_drape_scene(int cells, int frames, const std::string& linear) {
   nlohmann::json j = {
       {"name", "cloth_drape_" + std::to_string(cells)},
       {"fps", 25},
@@ -135,11 +139,12 @@ nlohmann::json cloth_drape_scene(int cells, int frames) {
            {"bending_stiffness", 1e-4}, {"bending_damping", 1e-5}}}}}},
       {"colliders", {{{"name", "ball"}, {"type", "sphere"}, {"radius", 0.25}, {"friction", 0.4}}}}};
   set_integrator(j, kClothDrapeIntegrator);
+  set_linear(j, linear);
   return j;
 }
 
 UnitResult cloth_drape(const RunOptions& o, int cells) {
-  const nlohmann::json scene = cloth_drape_scene(cells, o.quick ? 13 : 50);
+  const nlohmann::json scene = cloth_drape_scene(cells, o.quick ? 13 : 50, o.linear);
   World world = world_from_json(scene, o.temp_dir, scene["name"].get<std::string>());
   UnitResult r = time_frames(world, scene["fps"].get<double>(), scene["frames"].get<int>(), o);
   r.note = strf("%dx%d cells (%s triangles), ", cells, cells, count_text(2LL * cells * cells).c_str()) + r.note;
@@ -161,6 +166,7 @@ UnitResult dress_dance(const RunOptions& o) {
   nlohmann::json scene = nlohmann::json::parse(in);
   const int frames = o.quick ? 5 : 25;
   scene["frames"] = frames;
+  set_linear(scene, o.linear);
   o.progress("loading the dress and the dancer");
   World world = world_from_json(scene, kDressDance.parent_path(), "dress_dance");
   UnitResult r = time_frames(world, scene["fps"].get<double>(), frames, o);

@@ -1,8 +1,9 @@
 #pragma once
 // The large-step integrator beside the ITF04 step: backward Euler on positions, solved by
 // Newton's method with a backtracking line search on the incremental potential, its linear
-// systems by block-Jacobi preconditioned CG (reference time-stepping sheet; Baraff-Witkin 1998 for
-// the filtered constraints; Teran et al. 2005 for the definite stiffness).
+// systems by block-Jacobi preconditioned CG or by a sparse LDL^T factorization (ImplicitSettings::
+// linear; sparse_direct.hpp) (reference time-stepping sheet; Baraff-Witkin 1998 for the filtered
+// constraints; Teran et al. 2005 for the definite stiffness).
 //
 // With h the step, x^ = x(n) + h v~(n) the inertial target (v~(n): the velocity after collision
 // processing) and C the damping matrix frozen at x(n), x(n+1) minimizes (all terms times h^2):
@@ -28,7 +29,10 @@
 // (gravity, the elastic forces at the first iterate and the momentum per step), so the
 // tolerance is a fraction of the forces at play; an iteration cap that is hit is reported
 // (StepStats::newton_converged), never silent. The CG of each Newton step stops at an
-// Eisenstat-Walker-like relative tolerance min(0.1, |g_k| / |g_0|), floored by cg.relative_tolerance.
+// Eisenstat-Walker-like relative tolerance min(0.1, |g_k| / |g_0|), floored by cg.relative_tolerance;
+// the direct solve is exact (to rounding), yet measured it leaves the Newton iteration count about
+// unchanged in contact (cloth drape, dress: the contacts and the friction's kink set it, not the
+// inexact CG). A factorization that finds the filtered matrix not definite falls back to CG.
 //
 // The step leaves positions at its start and end and the velocity (x(n+1) - x(n)) / h, the
 // input of an after-step collision pass (world.hpp, stage 4).
@@ -40,10 +44,16 @@
 #include "invfem/core/force.hpp"
 #include "invfem/core/newmark_step.hpp"
 #include "invfem/core/projected_cg.hpp"
+#include "invfem/core/sparse_direct.hpp"
 
 namespace invfem {
 
+// How each Newton system is solved: block-Jacobi preconditioned CG (inexact, Eisenstat-Walker
+// forcing), or the filtered system factorized by sparse LDL^T (FilteredDirectSolver).
+enum class LinearSolver { CG, Direct };
+
 struct ImplicitSettings {
+  LinearSolver linear = LinearSolver::CG;
   int max_newton_iterations = 12;
   double tolerance = 1e-4;   // relative residual of the stopping rule above
   int max_line_search = 12;  // halvings of the Newton step before giving up on descent
@@ -61,6 +71,7 @@ struct ImplicitWorkspace {
   std::vector<Mat3> block_inverse;  // the block-Jacobi preconditioner
   Eigen::VectorXd normal_force;     // per node: its contact force at the end of the last step [N]
   CGWorkspace cg;
+  FilteredDirectSolver direct;      // LinearSolver::Direct: analyzed at its first use on this pattern
   Points x_hat, x_trial, grad, grad_trial, dir, rhs, scratch, product;
 };
 

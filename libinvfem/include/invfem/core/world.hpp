@@ -226,6 +226,7 @@ class World {
         std::vector<std::shared_ptr<KinematicBody>> kinematic, std::unique_ptr<CollisionProcessor> collisions);
 
   double time() const { return time_; }
+  const WorldSettings& settings() const { return settings_; }
   const std::vector<SimObject>& objects() const { return objects_; }
   const std::vector<std::shared_ptr<KinematicBody>>& kinematic_bodies() const { return kinematic_; }
   void add_pass(std::unique_ptr<StepPass> pass) { passes_.push_back(std::move(pass)); }

@@ -1,7 +1,8 @@
 // Contact of tet solids with kinematic rigid bodies through the ITF04 section 9 step
 // (newmark_step + RigidCollisions): a sphere settling on a plane (no penetration, no jitter), a
-// block on an incline (Coulomb stick and slide, also with the implicit integrator), and a moving
-// plane imposing its normal velocity.
+// block on an incline (Coulomb stick and slide, also with the implicit integrator), a moving
+// plane imposing its normal velocity, and the implicit step's contact set updated inside its one
+// Newton loop (a stretched block lets go of the ground within the step; a resting one converges).
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -285,6 +286,46 @@ TEST(Contact, MovingPlaneGivesProjectedNodesItsNormalVelocity) {
   // while the compressed block rebounds), never slower than half of it.
   const double vy = (sim.body.mass.transpose() * sim.body.v.col(1))(0) / sim.body.mass.sum();
   EXPECT_GT(vy, 0.25);
+}
+
+// The implicit step updates its contact set inside one Newton loop (implicit_step.hpp). A block
+// lying on the ground, stretched to 1.5 times its height and let go at rest: the prediction's
+// h^2 g puts its bottom inside, so its bottom nodes start held, but the stretch pulls them up with
+// far more than their weight. They must let go within that same step (nothing else lifts them),
+// and the loop must still converge. A block resting on the ground converges too, every step,
+// with the same contacts held (the set settles) and nothing below the ground.
+TEST(Contact, ImplicitContactSetLetsGoAndSettlesWithinOneNewtonLoop) {
+  const Mesh m = block(2, 0.1);
+  const auto ground = std::make_shared<PlaneSurface>(Vec3::Zero(), Vec3::UnitY());
+  {
+    Points x0 = m.X;
+    x0.col(1) *= 1.5;  // bottom at y = 0, stretched upward
+    Sim sim(m, x0, material(1e5, 0.01), {{ground, 0.5}});
+    sim.use_implicit();
+    const StepStats s =
+        implicit_step(sim.body, {sim.force.get()}, sim.collisions.get(), {}, 0, sim.dt, ImplicitSettings{}, sim.ws);
+    EXPECT_TRUE(s.newton_converged) << "residual " << s.newton_residual;
+    EXPECT_GT(s.colliding_nodes, 0) << "the prediction puts the bottom inside: it starts held";
+    // The bottom rises: with v(n+1) > 0 at every bottom node, all of them let go.
+    for (Eigen::Index i = 0; i < m.X.rows(); ++i)
+      if (m.X(i, 1) == 0) EXPECT_GT(sim.body.v(i, 1), 0.0) << "node " << i << " stayed held";
+    EXPECT_GE(sim.body.x.col(1).minCoeff(), -1e-12);
+  }
+  {
+    Sim sim(m, m.X, material(1e5, 0.01), {{ground, 0.5}});
+    sim.use_implicit();
+    int worst_iterations = 0;
+    for (int step = 0; step < 30; ++step) {
+      const StepStats s =
+          implicit_step(sim.body, {sim.force.get()}, sim.collisions.get(), {}, sim.t, sim.dt, ImplicitSettings{}, sim.ws);
+      sim.t += sim.dt;
+      EXPECT_TRUE(s.newton_converged) << "step " << step << ": residual " << s.newton_residual;
+      EXPECT_EQ(s.colliding_nodes, 9) << "step " << step << ": the 9 bottom nodes, each added once";
+      worst_iterations = std::max(worst_iterations, s.newton_iterations);
+      EXPECT_GE(sim.body.x.col(1).minCoeff(), -1e-12);
+    }
+    RecordProperty("worst_newton_iterations_resting", std::to_string(worst_iterations));
+  }
 }
 
 }  // namespace

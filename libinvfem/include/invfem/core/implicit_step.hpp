@@ -18,11 +18,21 @@
 // Constraints (Baraff-Witkin filter S of projected_cg.hpp): pinned nodes (Kind::Full) sit at
 // x(n) + h v_pin from the first iterate on; colliding nodes (Kind::Normal, from the same rigid
 // collision processing as the ITF04 step, run on x(n) + h v(n) + h^2 g) start at their projected
-// position and move only tangentially, and let go when their constraint force pulls them off.
+// position and move only tangentially (their x^ row takes the body's normal velocity).
 // Coulomb friction is a smoothed potential of the tangential slip with the normal force lagged
 // one step (IPC, Li et al. 2020; see kStickSpeed in the .cpp): stick and slide in one Newton solve.
-// Nodes the solution pushes into a body are constrained and the step solved again (up to three
-// rounds); what is still inside after them is projected out.
+//
+// The contact set follows the Newton iterates in one loop (a primal-dual active set, as in
+// semi-smooth Newton methods): after each accepted iterate x_k, with g = grad E(x_k) unfiltered,
+//   - a contact with g . n < 0 (its constraint force g . n / h^2 would pull it onto the body)
+//     lets go: its x^ row returns to x(n) + h v(n);
+//   - a node that x_k puts inside a body (the collision processing again, on x_k) is projected
+//     and held, as at the start;
+// and Newton goes on from the updated x_k (its potential, with the new x^ rows, is what the next
+// line search decreases). Converged: the stopping rule below met by an iterate whose update
+// changed nothing. A node let go once in a step stays held the next time it comes back
+// (kMaxReleases in the .cpp), so the set cannot cycle. What is still inside when Newton stops is
+// projected out (positions only), as the ITF04 step does.
 //
 // Stopping rule: |S grad E| / h^2 <= tolerance * force_scale, with
 //   force_scale = |S M g| + |S f(x^0)| + |S M v~(n)| / h     [N]

@@ -199,7 +199,7 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
     const int* tri = &m.tris(f, 0);
     if (adjacent(m, &i, 1, tri, 3)) continue;
     if (!m.movable(i) && !any_movable(tri, 3)) continue;
-    if (m.is_exempt(i) || m.is_exempt(tri[0]) || m.is_exempt(tri[1]) || m.is_exempt(tri[2])) continue;
+    if (m.is_exempt(VertexFaceCandidate{i, f})) continue;
     if (m.released_pair(&i, 1, tri, 3)) continue;
     if (!e.vertices.boxes[static_cast<std::size_t>(i)].overlaps(e.triangles.boxes[static_cast<std::size_t>(f)]))
       continue;
@@ -215,7 +215,7 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
     const int* eb = &m.edges(b, 0);
     if (adjacent(m, ea, 2, eb, 2)) continue;
     if (!any_movable(ea, 2) && !any_movable(eb, 2)) continue;
-    if (m.is_exempt(ea[0]) || m.is_exempt(ea[1]) || m.is_exempt(eb[0]) || m.is_exempt(eb[1])) continue;
+    if (m.is_exempt(EdgeEdgeCandidate{a, b})) continue;
     if (m.released_pair(ea, 2, eb, 2)) continue;
     if (!e.edges.boxes[static_cast<std::size_t>(a)].overlaps(e.edges.boxes[static_cast<std::size_t>(b)])) continue;
     out.ee.push_back({a, b});
@@ -242,13 +242,15 @@ void BroadPhase::edge_triangle_pairs(const CollisionMesh& m, std::vector<std::pa
   for (const auto& [a, f] : et.pairs) {
     const int* edge = &m.edges(a, 0);
     const int* tri = &m.tris(f, 0);
+    // Pairs for a test at x0: the boxes at x0 alone, not swept nor grown, must overlap (most of
+    // the swept, grown pairs are neighbours that only come within the margin).
+    if (!swept_box(m, m.v, edge, 2, 0.0, 0.0).overlaps(swept_box(m, m.v, tri, 3, 0.0, 0.0))) continue;
     if (adjacent(m, edge, 2, tri, 3)) continue;
     if (!m.movable(edge[0]) && !m.movable(edge[1]) && !m.movable(tri[0]) && !m.movable(tri[1]) && !m.movable(tri[2]))
       continue;
     out.emplace_back(a, f);
   }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
+  // Not sorted: thousands of pairs for a handful of crossings; the tests sort what they find.
 }
 
 }  // namespace invfem::collisions

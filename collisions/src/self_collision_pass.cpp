@@ -22,7 +22,7 @@ void validate(const SelfCollisionSettings& s) {
   if (!(s.friction >= 0) || !std::isfinite(s.friction)) fail("friction must be >= 0");
   if (s.impulse_passes < 0) fail("impulse_passes must be >= 0");
   if (s.max_zone_iterations < 1) fail("max_zone_iterations must be >= 1");
-  if (s.tangle_patience < 1) fail("tangle_patience must be >= 1");
+  if (!(s.tangle_patience > 0) || !std::isfinite(s.tangle_patience)) fail("tangle_patience must be a positive time [s]");
 }
 
 SelfCollisionPass::SelfCollisionPass(SelfCollisionSettings settings) : settings_(std::move(settings)) {
@@ -83,6 +83,7 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
       }
       append_surface(mesh_, o.name, o.surface.tris, x0, v, w, false, o.welds, joins);
       mesh_.surfaces.back().untangle = objects[k].kind == ObjectKind::Solid;
+      mesh_.surfaces.back().cut = objects[k].kind == ObjectKind::Solid && o.topology_version != 0;
       mesh_.surfaces.back().level = objects[k].kind == ObjectKind::Solid ? 1 : 0;  // one-way coupling
       source_.push_back(static_cast<int>(k));
       versions_.push_back(o.topology_version);
@@ -237,6 +238,7 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   mesh_.exempt_vf.clear();
   mesh_.exempt_ee.clear();
   mesh_.stuck.clear();
+  mesh_.loose.clear();
   mesh_.released.clear();
   broad_phase_.find(mesh_, dt, settings_.thickness, candidates_);
   int tangles = 0, crossings = 0;
@@ -250,7 +252,7 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   if (solids || cloth_and_body) broad_phase_.edge_triangle_pairs(mesh_, edge_triangles_);
   if (!solids) tangle_ages_.entries.clear();
   if (solids) {
-    tangles = mark_tangles(mesh_, edge_triangles_, tangle_ages_, settings_.tangle_patience);
+    tangles = mark_tangles(mesh_, edge_triangles_, tangle_ages_, dt, settings_.tangle_patience);
     r.tangled_pairs += tangles;
   }
   if (cloth_and_body) {

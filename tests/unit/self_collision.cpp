@@ -693,7 +693,7 @@ TEST(Tangles, ReleaseOnlyThePairsThatCanUndoEachCrossing) {
   bp.edge_triangle_pairs(m, pairs);
   // Not solids' boundaries: nothing is searched for.
   TangleAges ages;
-  EXPECT_EQ(mark_tangles(m, pairs, ages, 3), 0);
+  EXPECT_EQ(mark_tangles(m, pairs, ages, 0.01, 0.025), 0);
   EXPECT_TRUE(m.exempt_vf.empty() && m.exempt_ee.empty());
   for (auto& s : m.surfaces) s.untangle = true;
   // The crossings, by brute force over every non-adjacent edge and triangle.
@@ -705,7 +705,7 @@ TEST(Tangles, ReleaseOnlyThePairsThatCanUndoEachCrossing) {
                                    m.start(m.tris(f, 1)), m.start(m.tris(f, 2))))
         crossing.insert({e, f});
   ASSERT_GE(crossing.size(), 2u);  // edges pq and pr through the sheet
-  EXPECT_EQ(mark_tangles(m, pairs, ages, 3), static_cast<int>(crossing.size()));
+  EXPECT_EQ(mark_tangles(m, pairs, ages, 0.01, 0.025), static_cast<int>(crossing.size()));
   EXPECT_TRUE(m.stuck.empty());
   std::set<std::pair<int, int>> vf, ee;
   for (const auto& [e, f] : crossing) {
@@ -741,12 +741,12 @@ TEST(Tangles, ReleaseOnlyThePairsThatCanUndoEachCrossing) {
   EXPECT_EQ(after.ee.size(), kept(c.ee, ee, [](const auto& q) { return std::pair(q.edge_a, q.edge_b); }));
   EXPECT_LT(after.size(), c.size());
   EXPECT_GT(p_pairs, 0);
-  // Found at the third start in a row (the patience), the tangle is stuck: its vertices (the
+  // Found at the third start in a row (0.03 s, past the patience of 0.025 s), the tangle is stuck: its vertices (the
   // piece's three, the crossed triangle's three) leave every pair among themselves, and keep
   // their pairs with the rest.
-  EXPECT_EQ(mark_tangles(m, pairs, ages, 3), static_cast<int>(crossing.size()));
+  EXPECT_EQ(mark_tangles(m, pairs, ages, 0.01, 0.025), static_cast<int>(crossing.size()));
   EXPECT_TRUE(m.stuck.empty());
-  EXPECT_EQ(mark_tangles(m, pairs, ages, 3), static_cast<int>(crossing.size()));
+  EXPECT_EQ(mark_tangles(m, pairs, ages, 0.01, 0.025), static_cast<int>(crossing.size()));
   ASSERT_FALSE(m.stuck.empty());
   std::set<int> stuck;
   for (const auto& [e, f] : crossing)
@@ -770,7 +770,7 @@ TEST(Tangles, ReleaseOnlyThePairsThatCanUndoEachCrossing) {
                  any_stuck({m.edges(q.edge_b, 0), m.edges(q.edge_b, 1)}));
   EXPECT_GT(kept_with_rest, 0);
   // A step whose start no longer holds it starts the count again.
-  EXPECT_EQ(mark_tangles(m, {}, ages, 3), 0);
+  EXPECT_EQ(mark_tangles(m, {}, ages, 0.01, 0.025), 0);
   EXPECT_TRUE(m.stuck.empty() && m.exempt_vf.empty() && ages.entries.empty());
 }
 

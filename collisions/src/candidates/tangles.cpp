@@ -51,7 +51,8 @@ std::vector<std::pair<int, int>> crossing_pairs(const CollisionMesh& m, const st
 
 }  // namespace
 
-int mark_tangles(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs, TangleAges& ages, int patience) {
+int mark_tangles(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs, TangleAges& ages, double dt,
+                 double patience) {
   auto untangles = [&](int vertex) {
     return m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(vertex)])].untangle;
   };
@@ -60,6 +61,10 @@ int mark_tangles(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs
   m.exempt_vf.clear();
   m.exempt_ee.clear();
   m.stuck.clear();
+  m.loose.clear();
+  auto cut = [&](int vertex) {
+    return m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(vertex)])].cut;
+  };
   // Ages: both lists sorted by (edge, triangle).
   std::vector<TangleAges::Entry> aged;
   aged.reserve(crossing.size());
@@ -70,8 +75,14 @@ int mark_tangles(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs
     };
     last = std::lower_bound(last, ages.entries.end(), std::pair(e, f), before);
     const bool seen = last != ages.entries.end() && last->edge == e && last->triangle == f;
-    aged.push_back({e, f, seen ? last->steps + 1 : 1});
-    if (aged.back().steps < patience) continue;
+    aged.push_back({e, f, (seen ? last->seconds : 0.0) + dt});
+    if (cut(m.edges(e, 0)) || cut(m.tris(f, 0))) {
+      if (m.loose.empty()) m.loose.assign(static_cast<std::size_t>(m.num_vertices()), 0);
+      for (int i : {m.edges(e, 0), m.edges(e, 1), m.tris(f, 0), m.tris(f, 1), m.tris(f, 2)})
+        m.loose[static_cast<std::size_t>(i)] = 1;
+      continue;
+    }
+    if (aged.back().seconds < patience) continue;
     if (m.stuck.empty()) m.stuck.assign(static_cast<std::size_t>(m.num_vertices()), 0);
     for (int i : {m.edges(e, 0), m.edges(e, 1), m.tris(f, 0), m.tris(f, 1), m.tris(f, 2)})
       m.stuck[static_cast<std::size_t>(i)] = 1;

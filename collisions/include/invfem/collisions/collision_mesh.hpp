@@ -35,6 +35,8 @@
 //                        edge-edge pairs (e, side of f), the only events by which that crossing
 //                        can come undone. Everything else about the tangle's vertices stays a
 //                        pair (repulsion, CCD, zones), so the tangle cannot spread
+//   loose       #V or empty   1: a vertex of a tangle on a `cut` surface (a fractured solid's
+//                        overlapping crack sides): released from every pair for the step
 //   stuck       #V or empty   1: a vertex of a tangle that has lasted the layer's patience
 //                        (candidates/tangles.hpp TangleAges): held by pairs the exemptions above
 //                        keep, it could not come apart, so its vertices are released from every
@@ -68,6 +70,10 @@ struct CollisionMesh {
     // are released for the step (exempt_vf, exempt_ee; candidates/tangles.hpp). A cloth's
     // crossing, which only a fail-safe failure leaves, stays held by the CCD instead.
     bool untangle = false;
+    // A fractured solid's boundary (its enlarged mesh's, after a cut): right after a tear the
+    // cut elements' copies on either side overlap by construction until they part, and every
+    // pair holding a vertex of such a tangle is let go (`loose`), not only those undoing it.
+    bool cut = false;
     // One-way coupling: in a pair (or impact zone) holding vertices of surfaces of different
     // levels, the vertices of the higher levels act as infinite mass (inverse mass 0 for that
     // pair; kinematic in that zone: the zone follows them). A simulated solid's boundary is level
@@ -88,6 +94,7 @@ struct CollisionMesh {
   std::vector<VertexFaceCandidate> exempt_vf;
   std::vector<EdgeEdgeCandidate> exempt_ee;
   std::vector<char> stuck;
+  std::vector<char> loose;
   std::vector<char> released;
 
   Eigen::Index num_vertices() const { return x0.rows(); }
@@ -100,13 +107,20 @@ struct CollisionMesh {
   bool movable(int i) const { return inv_mass(i) > 0; }
   int level(int i) const { return surfaces[static_cast<std::size_t>(surface_of[static_cast<std::size_t>(i)])].level; }
   bool is_stuck(int i) const { return !stuck.empty() && stuck[static_cast<std::size_t>(i)]; }
+  bool is_loose(int i) const { return !loose.empty() && loose[static_cast<std::size_t>(i)]; }
   bool is_exempt(const VertexFaceCandidate& c) const {
+    if (!loose.empty() &&
+        (is_loose(c.vertex) || is_loose(tris(c.face, 0)) || is_loose(tris(c.face, 1)) || is_loose(tris(c.face, 2))))
+      return true;
     if (!stuck.empty() && is_stuck(c.vertex) &&
         (is_stuck(tris(c.face, 0)) || is_stuck(tris(c.face, 1)) || is_stuck(tris(c.face, 2))))
       return true;
     return !exempt_vf.empty() && std::binary_search(exempt_vf.begin(), exempt_vf.end(), c);
   }
   bool is_exempt(const EdgeEdgeCandidate& c) const {  // edge_a < edge_b
+    if (!loose.empty() && (is_loose(edges(c.edge_a, 0)) || is_loose(edges(c.edge_a, 1)) ||
+                           is_loose(edges(c.edge_b, 0)) || is_loose(edges(c.edge_b, 1))))
+      return true;
     if (!stuck.empty() && (is_stuck(edges(c.edge_a, 0)) || is_stuck(edges(c.edge_a, 1))) &&
         (is_stuck(edges(c.edge_b, 0)) || is_stuck(edges(c.edge_b, 1))))
       return true;

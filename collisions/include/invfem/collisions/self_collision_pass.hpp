@@ -45,10 +45,12 @@ struct SelfCollisionSettings {
   double friction = 0.3;        // Coulomb coefficient between surfaces
   int impulse_passes = 3;       // CCD impulse passes before the zones (PhysBAM's default)
   int max_zone_iterations = 100;
-  // Steps a tangle (candidates/tangles.hpp) may last at consecutive starts, released only by the
-  // pairs that can undo it, before it counts as stuck and its vertices leave the pairs among
-  // themselves. PATIENCE_DOC
-  int tangle_patience = 50;
+  // How long [s] a tangle (candidates/tangles.hpp) may last, released only by the pairs that can
+  // undo it, before it counts as stuck and its vertices leave the pairs among themselves. On
+  // buddha_gears (quick) 0.1 s (400 of its steps) gave the fewest crossings of those tried:
+  // 2,065 pairs against 2,180 at 150 steps, 2,377 at 50, and a crossing held to the last frame
+  // when never stuck.
+  double tangle_patience = 0.1;
   std::vector<std::string> excluded;  // names of objects that do not take part
   bool kinematic_bodies = true;       // kinematic bodies' shape triangles take part
 };

@@ -24,11 +24,13 @@ namespace invfem::collisions {
 // are not crossings (touching is the CCD's business).
 bool segment_crosses_triangle(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c);
 
-// How many consecutive steps each crossing (edge, triangle) has been found at a step's start.
-// Sorted by (edge, triangle); kept by the caller from step to step.
+// How long [s] each crossing (edge, triangle) has been found at consecutive steps' starts (the
+// steps' lengths summed, the first included). Sorted by (edge, triangle); kept by the caller from
+// step to step.
 struct TangleAges {
   struct Entry {
-    int edge = -1, triangle = -1, steps = 0;
+    int edge = -1, triangle = -1;
+    double seconds = 0;
   };
   std::vector<Entry> entries;
 };
@@ -36,12 +38,15 @@ struct TangleAges {
 // Sets mesh.exempt_vf and mesh.exempt_ee (sorted, replaced) to the pairs released by the
 // crossings at x0 of the edge-triangle pairs in `pairs` (edge index, triangle index; any order,
 // repeats allowed) whose edge and triangle both lie on `untangle` surfaces; returns how many
-// distinct pairs cross. `ages` (last step's, replaced by this step's) counts how long each has
-// lasted: a crossing found at `patience` consecutive starts is stuck (something the exemptions
+// distinct pairs cross. `ages` (last step's, replaced by this step's, whose length is dt) counts
+// how long each has lasted: a crossing that has lasted `patience` seconds is stuck (something the exemptions
 // keep holds it: an end of its edge behind a neighbour of its triangle), and its five vertices
 // are released from every pair (mesh.stuck; cleared when none), as the layer did for every
-// tangle before, which lets it come apart.
-int mark_tangles(CollisionMesh& mesh, const std::vector<std::pair<int, int>>& pairs, TangleAges& ages, int patience);
+// tangle before, which lets it come apart. A crossing on a `cut` surface (a fractured solid's
+// crack sides, overlapping by construction right after a tear) releases its five vertices from
+// every pair at once (mesh.loose; cleared when none), so the sides part freely.
+int mark_tangles(CollisionMesh& mesh, const std::vector<std::pair<int, int>>& pairs, TangleAges& ages, double dt,
+                 double patience);
 
 // The recovery from a fail-safe failure against a kinematic body (README, dress_dance): marks
 // mesh.released (resized to #V, or cleared when nothing is marked) for the cloth vertices of

@@ -203,7 +203,10 @@ void SelfCollisionPass::resolve(double dt, FrameReport::Collisions& r, const Poi
   const double margin = 2 * settings_.ccd_distance;
   bool clear = false;
   for (int pass = 0; pass < settings_.impulse_passes && !clear; ++pass) {
-    if (pass > 0 || repulsions > 0) broad_phase_.find(mesh_, v, dt, margin, candidates_);
+    if (pass > 0)  // only velocities changed since the last find: re-detect around them
+      broad_phase_.refind(mesh_, v, dt, margin, candidates_);
+    else if (repulsions > 0)
+      broad_phase_.find(mesh_, v, dt, margin, candidates_);
     const CcdPassReport p = apply_ccd_impulses(mesh_, candidates_, dt, ccd, settings_.friction, v);
     r.ccd_hits += p.impulses;
     clear = p.colliding == 0;

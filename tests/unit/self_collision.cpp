@@ -241,6 +241,42 @@ TEST(BroadPhase, SkipsPairsWithoutAMovableVertex) {
   EXPECT_GT(c.size(), 0u);
 }
 
+// refind() must give exactly find()'s pairs when only some velocities changed: the impulse passes
+// and the impact zones' rounds rely on it. Cloth soup over a kinematic soup (fixed primitives),
+// rounds that change a few vertices, none, or many.
+TEST(BroadPhase, RefindAfterVelocityChangesEqualsAFreshFind) {
+  for (unsigned seed : {4u, 5u}) {
+    CollisionMesh m = random_soup(400, seed);
+    const CollisionMesh body = random_soup(300, seed + 100);
+    append_surface(m, "body", body.tris, body.x0, body.v, Eigen::VectorXd::Ones(body.x0.rows()), true);
+    const double dt = 0.5, margin = 0.01;
+    BroadPhase bp;
+    Candidates c;
+    bp.find(m, dt, margin, c);
+    Points v = m.v;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> d(-0.08, 0.08);
+    std::uniform_int_distribution<int> pick(0, 3 * 400 - 1);  // the soup's (movable) vertices
+    for (int changes : {5, 0, 40, 3, 600}) {
+      for (int k = 0; k < changes; ++k) v.row(pick(rng)) = Vec3(d(rng), d(rng), d(rng)).transpose();
+      Candidates again, fresh;
+      bp.refind(m, v, dt, margin, again);
+      BroadPhase other;
+      other.find(m, v, dt, margin, fresh);
+      EXPECT_GT(fresh.size(), 100u);
+      EXPECT_TRUE(again.vf == fresh.vf) << "seed " << seed << ", " << changes << " changes";
+      EXPECT_TRUE(again.ee == fresh.ee) << "seed " << seed << ", " << changes << " changes";
+    }
+    // Another margin is another search: refind falls back to find.
+    Candidates wide, fresh;
+    bp.refind(m, v, dt, 4 * margin, wide);
+    BroadPhase other;
+    other.find(m, v, dt, 4 * margin, fresh);
+    EXPECT_TRUE(wide.vf == fresh.vf && wide.ee == fresh.ee);
+    EXPECT_GT(wide.size(), c.size());
+  }
+}
+
 TEST(PairImpulse, ChangesTheNormalVelocityByDeltaAndConservesMomentum) {
   CollisionMesh m;
   Points x(4, 3), v(4, 3);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -90,13 +91,25 @@ void check(RTCDevice device, const char* what) {
 
 struct BroadPhase::Embree {
   RTCDevice device = nullptr;
-  BoxSet vertices, triangles, edges;
+  // Per primitive kind, two sets: [0] primitives with a movable vertex, [1] the others (a
+  // kinematic body, a rigid collider, pinned nodes). Pairs of two fixed primitives are never
+  // candidates, so the fixed sets are only collided against the movable ones: a body as large
+  // as the garment on it no longer makes rtcCollide report its own vertex-face and edge-edge
+  // overlaps, only to be filtered out.
+  BoxSet vertices[2], triangles[2], edges[2];
+  std::vector<int> vertex_ids[2], triangle_ids[2], edge_ids[2];  // set-local index -> mesh index
+  std::vector<Box> vertex_boxes, triangle_boxes, edge_boxes;     // per mesh primitive, this step
+  // refind(): the primitives whose boxes moved since the last find(), built anew each call.
+  BoxSet moved_vertices, moved_triangles, moved_edges;
+  std::vector<int> moved_vertex_ids, moved_triangle_ids, moved_edge_ids;
   Embree() {
     device = rtcNewDevice(nullptr);
     if (!device) throw std::runtime_error("broad phase: Embree could not create a device");
   }
   ~Embree() {
-    for (BoxSet* s : {&vertices, &triangles, &edges}) s->release();
+    for (int g = 0; g < 2; ++g)
+      for (BoxSet* s : {&vertices[g], &triangles[g], &edges[g]}) s->release();
+    for (BoxSet* s : {&moved_vertices, &moved_triangles, &moved_edges}) s->release();
     rtcReleaseDevice(device);
   }
 
@@ -148,109 +161,257 @@ BroadPhase::~BroadPhase() = default;
 
 namespace {
 // rtcCollide calls back on several threads: each keeps its own list (no lock), merged after.
+// Pairs come back as set-local indices; `ids0` and `ids1` map them to mesh indices.
 struct Collected {
+  const std::vector<int>* ids0 = nullptr;
+  const std::vector<int>* ids1 = nullptr;
   bool same_scene = false;  // a scene against itself reports (a, b) and (b, a): keep a < b
+  bool ordered = false;     // store (min, max) of the mesh indices (edge-edge across two sets)
   tbb::enumerable_thread_specific<std::vector<std::pair<int, int>>> local;
-  std::vector<std::pair<int, int>> pairs;
-  void merge() {
-    for (auto& l : local) pairs.insert(pairs.end(), l.begin(), l.end());
-  }
 };
 void collect(void* user, RTCCollision* c, unsigned n) {
   auto* out = static_cast<Collected*>(user);
   auto& pairs = out->local.local();
   for (unsigned i = 0; i < n; ++i) {
-    const auto a = static_cast<int>(c[i].primID0), b = static_cast<int>(c[i].primID1);
-    if (!out->same_scene || a < b) pairs.emplace_back(a, b);
+    if (out->same_scene && c[i].primID0 >= c[i].primID1) continue;
+    const int a = (*out->ids0)[c[i].primID0], b = (*out->ids1)[c[i].primID1];
+    if (out->ordered && b < a)
+      pairs.emplace_back(b, a);
+    else
+      pairs.emplace_back(a, b);
   }
+}
+
+// Appends to `pairs` the overlapping pairs of sets s0 and s1 (mesh indices through ids0, ids1).
+// Empty sets are never built, so they are skipped.
+void collide(RTCDevice device, const BoxSet& s0, const std::vector<int>& ids0, const BoxSet& s1,
+             const std::vector<int>& ids1, bool ordered, const char* what, std::vector<std::pair<int, int>>& pairs) {
+  if (ids0.empty() || ids1.empty()) return;
+  Collected c;
+  c.ids0 = &ids0;
+  c.ids1 = &ids1;
+  c.same_scene = &s0 == &s1;
+  c.ordered = ordered;
+  rtcCollide(s0.scene, s1.scene, collect, &c);
+  check(device, what);
+  for (auto& l : c.local) pairs.insert(pairs.end(), l.begin(), l.end());
+}
+
+// Splits primitives into movable ([0]) and fixed ([1]) and gathers their boxes into the sets.
+void split(const std::vector<Box>& boxes, const std::function<bool(std::size_t)>& movable, BoxSet (&sets)[2],
+           std::vector<int> (&ids)[2]) {
+  for (int g = 0; g < 2; ++g) {
+    ids[g].clear();
+    sets[g].boxes.clear();
+  }
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    const int g = movable(i) ? 0 : 1;
+    ids[g].push_back(static_cast<int>(i));
+    sets[g].boxes.push_back(boxes[i]);
+  }
+}
+
+// The filters every candidate passes (candidates.hpp), then the exact double boxes.
+bool keep_vf(const CollisionMesh& m, const std::vector<Box>& vertex_boxes, const std::vector<Box>& triangle_boxes, int i,
+             int f) {
+  const int* tri = &m.tris(f, 0);
+  if (!m.movable(i) && !m.movable(tri[0]) && !m.movable(tri[1]) && !m.movable(tri[2])) return false;
+  if (adjacent(m, &i, 1, tri, 3)) return false;
+  if (m.is_exempt(VertexFaceCandidate{i, f})) return false;
+  if (m.released_pair(&i, 1, tri, 3)) return false;
+  return vertex_boxes[static_cast<std::size_t>(i)].overlaps(triangle_boxes[static_cast<std::size_t>(f)]);
+}
+bool keep_ee(const CollisionMesh& m, const std::vector<Box>& edge_boxes, int a, int b) {
+  const int* ea = &m.edges(a, 0);
+  const int* eb = &m.edges(b, 0);
+  if (!m.movable(ea[0]) && !m.movable(ea[1]) && !m.movable(eb[0]) && !m.movable(eb[1])) return false;
+  if (adjacent(m, ea, 2, eb, 2)) return false;  // also drops (a, a)
+  if (m.is_exempt(EdgeEdgeCandidate{std::min(a, b), std::max(a, b)})) return false;
+  if (m.released_pair(ea, 2, eb, 2)) return false;
+  return edge_boxes[static_cast<std::size_t>(a)].overlaps(edge_boxes[static_cast<std::size_t>(b)]);
+}
+
+template <class T>
+void sort_unique(std::vector<T>& list) {
+  std::sort(list.begin(), list.end());
+  list.erase(std::unique(list.begin(), list.end()), list.end());
 }
 }  // namespace
 
-void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double margin, Candidates& out) {
-  out.clear();
+void BroadPhase::compute_boxes(const CollisionMesh& m, const Points& v, double dt, double margin) {
+  Embree& e = *embree_;
   const auto nv = static_cast<std::size_t>(m.num_vertices());
   const auto nf = static_cast<std::size_t>(m.tris.rows());
   const auto ne = static_cast<std::size_t>(m.edges.rows());
-  if (nf == 0) return;
-  Embree& e = *embree_;
   const double r = 0.5 * margin;  // each box grows by half the margin: boxes closer than it overlap
-  e.vertices.boxes.resize(nv);
-  e.triangles.boxes.resize(nf);
-  e.edges.boxes.resize(ne);
+  e.vertex_boxes.resize(nv);
+  e.triangle_boxes.resize(nf);
+  e.edge_boxes.resize(ne);
   parallel_for_each(nv, 4096, [&](std::size_t i) {
     const int id = static_cast<int>(i);
-    e.vertices.boxes[i] = swept_box(m, v, &id, 1, dt, r);
+    e.vertex_boxes[i] = swept_box(m, v, &id, 1, dt, r);
   });
-  parallel_for_each(nf, 4096, [&](std::size_t f) { e.triangles.boxes[f] = swept_box(m, v, &m.tris(f, 0), 3, dt, r); });
-  parallel_for_each(ne, 4096, [&](std::size_t k) { e.edges.boxes[k] = swept_box(m, v, &m.edges(k, 0), 2, dt, r); });
-  for (BoxSet* s : {&e.vertices, &e.triangles, &e.edges}) builds_ += e.commit(*s, rebuild_growth) ? 1 : 0;
+  parallel_for_each(nf, 4096, [&](std::size_t f) { e.triangle_boxes[f] = swept_box(m, v, &m.tris(f, 0), 3, dt, r); });
+  parallel_for_each(ne, 4096, [&](std::size_t k) { e.edge_boxes[k] = swept_box(m, v, &m.edges(k, 0), 2, dt, r); });
+}
 
+void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double margin, Candidates& out) {
+  out.clear();
+  found_.clear();
+  found_v_.resize(0, 3);
+  if (m.tris.rows() == 0) return;
+  Embree& e = *embree_;
+  compute_boxes(m, v, dt, margin);
   auto any_movable = [&](const int* ids, int n) {
     for (int k = 0; k < n; ++k)
       if (m.movable(ids[k])) return true;
     return false;
   };
+  split(e.vertex_boxes, [&](std::size_t i) { return m.movable(static_cast<int>(i)); }, e.vertices, e.vertex_ids);
+  split(e.triangle_boxes, [&](std::size_t f) { return any_movable(&m.tris(static_cast<Eigen::Index>(f), 0), 3); },
+        e.triangles, e.triangle_ids);
+  split(e.edge_boxes, [&](std::size_t k) { return any_movable(&m.edges(static_cast<Eigen::Index>(k), 0), 2); },
+        e.edges, e.edge_ids);
+  for (int g = 0; g < 2; ++g)
+    for (BoxSet* s : {&e.vertices[g], &e.triangles[g], &e.edges[g]})
+      if (!s->boxes.empty()) builds_ += e.commit(*s, rebuild_growth) ? 1 : 0;
 
-  Collected vf;
-  rtcCollide(e.vertices.scene, e.triangles.scene, collect, &vf);
-  check(e.device, "rtcCollide (vertices, triangles)");
-  vf.merge();
-  for (const auto& [i, f] : vf.pairs) {
-    const int* tri = &m.tris(f, 0);
-    if (adjacent(m, &i, 1, tri, 3)) continue;
-    if (!m.movable(i) && !any_movable(tri, 3)) continue;
-    if (m.is_exempt(VertexFaceCandidate{i, f})) continue;
-    if (m.released_pair(&i, 1, tri, 3)) continue;
-    if (!e.vertices.boxes[static_cast<std::size_t>(i)].overlaps(e.triangles.boxes[static_cast<std::size_t>(f)]))
-      continue;
-    out.vf.push_back({i, f});
-  }
-  Collected ee;
-  ee.same_scene = true;
-  rtcCollide(e.edges.scene, e.edges.scene, collect, &ee);
-  check(e.device, "rtcCollide (edges, edges)");
-  ee.merge();
-  for (const auto& [a, b] : ee.pairs) {
-    const int* ea = &m.edges(a, 0);
-    const int* eb = &m.edges(b, 0);
-    if (adjacent(m, ea, 2, eb, 2)) continue;
-    if (!any_movable(ea, 2) && !any_movable(eb, 2)) continue;
-    if (m.is_exempt(EdgeEdgeCandidate{a, b})) continue;
-    if (m.released_pair(ea, 2, eb, 2)) continue;
-    if (!e.edges.boxes[static_cast<std::size_t>(a)].overlaps(e.edges.boxes[static_cast<std::size_t>(b)])) continue;
-    out.ee.push_back({a, b});
-  }
-  std::sort(out.vf.begin(), out.vf.end());
-  out.vf.erase(std::unique(out.vf.begin(), out.vf.end()), out.vf.end());
-  std::sort(out.ee.begin(), out.ee.end());
-  out.ee.erase(std::unique(out.ee.begin(), out.ee.end()), out.ee.end());
+  // Vertex-face: movable vertices against every triangle, fixed vertices against movable ones.
+  std::vector<std::pair<int, int>> pairs;
+  const char* vf_what = "rtcCollide (vertices, triangles)";
+  collide(e.device, e.vertices[0], e.vertex_ids[0], e.triangles[0], e.triangle_ids[0], false, vf_what, pairs);
+  collide(e.device, e.vertices[0], e.vertex_ids[0], e.triangles[1], e.triangle_ids[1], false, vf_what, pairs);
+  collide(e.device, e.vertices[1], e.vertex_ids[1], e.triangles[0], e.triangle_ids[0], false, vf_what, pairs);
+  for (const auto& [i, f] : pairs)
+    if (keep_vf(m, e.vertex_boxes, e.triangle_boxes, i, f)) out.vf.push_back({i, f});
+  // Edge-edge: movable edges among themselves (a < b) and against fixed ones (stored as (min, max)).
+  pairs.clear();
+  const char* ee_what = "rtcCollide (edges, edges)";
+  collide(e.device, e.edges[0], e.edge_ids[0], e.edges[0], e.edge_ids[0], false, ee_what, pairs);
+  collide(e.device, e.edges[0], e.edge_ids[0], e.edges[1], e.edge_ids[1], true, ee_what, pairs);
+  for (const auto& [a, b] : pairs)
+    if (keep_ee(m, e.edge_boxes, a, b)) out.ee.push_back({a, b});
+  sort_unique(out.vf);
+  sort_unique(out.ee);
+  found_ = out;
+  found_v_ = v;
+  found_dt_ = dt;
+  found_margin_ = margin;
 }
 
-}  // namespace invfem::collisions
+void BroadPhase::refind(const CollisionMesh& m, const Points& v, double dt, double margin, Candidates& out) {
+  Embree& e = *embree_;
+  const auto nv = static_cast<std::size_t>(m.num_vertices());
+  if (found_v_.rows() != m.num_vertices() || dt != found_dt_ || margin != found_margin_ ||
+      e.triangle_boxes.size() != static_cast<std::size_t>(m.tris.rows()) ||
+      e.edge_boxes.size() != static_cast<std::size_t>(m.edges.rows())) {
+    find(m, v, dt, margin, out);
+    return;
+  }
+  // Vertices whose velocity differs from the last find(), and the primitives that hold one:
+  // their boxes moved since the hierarchies were built.
+  std::vector<char> changed(nv, 0);
+  bool any = false;
+  for (std::size_t i = 0; i < nv; ++i) {
+    const auto row = static_cast<Eigen::Index>(i);
+    if (v.row(row) != found_v_.row(row)) changed[i] = any = true;
+  }
+  if (!any) {
+    out = found_;
+    return;
+  }
+  compute_boxes(m, v, dt, margin);
+  auto holds_changed = [&](const int* ids, int n) {
+    for (int k = 0; k < n; ++k)
+      if (changed[static_cast<std::size_t>(ids[k])]) return true;
+    return false;
+  };
+  // The moved primitives, in small hierarchies built anew; the large ones keep the boxes of
+  // the last find() (stale for moved primitives: the moved-against-moved collide covers their
+  // pairs, and the exact double boxes drop the spurious overlaps of their stale boxes).
+  auto gather = [&](const std::vector<Box>& boxes, const std::function<bool(std::size_t)>& moved, BoxSet& set,
+                    std::vector<int>& ids, std::vector<char>& flag) {
+    ids.clear();
+    set.boxes.clear();
+    flag.assign(boxes.size(), 0);
+    for (std::size_t k = 0; k < boxes.size(); ++k)
+      if (moved(k)) {
+        ids.push_back(static_cast<int>(k));
+        set.boxes.push_back(boxes[k]);
+        flag[k] = 1;
+      }
+    set.release();
+    if (!ids.empty()) e.commit(set, rebuild_growth);
+  };
+  std::vector<char> moved_vertex, moved_triangle, moved_edge;
+  gather(e.vertex_boxes, [&](std::size_t i) { return changed[i] != 0; }, e.moved_vertices, e.moved_vertex_ids,
+         moved_vertex);
+  gather(e.triangle_boxes, [&](std::size_t f) { return holds_changed(&m.tris(static_cast<Eigen::Index>(f), 0), 3); },
+         e.moved_triangles, e.moved_triangle_ids, moved_triangle);
+  gather(e.edge_boxes, [&](std::size_t k) { return holds_changed(&m.edges(static_cast<Eigen::Index>(k), 0), 2); },
+         e.moved_edges, e.moved_edge_ids, moved_edge);
 
-namespace invfem::collisions {
+  // Pairs of the last find() without a moved primitive are unchanged (same boxes, same filters).
+  Candidates fresh;
+  for (const auto& p : found_.vf)
+    if (!moved_vertex[static_cast<std::size_t>(p.vertex)] && !moved_triangle[static_cast<std::size_t>(p.face)])
+      fresh.vf.push_back(p);
+  for (const auto& p : found_.ee)
+    if (!moved_edge[static_cast<std::size_t>(p.edge_a)] && !moved_edge[static_cast<std::size_t>(p.edge_b)])
+      fresh.ee.push_back(p);
+  const std::size_t kept_vf = fresh.vf.size(), kept_ee = fresh.ee.size();
+
+  std::vector<std::pair<int, int>> pairs;
+  const char* vf_what = "rtcCollide (moved vertices, triangles)";
+  for (int g = 0; g < 2; ++g) {
+    collide(e.device, e.moved_vertices, e.moved_vertex_ids, e.triangles[g], e.triangle_ids[g], false, vf_what, pairs);
+    collide(e.device, e.vertices[g], e.vertex_ids[g], e.moved_triangles, e.moved_triangle_ids, false, vf_what, pairs);
+  }
+  collide(e.device, e.moved_vertices, e.moved_vertex_ids, e.moved_triangles, e.moved_triangle_ids, false, vf_what,
+          pairs);
+  for (const auto& [i, f] : pairs)
+    if (keep_vf(m, e.vertex_boxes, e.triangle_boxes, i, f)) fresh.vf.push_back({i, f});
+  pairs.clear();
+  const char* ee_what = "rtcCollide (moved edges, edges)";
+  for (int g = 0; g < 2; ++g)
+    collide(e.device, e.moved_edges, e.moved_edge_ids, e.edges[g], e.edge_ids[g], true, ee_what, pairs);
+  collide(e.device, e.moved_edges, e.moved_edge_ids, e.moved_edges, e.moved_edge_ids, false, ee_what, pairs);
+  for (const auto& [a, b] : pairs)
+    if (keep_ee(m, e.edge_boxes, a, b)) fresh.ee.push_back({a, b});
+  // The kept pairs are sorted; the new ones (each with a moved primitive, so none of them kept)
+  // are sorted and merged in.
+  auto merge = [](auto& list, std::size_t kept) {
+    const auto middle = list.begin() + static_cast<std::ptrdiff_t>(kept);
+    std::sort(middle, list.end());
+    list.erase(std::unique(middle, list.end()), list.end());
+    std::inplace_merge(list.begin(), list.begin() + static_cast<std::ptrdiff_t>(kept), list.end());
+  };
+  merge(fresh.vf, kept_vf);
+  merge(fresh.ee, kept_ee);
+  out = std::move(fresh);
+}
 
 void BroadPhase::edge_triangle_pairs(const CollisionMesh& m, std::vector<std::pair<int, int>>& out) {
   out.clear();
   Embree& e = *embree_;
-  if (!e.edges.scene || !e.triangles.scene || e.edges.boxes.size() != static_cast<std::size_t>(m.edges.rows()))
-    return;
-  Collected et;
-  rtcCollide(e.edges.scene, e.triangles.scene, collect, &et);
-  check(e.device, "rtcCollide (edges, triangles)");
-  et.merge();
-  for (const auto& [a, f] : et.pairs) {
-    const int* edge = &m.edges(a, 0);
-    const int* tri = &m.tris(f, 0);
-    // Pairs for a test at x0: the boxes at x0 alone, not swept nor grown, must overlap (most of
-    // the swept, grown pairs are neighbours that only come within the margin).
-    if (!swept_box(m, m.v, edge, 2, 0.0, 0.0).overlaps(swept_box(m, m.v, tri, 3, 0.0, 0.0))) continue;
-    if (adjacent(m, edge, 2, tri, 3)) continue;
-    if (!m.movable(edge[0]) && !m.movable(edge[1]) && !m.movable(tri[0]) && !m.movable(tri[1]) && !m.movable(tri[2]))
-      continue;
-    out.emplace_back(a, f);
-  }
-  // Not sorted: thousands of pairs for a handful of crossings; the tests sort what they find.
+  if (e.edge_boxes.size() != static_cast<std::size_t>(m.edges.rows()) ||
+      e.triangle_boxes.size() != static_cast<std::size_t>(m.tris.rows()))
+    return;  // no find() on this mesh yet
+  const char* what = "rtcCollide (edges, triangles)";
+  collide(e.device, e.edges[0], e.edge_ids[0], e.triangles[0], e.triangle_ids[0], false, what, out);
+  collide(e.device, e.edges[0], e.edge_ids[0], e.triangles[1], e.triangle_ids[1], false, what, out);
+  collide(e.device, e.edges[1], e.edge_ids[1], e.triangles[0], e.triangle_ids[0], false, what, out);
+  // Pairs for a test at x0: the boxes at x0 alone, not swept nor grown, must overlap (most of the
+  // swept, grown pairs are neighbours that only come within the margin). Not sorted: thousands of
+  // pairs for a handful of crossings; the consumer sorts what it keeps.
+  out.erase(std::remove_if(out.begin(), out.end(),
+                           [&](const std::pair<int, int>& p) {
+                             const int* edge = &m.edges(p.first, 0);
+                             const int* tri = &m.tris(p.second, 0);
+                             return !swept_box(m, m.v, edge, 2, 0.0, 0.0).overlaps(swept_box(m, m.v, tri, 3, 0.0, 0.0)) ||
+                                    adjacent(m, edge, 2, tri, 3);
+                           }),
+            out.end());
 }
 
 }  // namespace invfem::collisions

@@ -126,7 +126,7 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
   };
   for (report.iterations = 0; report.iterations < max_iterations; ++report.iterations) {
     if (constrain) constrain(zone_lists(), v);
-    broad_phase.find(m, v, dt, margin, c);
+    broad_phase.refind(m, v, dt, margin, c);  // the rounds change velocities only
     // Detect on the current velocities, in parallel (roots read from a frozen copy).
     UnionFind frozen = zones;
     for (std::size_t i = 0; i < n; ++i) frozen.find(static_cast<int>(i));  // compress fully: find is then read-only

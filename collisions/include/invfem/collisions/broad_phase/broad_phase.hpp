@@ -4,6 +4,9 @@
 // box of a primitive's positions at the step's start x0 and end x0 + dt v, inflated by a margin.
 // rtcCollide(vertices, triangles) gives vertex-face pairs and rtcCollide(edges, edges) edge-edge
 // pairs; each is re-checked on exact double boxes, filtered (candidates.hpp) and sorted.
+// Each kind of primitive is held in two hierarchies, those with a movable vertex and the fixed
+// rest (kinematic bodies, rigid colliders, pinned nodes); fixed ones are collided only against
+// movable ones, since a pair without a movable vertex is never a candidate.
 //
 // The hierarchies are kept between calls: while the primitive counts stay the same they are
 // refit (Embree's RTC_BUILD_QUALITY_REFIT), and rebuilt when the summed surface area of the leaf
@@ -11,6 +14,8 @@
 // the mesh moves away from the shape it was built on). Embree works in float: boxes are rounded
 // outward, so the float boxes always contain the double ones.
 #include <memory>
+
+#include "invfem/core/types.hpp"
 
 #include "invfem/collisions/candidates/candidates.hpp"
 #include "invfem/collisions/collision_mesh.hpp"
@@ -30,6 +35,14 @@ class BroadPhase {
   void find(const CollisionMesh& mesh, const Points& v, double dt, double margin, Candidates& out);
   void find(const CollisionMesh& mesh, double dt, double margin, Candidates& out) { find(mesh, mesh.v, dt, margin, out); }
 
+  // The same result as find(), for a mesh on which only velocities changed since the last find()
+  // (the caller's promise: same x0, topology, exempt and released flags). Only the primitives
+  // holding a vertex whose velocity changed are collided again (against the hierarchies of the
+  // last find() and among themselves); the other pairs of the last find() are kept as they were.
+  // The impulse passes and the impact zones' rounds change a few vertices each, so this is what
+  // they call. Falls back to find() when dt, the margin or the sizes differ.
+  void refind(const CollisionMesh& mesh, const Points& v, double dt, double margin, Candidates& out);
+
   // Edge-triangle pairs (not adjacent, not both without a movable vertex) whose boxes of the
   // last find() overlap and whose boxes at x0 (not swept nor grown) overlap: the candidates of
   // an intersection test at the step's start. In the order Embree reports them (which may vary
@@ -43,6 +56,11 @@ class BroadPhase {
   struct Embree;
   std::unique_ptr<Embree> embree_;
   int builds_ = 0;
+  // The last find(): its result and the state it was made on, which refind() starts from.
+  void compute_boxes(const CollisionMesh& mesh, const Points& v, double dt, double margin);
+  Candidates found_;
+  Points found_v_;
+  double found_dt_ = 0, found_margin_ = 0;
 };
 
 }  // namespace invfem::collisions

@@ -52,6 +52,8 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
   mesh.tris.bottomRows(tris.rows()) = tris.array() + v0;
   mesh.edges.conservativeResize(r.first_edge + e.count(), 2);
   mesh.edges.bottomRows(e.count()) = e.vertices.array() + v0;
+  mesh.triangle_edges.conservativeResize(r.first_triangle + tris.rows(), 3);
+  mesh.triangle_edges.bottomRows(tris.rows()) = e.triangle_edges.array() + r.first_edge;
 
   // Welds (world.hpp Weld), the rule `invfem check` applies too: vertices held at one another
   // are one seam point (union-find); a vertex held on an edge touches both ends' points. A seam

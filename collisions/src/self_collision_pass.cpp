@@ -22,6 +22,7 @@ void validate(const SelfCollisionSettings& s) {
   if (!(s.friction >= 0) || !std::isfinite(s.friction)) fail("friction must be >= 0");
   if (s.impulse_passes < 0) fail("impulse_passes must be >= 0");
   if (s.max_zone_iterations < 1) fail("max_zone_iterations must be >= 1");
+  if (!(s.tangle_patience > 0) || !std::isfinite(s.tangle_patience)) fail("tangle_patience must be a positive time [s]");
 }
 
 SelfCollisionPass::SelfCollisionPass(SelfCollisionSettings settings) : settings_(std::move(settings)) {
@@ -82,6 +83,7 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
       }
       append_surface(mesh_, o.name, o.surface.tris, x0, v, w, false, o.welds, joins);
       mesh_.surfaces.back().untangle = objects[k].kind == ObjectKind::Solid;
+      mesh_.surfaces.back().cut = objects[k].kind == ObjectKind::Solid && o.topology_version != 0;
       mesh_.surfaces.back().level = objects[k].kind == ObjectKind::Solid ? 1 : 0;  // one-way coupling
       source_.push_back(static_cast<int>(k));
       versions_.push_back(o.topology_version);
@@ -97,6 +99,8 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
         versions_.push_back(0);
       }
     built_ = true;
+    end_.resize(0, 3);  // a new mesh: its start is searched
+    tangle_ages_.entries.clear();  // its edge and triangle ids are new
     return;
   }
   for (std::size_t r = 0; r < mesh_.surfaces.size(); ++r) {
@@ -169,6 +173,12 @@ void SelfCollisionPass::mark_folding(const std::vector<SimObject>& objects, cons
   if (!any) mesh_.folding.clear();
 }
 
+bool SelfCollisionPass::may_start_crossed() const {
+  // The last step's end, bit for bit: nothing moved the surfaces in between (another pass, a
+  // restored checkpoint), and the mesh is the one it ended on (a rebuild leaves end_ empty).
+  return left_crossable_ || end_.rows() != mesh_.x0.rows() || end_ != mesh_.x0;
+}
+
 void SelfCollisionPass::resolve(double dt, FrameReport::Collisions& r, const Points& v_in, Points& v, bool have_candidates,
                                 const ZoneConstraint& constrain) {
   // Repulsion: pairs within the thickness at x0 (swept boxes grown by it hold them all).
@@ -222,22 +232,30 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   // flat at either end of the step); where it is sound they collide like any others.
   mark_folding(objects, step);
 
-  // Tangles at the step's start are exempt (candidates/tangles.hpp); only solids' boundaries
-  // are searched, so a scene of cloths pays nothing for it.
+  // Tangles at the step's start release the pairs that can undo them (candidates/tangles.hpp);
+  // only solids' boundaries are searched, so a scene of cloths pays nothing for it.
   // A cloth's crossings with a kinematic body at the step's start (left by a fail-safe failure
   // in an earlier step) are released for the step (candidates/tangles.hpp mark_body_crossings),
   // so the cloth can come out of the body instead of being held in it for ever.
-  mesh_.exempt.clear();
+  // Both searches run only when the start can hold a crossing (may_start_crossed).
+  mesh_.exempt_vf.clear();
+  mesh_.exempt_ee.clear();
+  mesh_.stuck.clear();
+  mesh_.loose.clear();
   mesh_.released.clear();
   broad_phase_.find(mesh_, dt, settings_.thickness, candidates_);
   int tangles = 0, crossings = 0;
-  const bool solids = std::any_of(mesh_.surfaces.begin(), mesh_.surfaces.end(), [](const auto& s) { return s.untangle; });
+  const bool search = may_start_crossed();
+  const bool solids =
+      search && std::any_of(mesh_.surfaces.begin(), mesh_.surfaces.end(), [](const auto& s) { return s.untangle; });
   const bool cloth_and_body =
+      search &&
       std::any_of(mesh_.surfaces.begin(), mesh_.surfaces.end(), [](const auto& s) { return s.kinematic; }) &&
       std::any_of(mesh_.surfaces.begin(), mesh_.surfaces.end(), [](const auto& s) { return !s.kinematic && !s.untangle; });
   if (solids || cloth_and_body) broad_phase_.edge_triangle_pairs(mesh_, edge_triangles_);
+  if (!solids) tangle_ages_.entries.clear();
   if (solids) {
-    tangles = mark_tangles(mesh_, edge_triangles_);
+    tangles = mark_tangles(mesh_, edge_triangles_, tangle_ages_, dt, settings_.tangle_patience);
     r.tangled_pairs += tangles;
   }
   if (cloth_and_body) {
@@ -308,7 +326,11 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
       }
       return any;
     };
+  const long long unresolved_before = r.unresolved_steps;
   resolve(dt, r, v_in, v, tangles == 0 && crossings == 0, keep_out);
+  // What the next step's start may hold (may_start_crossed): a crossing only where this step let
+  // pairs go (folding tets, tangles, body crossings) or its fail-safe gave up.
+  left_crossable_ = !mesh_.folding.empty() || tangles > 0 || crossings > 0 || r.unresolved_steps > unresolved_before;
 
   // Write back: x(n+1) = x0 + dt v on the surface nodes; v(n+1) gets the same change.
   for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {
@@ -328,6 +350,19 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
       }
     }
     o.refresh_surface();
+  }
+  // Where the surfaces now are, as the next step's start will read them (gather).
+  end_.resize(mesh_.num_vertices(), 3);
+  for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {
+    const CollisionMesh::Range& range = mesh_.surfaces[s];
+    if (source_[s] >= 0) {
+      const SimObject& o = objects[static_cast<std::size_t>(source_[s])];
+      for (int j = 0; j < range.num_vertices; ++j)
+        end_.row(range.first_vertex + j) = o.body.x.row(o.surface_nodes[static_cast<std::size_t>(j)]);
+    } else {
+      end_.middleRows(range.first_vertex, range.num_vertices) =
+          step.kinematic[static_cast<std::size_t>(-1 - source_[s])]->surface()->x;
+    }
   }
   r.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

@@ -41,8 +41,10 @@ TEST(BuddhaGears, InvertsInTheGapAndRecovers) {
 
 // The self-collision layer keeps the boundary from passing through itself except where the gears
 // fold it through inverted or flattened tets (collision_mesh.hpp, folding), which must then come
-// apart again: frame 0 is clean, nothing crosses before the first inverted tet, and the last 10
-// frames, the recovered Buddha below the gears, are clean.
+// apart again: frame 0 is clean, nothing crosses before the first inverted tet, and the last 20
+// frames, the recovered Buddha below the gears, are clean. A tangle may not spread (tangles.hpp
+// lets go only the pairs that can undo it): the run holds 2,042 crossing pairs over all frames,
+// 4,039 when every pair of a tangle's vertices was let go; 3,000 is the bound.
 TEST(BuddhaGears, BoundaryCrossesItselfOnlyWhileTheGearsFoldItAndEndsClean) {
   const nlohmann::json rows = read_json(kOut / "check.json");
   const Csv csv = read_csv(kOut / "energies.csv");
@@ -51,14 +53,18 @@ TEST(BuddhaGears, BoundaryCrossesItselfOnlyWhileTheGearsFoldItAndEndsClean) {
   for (std::size_t i = 0; i < csv.rows() && first_inverted == csv.rows(); ++i)
     if (csv["inverted"][i] > 0) first_inverted = i;
   int crossing_frames = 0;
+  long long crossing_pairs = 0;
   for (const auto& row : rows) {
     const int f = row["frame"].get<int>();
     if (row["total"].get<long long>() == 0) continue;
     ++crossing_frames;
+    crossing_pairs += row["total"].get<long long>();
     EXPECT_GE(static_cast<std::size_t>(f), first_inverted) << "frame " << f << ": " << row["total"] << " crossing pairs";
-    EXPECT_LT(f, kLast - 10) << "frame " << f << ": " << row["total"] << " crossing pairs";
+    EXPECT_LT(f, kLast - 20) << "frame " << f << ": " << row["total"] << " crossing pairs";
   }
+  EXPECT_LT(crossing_pairs, 3000);
   RecordProperty("crossing_frames", crossing_frames);
+  RecordProperty("crossing_pairs", static_cast<int>(crossing_pairs));
 }
 
 TEST(BuddhaGears, EnergiesMatchGolden) {

@@ -217,7 +217,7 @@ bool keep_vf(const CollisionMesh& m, const std::vector<Box>& vertex_boxes, const
   const int* tri = &m.tris(f, 0);
   if (!m.movable(i) && !m.movable(tri[0]) && !m.movable(tri[1]) && !m.movable(tri[2])) return false;
   if (adjacent(m, &i, 1, tri, 3)) return false;
-  if (m.is_exempt(i) || m.is_exempt(tri[0]) || m.is_exempt(tri[1]) || m.is_exempt(tri[2])) return false;
+  if (m.is_exempt(VertexFaceCandidate{i, f})) return false;
   if (m.released_pair(&i, 1, tri, 3)) return false;
   return vertex_boxes[static_cast<std::size_t>(i)].overlaps(triangle_boxes[static_cast<std::size_t>(f)]);
 }
@@ -226,7 +226,7 @@ bool keep_ee(const CollisionMesh& m, const std::vector<Box>& edge_boxes, int a, 
   const int* eb = &m.edges(b, 0);
   if (!m.movable(ea[0]) && !m.movable(ea[1]) && !m.movable(eb[0]) && !m.movable(eb[1])) return false;
   if (adjacent(m, ea, 2, eb, 2)) return false;  // also drops (a, a)
-  if (m.is_exempt(ea[0]) || m.is_exempt(ea[1]) || m.is_exempt(eb[0]) || m.is_exempt(eb[1])) return false;
+  if (m.is_exempt(EdgeEdgeCandidate{std::min(a, b), std::max(a, b)})) return false;
   if (m.released_pair(ea, 2, eb, 2)) return false;
   return edge_boxes[static_cast<std::size_t>(a)].overlaps(edge_boxes[static_cast<std::size_t>(b)]);
 }
@@ -401,12 +401,17 @@ void BroadPhase::edge_triangle_pairs(const CollisionMesh& m, std::vector<std::pa
   collide(e.device, e.edges[0], e.edge_ids[0], e.triangles[0], e.triangle_ids[0], false, what, out);
   collide(e.device, e.edges[0], e.edge_ids[0], e.triangles[1], e.triangle_ids[1], false, what, out);
   collide(e.device, e.edges[1], e.edge_ids[1], e.triangles[0], e.triangle_ids[0], false, what, out);
+  // Pairs for a test at x0: the boxes at x0 alone, not swept nor grown, must overlap (most of the
+  // swept, grown pairs are neighbours that only come within the margin). Not sorted: thousands of
+  // pairs for a handful of crossings; the consumer sorts what it keeps.
   out.erase(std::remove_if(out.begin(), out.end(),
                            [&](const std::pair<int, int>& p) {
-                             return adjacent(m, &m.edges(p.first, 0), 2, &m.tris(p.second, 0), 3);
+                             const int* edge = &m.edges(p.first, 0);
+                             const int* tri = &m.tris(p.second, 0);
+                             return !swept_box(m, m.v, edge, 2, 0.0, 0.0).overlaps(swept_box(m, m.v, tri, 3, 0.0, 0.0)) ||
+                                    adjacent(m, edge, 2, tri, 3);
                            }),
             out.end());
-  sort_unique(out);
 }
 
 }  // namespace invfem::collisions

@@ -26,10 +26,21 @@
 //                        itself like any other surface
 //   welds                the surfaces' seam points (world.hpp Weld), global indices
 //   surface_of  #V       which surface (index into `surfaces`) a vertex belongs to
-//   exempt      #V or empty   1: the vertex was part of an intersection at the step's start
-//                        on an `untangle` surface (an edge through a face of a solid's boundary
-//                        tangled by inverted elements); pairs holding it are no candidates this
-//                        step, so the tangle may come apart instead of being held crossed
+//   triangle_edges  #F x 3   the global edge id of each triangle's local edge k (corner k to
+//                        corner (k + 1) % 3)
+//   exempt_vf, exempt_ee   sorted: the pairs a tangle at the step's start releases for the step
+//                        (candidates/tangles.hpp) on an `untangle` surface (an edge through a face
+//                        of a solid's boundary, left by inverted elements): for each crossing edge
+//                        e through triangle f, the vertex-face pairs (end of e, f) and the
+//                        edge-edge pairs (e, side of f), the only events by which that crossing
+//                        can come undone. Everything else about the tangle's vertices stays a
+//                        pair (repulsion, CCD, zones), so the tangle cannot spread
+//   loose       #V or empty   1: a vertex of a tangle on a `cut` surface (a fractured solid's
+//                        overlapping crack sides): released from every pair for the step
+//   stuck       #V or empty   1: a vertex of a tangle that has lasted the layer's patience
+//                        (candidates/tangles.hpp TangleAges): held by pairs the exemptions above
+//                        keep, it could not come apart, so its vertices are released from every
+//                        pair for the step
 //   released    #V or empty   1: a vertex of a cloth (a surface that is not `untangle`) edge or
 //                        triangle that crosses a kinematic body's triangle or edge at the step's
 //                        start (the fail-safe gave up in an earlier step). Its pairs with the
@@ -40,6 +51,7 @@
 #include <string>
 #include <vector>
 
+#include "invfem/collisions/candidates/candidates.hpp"
 #include "invfem/core/surface.hpp"
 #include "invfem/core/types.hpp"
 #include "invfem/core/world.hpp"
@@ -54,10 +66,14 @@ struct CollisionMesh {
     int first_edge = 0, num_edges = 0;
     bool kinematic = false;
     // A solid's boundary: where it crosses itself at a step's start (a fold through itself by
-    // inverted elements, which ITF04's recovery must undo) its vertices are exempt for the step
-    // (candidates/tangles.hpp). A cloth's crossing, which only a fail-safe failure leaves, stays
-    // held by the CCD instead, so that it cannot spread.
+    // inverted elements, which ITF04's recovery must undo) the pairs that can undo each crossing
+    // are released for the step (exempt_vf, exempt_ee; candidates/tangles.hpp). A cloth's
+    // crossing, which only a fail-safe failure leaves, stays held by the CCD instead.
     bool untangle = false;
+    // A fractured solid's boundary (its enlarged mesh's, after a cut): right after a tear the
+    // cut elements' copies on either side overlap by construction until they part, and every
+    // pair holding a vertex of such a tangle is let go (`loose`), not only those undoing it.
+    bool cut = false;
     // One-way coupling: in a pair (or impact zone) holding vertices of surfaces of different
     // levels, the vertices of the higher levels act as infinite mass (inverse mass 0 for that
     // pair; kinematic in that zone: the zone follows them). A simulated solid's boundary is level
@@ -69,12 +85,16 @@ struct CollisionMesh {
   Eigen::VectorXd inv_mass;
   Tris tris;
   Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> edges;
+  Tris triangle_edges;
   std::vector<int> weld_offsets{0}, weld_partners;
   std::vector<int> join_offsets{0}, join_partners;
   std::vector<char> folding;
   std::vector<Weld> welds;  // every surface's welds, in global vertex indices
   std::vector<int> surface_of;
-  std::vector<char> exempt;
+  std::vector<VertexFaceCandidate> exempt_vf;
+  std::vector<EdgeEdgeCandidate> exempt_ee;
+  std::vector<char> stuck;
+  std::vector<char> loose;
   std::vector<char> released;
 
   Eigen::Index num_vertices() const { return x0.rows(); }
@@ -86,7 +106,26 @@ struct CollisionMesh {
   }
   bool movable(int i) const { return inv_mass(i) > 0; }
   int level(int i) const { return surfaces[static_cast<std::size_t>(surface_of[static_cast<std::size_t>(i)])].level; }
-  bool is_exempt(int i) const { return !exempt.empty() && exempt[static_cast<std::size_t>(i)]; }
+  bool is_stuck(int i) const { return !stuck.empty() && stuck[static_cast<std::size_t>(i)]; }
+  bool is_loose(int i) const { return !loose.empty() && loose[static_cast<std::size_t>(i)]; }
+  bool is_exempt(const VertexFaceCandidate& c) const {
+    if (!loose.empty() &&
+        (is_loose(c.vertex) || is_loose(tris(c.face, 0)) || is_loose(tris(c.face, 1)) || is_loose(tris(c.face, 2))))
+      return true;
+    if (!stuck.empty() && is_stuck(c.vertex) &&
+        (is_stuck(tris(c.face, 0)) || is_stuck(tris(c.face, 1)) || is_stuck(tris(c.face, 2))))
+      return true;
+    return !exempt_vf.empty() && std::binary_search(exempt_vf.begin(), exempt_vf.end(), c);
+  }
+  bool is_exempt(const EdgeEdgeCandidate& c) const {  // edge_a < edge_b
+    if (!loose.empty() && (is_loose(edges(c.edge_a, 0)) || is_loose(edges(c.edge_a, 1)) ||
+                           is_loose(edges(c.edge_b, 0)) || is_loose(edges(c.edge_b, 1))))
+      return true;
+    if (!stuck.empty() && (is_stuck(edges(c.edge_a, 0)) || is_stuck(edges(c.edge_a, 1))) &&
+        (is_stuck(edges(c.edge_b, 0)) || is_stuck(edges(c.edge_b, 1))))
+      return true;
+    return !exempt_ee.empty() && std::binary_search(exempt_ee.begin(), exempt_ee.end(), c);
+  }
   bool is_released(int i) const { return !released.empty() && released[static_cast<std::size_t>(i)]; }
   bool on_kinematic(int i) const {
     return surfaces[static_cast<std::size_t>(surface_of[static_cast<std::size_t>(i)])].kinematic;

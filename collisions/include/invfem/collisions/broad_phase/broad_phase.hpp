@@ -44,7 +44,9 @@ class BroadPhase {
   void refind(const CollisionMesh& mesh, const Points& v, double dt, double margin, Candidates& out);
 
   // Edge-triangle pairs (not adjacent, not both without a movable vertex) whose boxes of the
-  // last find() overlap: the candidates of an intersection test at the step's start. Sorted.
+  // last find() overlap and whose boxes at x0 (not swept nor grown) overlap: the candidates of
+  // an intersection test at the step's start. In the order Embree reports them (which may vary
+  // between runs, and may repeat a pair): a consumer sorts what it keeps.
   void edge_triangle_pairs(const CollisionMesh& mesh, std::vector<std::pair<int, int>>& out);
 
   double rebuild_growth = 0.5;

@@ -2,9 +2,16 @@
 // Tangles: where a solid's boundary already intersects itself at the step's start (an edge
 // passing through a triangle at x0). The layer assumes an intersection-free start; a boundary
 // folded through itself by inverted elements would otherwise be held crossed for ever by the CCD,
-// and ITF04's recovery could never undo the inversion. Its vertices are exempted for the step
-// (CollisionMesh::exempt), so it can come apart. Floating-point tests, written here for the
-// response: the certificate (certificate/) keeps its own exact ones.
+// and ITF04's recovery could never undo the inversion. Each crossing releases, for the step, the
+// pairs whose events can undo it and no others (CollisionMesh::exempt_vf, exempt_ee): an edge e
+// through a triangle f stops crossing it when an end of e passes through f (vertex-face pairs
+// (end of e, f)) or when e slides off f over one of its sides (edge-edge pairs (e, side of f)).
+// The tangle's vertices keep every other pair (repulsion, CCD and impact zones against the rest
+// of the surface, and against the tangle's other triangles), so a tangle can come apart but not
+// spread: before, every pair holding one of its vertices was let go, and a tangle of a few
+// crossings grew to hundreds (buddha_gears, README "Self-collisions").
+// Floating-point tests, written here for the response: the certificate (certificate/) keeps its
+// own exact ones.
 #include <utility>
 #include <vector>
 
@@ -17,10 +24,29 @@ namespace invfem::collisions {
 // are not crossings (touching is the CCD's business).
 bool segment_crosses_triangle(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c);
 
-// Marks mesh.exempt (resized to #V, or cleared when nothing is marked) for the vertices of every
-// edge-triangle pair in `pairs` (edge index, triangle index) of `untangle` surfaces that crosses
-// at x0; returns how many pairs cross.
-int mark_tangles(CollisionMesh& mesh, const std::vector<std::pair<int, int>>& pairs);
+// How long [s] each crossing (edge, triangle) has been found at consecutive steps' starts (the
+// steps' lengths summed, the first included). Sorted by (edge, triangle); kept by the caller from
+// step to step.
+struct TangleAges {
+  struct Entry {
+    int edge = -1, triangle = -1;
+    double seconds = 0;
+  };
+  std::vector<Entry> entries;
+};
+
+// Sets mesh.exempt_vf and mesh.exempt_ee (sorted, replaced) to the pairs released by the
+// crossings at x0 of the edge-triangle pairs in `pairs` (edge index, triangle index; any order,
+// repeats allowed) whose edge and triangle both lie on `untangle` surfaces; returns how many
+// distinct pairs cross. `ages` (last step's, replaced by this step's, whose length is dt) counts
+// how long each has lasted: a crossing that has lasted `patience` seconds is stuck (something the exemptions
+// keep holds it: an end of its edge behind a neighbour of its triangle), and its five vertices
+// are released from every pair (mesh.stuck; cleared when none), as the layer did for every
+// tangle before, which lets it come apart. A crossing on a `cut` surface (a fractured solid's
+// crack sides, overlapping by construction right after a tear) releases its five vertices from
+// every pair at once (mesh.loose; cleared when none), so the sides part freely.
+int mark_tangles(CollisionMesh& mesh, const std::vector<std::pair<int, int>>& pairs, TangleAges& ages, double dt,
+                 double patience);
 
 // The recovery from a fail-safe failure against a kinematic body (README, dress_dance): marks
 // mesh.released (resized to #V, or cleared when nothing is marked) for the cloth vertices of

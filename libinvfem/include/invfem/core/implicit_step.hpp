@@ -21,6 +21,9 @@
 // position and move only tangentially (their x^ row takes the body's normal velocity).
 // Coulomb friction is a smoothed potential of the tangential slip with the normal force lagged
 // one step (IPC, Li et al. 2020; see kStickSpeed in the .cpp): stick and slide in one Newton solve.
+// Its Hessian in the Newton system is mu lambda / max(|s|, eps) T (T the tangent projector, s the
+// slip): exact in the stick zone, a majorizer's (IRLS) beyond it, so that resting nodes settle
+// instead of overshooting the stick zone at every iterate (the .cpp gives the measurements).
 //
 // The contact set follows the Newton iterates in one loop (a primal-dual active set, as in
 // semi-smooth Newton methods): after each accepted iterate x_k, with g = grad E(x_k) unfiltered,
@@ -39,7 +42,7 @@
 // (gravity, the elastic forces at the first iterate and the momentum per step), so the
 // tolerance is a fraction of the forces at play; an iteration cap that is hit is reported
 // (StepStats::newton_converged), never silent. The CG of each Newton step stops at an
-// Eisenstat-Walker-like relative tolerance min(0.1, |g_k| / |g_0|), floored by cg.relative_tolerance;
+// Eisenstat-Walker-like relative tolerance min(0.1, sqrt(|g_k| / |g_0|)), floored by cg.relative_tolerance;
 // the direct solve is exact (to rounding), yet measured it leaves the Newton iteration count about
 // unchanged in contact (cloth drape, dress: the contacts and the friction's kink set it, not the
 // inexact CG). A factorization that finds the filtered matrix not definite falls back to CG.

@@ -197,6 +197,7 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
   vf.merge();
   for (const auto& [i, f] : vf.pairs) {
     const int* tri = &m.tris(f, 0);
+    if (m.is_node_only(i)) continue;  // a node under an embedded surface: not on it
     if (adjacent(m, &i, 1, tri, 3)) continue;
     if (!m.movable(i) && !any_movable(tri, 3)) continue;
     if (m.is_exempt(i) || m.is_exempt(tri[0]) || m.is_exempt(tri[1]) || m.is_exempt(tri[2])) continue;

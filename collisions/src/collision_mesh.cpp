@@ -44,8 +44,6 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
     for (std::size_t k = 0; k < em.nodes.size(); ++k)
       if (em.nodes[k] < em.num_embedded || em.nodes[k] >= n || !(em.weights[k] > 0))
         bad("entry " + std::to_string(k) + ": node outside [#embedded, #V) or weight not positive");
-    for (const auto& [a, b] : em.links)
-      if (a < em.num_embedded || b < em.num_embedded || a >= n || b >= n) bad("link outside the nodes");
     for (Eigen::Index f = 0; f < tris.rows(); ++f)
       for (int k = 0; k < 3; ++k)
         if (tris(f, k) >= em.num_embedded) bad("triangle " + std::to_string(f) + " holds a node");
@@ -138,21 +136,15 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
   if (embedding && !mesh.has_embedding()) {
     mesh.embed_offsets.assign(static_cast<std::size_t>(v0) + 1, 0);
     mesh.carry_offsets.assign(static_cast<std::size_t>(v0) + 1, 0);
-    mesh.link_offsets.assign(static_cast<std::size_t>(v0) + 1, 0);
     mesh.node_only.assign(static_cast<std::size_t>(v0), 0);
   }
   if (mesh.has_embedding()) {
-    std::vector<std::vector<int>> carried(static_cast<std::size_t>(n)), linked(static_cast<std::size_t>(n));
+    std::vector<std::vector<int>> carried(static_cast<std::size_t>(n));
     const int ne = embedding ? embedding->num_embedded : 0;
     if (embedding) {
       for (int i = 0; i < ne; ++i)
         for (int k = embedding->offsets[static_cast<std::size_t>(i)]; k < embedding->offsets[static_cast<std::size_t>(i) + 1]; ++k)
           carried[static_cast<std::size_t>(embedding->nodes[static_cast<std::size_t>(k)])].push_back(v0 + i);
-      for (const auto& [a, b] : embedding->links) {
-        if (a == b) continue;
-        linked[static_cast<std::size_t>(a)].push_back(v0 + b);
-        linked[static_cast<std::size_t>(b)].push_back(v0 + a);
-      }
     }
     for (int i = 0; i < static_cast<int>(n); ++i) {
       if (i < ne)
@@ -162,7 +154,6 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
         }
       mesh.embed_offsets.push_back(static_cast<int>(mesh.embed_nodes.size()));
       append_csr(carried[static_cast<std::size_t>(i)], mesh.carry_offsets, mesh.carry_vertices);
-      append_csr(linked[static_cast<std::size_t>(i)], mesh.link_offsets, mesh.link_partners);
       mesh.node_only.push_back(embedding && i >= ne ? 1 : 0);
     }
   }

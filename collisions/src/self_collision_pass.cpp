@@ -66,13 +66,6 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
         }
       e.offsets.push_back(static_cast<int>(e.nodes.size()));
     }
-    // Nodes held by one element copy are linked (their embedded vertices are joined).
-    for (Eigen::Index t = 0; t < o.tets.rows(); ++t)
-      for (int a = 0; a < 4; ++a)
-        for (int b = a + 1; b < 4; ++b) {
-          const int la = local[static_cast<std::size_t>(o.tets(t, a))], lb = local[static_cast<std::size_t>(o.tets(t, b))];
-          if (la >= 0 && lb >= 0) e.links.emplace_back(la, lb);
-        }
   };
   // Per object, its collision vertices' start positions, average velocities and inverse masses.
   auto object_state = [&](std::size_t k, const std::vector<int>& nodes, const SurfaceEmbedding& e, Points& x0,
@@ -116,7 +109,7 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
       object_state(k, nodes, e, x0, v, w);
       const bool embedded = e.num_embedded > 0;
       // A solid's boundary vertices that share a tet are joined (collision_mesh.hpp); an embedded
-      // surface's are linked through their nodes instead.
+      // surface's vertices on a common node are joined instead (collision_mesh.hpp).
       std::vector<std::pair<int, int>> joins;
       if (o.tets.rows() > 0 && !embedded) {
         std::vector<int> vertex_of(static_cast<std::size_t>(o.body.x.rows()), -1);
@@ -195,7 +188,7 @@ void SelfCollisionPass::mark_folding(const std::vector<SimObject>& objects, cons
   const double reach = 2 * settings_.thickness;
   bool any = false;
   for (std::size_t r = 0; r < mesh_.surfaces.size(); ++r) {
-    if (source_[r] < 0 || embeddings_[r].num_embedded > 0) continue;  // embedded: linked nodes instead
+    if (source_[r] < 0 || embeddings_[r].num_embedded > 0) continue;  // embedded: common nodes instead
     const SimObject& o = objects[static_cast<std::size_t>(source_[r])];
     if (o.tets.rows() == 0) continue;
     const Points& x0 = step.x_start[static_cast<std::size_t>(source_[r])];

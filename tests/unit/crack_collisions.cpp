@@ -52,7 +52,6 @@ CollisionMesh embedded_over_plate(bool plate_kinematic) {
   e.offsets = {0, 2, 4, 6};
   e.nodes = {3, 4, 5, 4, 5, 6};
   e.weights = {0.5, 0.5, 0.75, 0.25, 0.5, 0.5};
-  e.links = {{3, 4}, {5, 6}};
   collisions::embedded_state(e, x, v, inv_mass);
   collisions::append_surface(m, "cut", t, x, v, inv_mass, false, {}, {}, &e);
   Points xp(3, 3);
@@ -87,7 +86,7 @@ TEST(CrackCollisions, EmbeddedStateIsTheWeightedSumAndTheEffectiveMass) {
   EXPECT_DOUBLE_EQ(m.inv_mass(1), 0.75 * 0.75 / 3 + 0.25 * 0.25 / 2);
   EXPECT_LT((m.start(0) - Vec3(0.1, 0.1, 0)).norm(), 1e-15);
   expect_embedded_follow_nodes(m, m.v);
-  // Vertices 0 and 1 share node 4; vertices 0 and 2 only through no link: 0 is on 3-4, 2 on 5-6.
+  // Vertices 0 and 1 share node 4 (joined: never a pair); 0 is on nodes 3-4, 2 on 5-6 (a pair).
   EXPECT_TRUE(collisions::joined(m, 0, 1));
   EXPECT_FALSE(collisions::joined(m, 0, 2));
   EXPECT_FALSE(collisions::joined(m, 0, 7));

@@ -37,13 +37,17 @@
 //                        embed_offsets[i+1]) (sum w_k = 1, slot order), whose nodes are vertices of
 //                        the mesh too (`node_only`: in no triangle or edge, never a candidate). A
 //                        vertex with no entries is an ordinary one (its own degree of freedom)
-//   carry_offsets, carry_vertices   #V + 1 (CSR) or empty: per node, the embedded vertices on it
-//   link_offsets, link_partners     #V + 1 (CSR) or empty: per node, the nodes that share an
-//                        element copy with it (ascending). Two embedded vertices are joined when a
-//                        node of one is a node of the other or shares a copy with it: the material
-//                        between them is connected through that element (the two faces of a crack
-//                        near its front, the copies around a point), which the element's
-//                        elasticity governs, not the layer
+//   carry_offsets, carry_vertices   #V + 1 (CSR) or empty: per node, the embedded vertices on it.
+//                        Two embedded vertices that lie on a common node are joined (never a pair,
+//                        like one vertex): they are points of the edges of one particle, within an
+//                        element of each other in the material and moved by the same node. The two
+//                        faces of a crack share particles only near its front, where the material
+//                        still holds them together (virtual_node_cut.hpp: a particle is glued across
+//                        faces where the material is continuous around its node); across an open
+//                        crack their particles differ and they collide. A wider rule (nodes that
+//                        share an element copy) was tried and let more through: on the quick
+//                        buddha_fracture it exempted crack faces from the boundary faces beside them
+//                        (659 crossing pairs over the run against 331)
 //   node_only   #V or empty   1: a node of an embedded surface (a degree of freedom only)
 //   released    #V or empty   1: a vertex of a cloth (a surface that is not `untangle`) edge or
 //                        triangle that crosses a kinematic body's triangle or edge at the step's
@@ -94,7 +98,6 @@ struct CollisionMesh {
   std::vector<int> embed_offsets, embed_nodes;
   std::vector<double> embed_weights;
   std::vector<int> carry_offsets, carry_vertices;
-  std::vector<int> link_offsets, link_partners;
   std::vector<char> node_only;
 
   Eigen::Index num_vertices() const { return x0.rows(); }
@@ -135,14 +138,12 @@ struct CollisionMesh {
 // How a surface's vertices are embedded in nodes (local indices of the surface): its first
 // num_embedded vertices are embedded points, the rest (num_embedded .. #V) the nodes they lie in.
 // Per embedded vertex i its nodes nodes[offsets[i] .. offsets[i+1]) (local indices >=
-// num_embedded) and weights (positive, summing to 1); links: pairs of nodes (local indices) held
-// by one element copy. x0, v and inv_mass of the embedded vertices must be those the nodes give
-// (embedded_state).
+// num_embedded) and weights (positive, summing to 1). x0, v and inv_mass of the embedded vertices
+// must be those the nodes give (embedded_state).
 struct SurfaceEmbedding {
   int num_embedded = 0;
   std::vector<int> offsets{0}, nodes;
   std::vector<double> weights;
-  std::vector<std::pair<int, int>> links;
 };
 
 // Fills the rows [0, num_embedded) of x0, v, inv_mass (a surface's #V rows) from its node rows:
@@ -175,19 +176,16 @@ inline bool listed(const std::vector<int>& offsets, const std::vector<int>& part
   return first != last && std::binary_search(first, last, b);  // a seam corner joins ~100 vertices
 }
 
-// True when embedded vertices a and b have a node in common or nodes that share an element copy
-// (CollisionMesh::link_offsets).
+// True when embedded vertices a and b lie on a common node (CollisionMesh::carry_offsets).
 inline bool embedded_linked(const CollisionMesh& m, int a, int b) {
   for (int k = m.embed_offsets[static_cast<std::size_t>(a)]; k < m.embed_offsets[static_cast<std::size_t>(a) + 1]; ++k)
-    for (int l = m.embed_offsets[static_cast<std::size_t>(b)]; l < m.embed_offsets[static_cast<std::size_t>(b) + 1]; ++l) {
-      const int p = m.embed_nodes[static_cast<std::size_t>(k)], q = m.embed_nodes[static_cast<std::size_t>(l)];
-      if (p == q || listed(m.link_offsets, m.link_partners, p, q)) return true;
-    }
+    for (int l = m.embed_offsets[static_cast<std::size_t>(b)]; l < m.embed_offsets[static_cast<std::size_t>(b) + 1]; ++l)
+      if (m.embed_nodes[static_cast<std::size_t>(k)] == m.embed_nodes[static_cast<std::size_t>(l)]) return true;
   return false;
 }
 
 // True when vertices a and b are one vertex, welded, share a tet of a solid that is folding
-// at both (CollisionMesh::folding), or are embedded vertices linked through an element copy.
+// at both (CollisionMesh::folding), or are embedded vertices on a common node.
 inline bool joined(const CollisionMesh& m, int a, int b) {
   if (a == b || listed(m.weld_offsets, m.weld_partners, a, b)) return true;
   if (m.has_embedding() && m.is_embedded(a) && m.is_embedded(b) && embedded_linked(m, a, b)) return true;

@@ -60,8 +60,8 @@ class SelfCollisionPass final : public StepPass {
   // surface SimObject::embedded (MBF04 2.3: what is written and drawn), whose vertices are points
   // of element copies: they enter the mesh with the nodes they lie in (collision_mesh.hpp
   // SurfaceEmbedding), impulses on them are spread to those nodes by their weights, impact zones
-  // move the nodes, and the nodes are what is written back. Embedded vertices whose nodes share
-  // an element copy are no pair (the two faces of a crack near its front are one material there).
+  // move the nodes, and the nodes are what is written back. Embedded vertices on a common node
+  // are no pair (the two faces of a crack near its front are one material there).
   void gather(const std::vector<SimObject>& objects, const StepPassInput& step);
   // Stages 1-4 on mesh_ (its inverse masses and exemptions as set), changing v. have_candidates:
   // candidates_ already holds the repulsion's candidates for these velocities and filters.

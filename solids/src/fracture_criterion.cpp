@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 namespace invfem {
@@ -40,29 +39,6 @@ std::vector<CrackStart> find_crack_starts(const VirtualNodeMesh& mesh, const Tet
   if (c.max_elements > 0 && mesh.num_elements() >= c.max_elements) return starts;
   const bool plastic = std::isfinite(c.max_plastic_strain);
   static constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-  // Root tets of the seed (the plane crosses them, their rest centroid in its box).
-  auto in_seed = [&](int r) {
-    if (!(c.seed_factor < 1)) return false;
-    Vec3 centroid = Vec3::Zero();
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (int j = 0; j < 4; ++j) {
-      const Vec3 x = mesh.root.X.row(mesh.root.tets(r, j)).transpose();
-      centroid += x / 4;
-      const double d = c.seed_normal.dot(x - c.seed_point);
-      lo = std::min(lo, d), hi = std::max(hi, d);
-    }
-    return (centroid.array() >= c.seed_min.array()).all() && (centroid.array() <= c.seed_max.array()).all() && lo < 0 &&
-           hi > 0;
-  };
-  // Once most of the seed is split, its last tets (a strand left in compression once the rest
-  // parted) are cut at the front whatever their load (kSeedCompletion).
-  bool finish_seed = false;
-  if (c.seed_factor < 1) {
-    long seed = 0, split = 0;
-    for (int r = 0; r < static_cast<int>(mesh.root.tets.rows()); ++r)
-      if (in_seed(r)) ++seed, split += mesh.pieces[static_cast<std::size_t>(r)].size() > 1 ? 1 : 0;
-    finish_seed = seed > 0 && static_cast<double>(split) >= kSeedCompletion * static_cast<double>(seed);
-  }
   for (int e = 0; e < mesh.num_elements(); ++e) {
     if (mesh.pieces[static_cast<std::size_t>(mesh.element_root[static_cast<std::size_t>(e)])].size() > 1) continue;
     const Vec3 p = force.principal_stresses(e);
@@ -87,12 +63,11 @@ std::vector<CrackStart> find_crack_starts(const VirtualNodeMesh& mesh, const Tet
         normal = c.seed_normal;
       }
     }
+    if (!(load >= c.front_fraction)) continue;
     bool front = false;
     for (const auto& ed : kEdges)
       front = front || mesh.cuts.count({std::min(mesh.root.tets(r, ed[0]), mesh.root.tets(r, ed[1])),
                                         std::max(mesh.root.tets(r, ed[0]), mesh.root.tets(r, ed[1]))}) != 0;
-    if (finish_seed && front && in_seed(r)) load = std::max(load, 1.0);
-    if (!(load >= c.front_fraction)) continue;
     if (!front && !(load >= 1)) continue;
     starts.push_back({e, load, front, normal, point});
   }

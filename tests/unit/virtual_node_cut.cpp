@@ -241,59 +241,6 @@ TEST(VirtualNodeCut, CriterionCutsOrthogonalToTheLargestPrincipalStress) {
   EXPECT_THROW(FractureCriterion{}.validate("test"), std::invalid_argument);
 }
 
-// Once kSeedCompletion of a seed's tets are split, its last tets on the crack front are cut
-// whatever their load (the strand of the full-resolution Buddha that compression kept joined):
-// the cube cut along y = 0.6 except one corner column, squeezed along y (no tension anywhere).
-TEST(VirtualNodeCut, TheLastTetsOfAMostlySplitSeedAreCutWhateverTheirLoad) {
-  auto seeded = [](double keep_from) {
-    VirtualNodeMesh m = unit_cube();
-    for (int r = 0; r < static_cast<int>(m.root.tets.rows()); ++r) {
-      Vec3 centroid = Vec3::Zero();
-      for (int k = 0; k < 4; ++k) centroid += m.root.X.row(m.root.tets(r, k)).transpose() / 4;
-      if (centroid.x() > keep_from && centroid.z() > keep_from) continue;  // the strand
-      cut_tet_by_plane(m, r, Vec3(0, 0.6, 0), Vec3::UnitY());
-    }
-    update_topology(m);
-    return m;
-  };
-  FractureCriterion c;
-  c.max_principal_stress = 1e9;  // out of reach: only the completion rule cuts
-  c.max_cuts_per_step = 1000;
-  c.seed_factor = 0.5;
-  c.seed_point = Vec3(0, 0.6, 0);
-  c.seed_normal = Vec3::UnitY();
-  c.validate("test");
-  auto starts_of = [&](const VirtualNodeMesh& m) {
-    TetSolidForce force(weighted_tet_rest(m), TetMaterial{NeoHookean{1e4, 1e4}});
-    Points x = rest_positions(m);
-    x.col(1) *= 0.9;  // compressed
-    force.update_positions(x, 0);
-    return find_crack_starts(m, force, c);
-  };
-  // One column of 16 left (about 6% of the seed): its tets on the front are cut, along the seed.
-  const VirtualNodeMesh most = seeded(0.75);
-  const std::vector<CrackStart> starts = starts_of(most);
-  ASSERT_FALSE(starts.empty());
-  for (const CrackStart& s : starts) {
-    EXPECT_TRUE(s.front);
-    EXPECT_GE(s.load, 1.0);
-    EXPECT_NEAR((s.normal - Vec3::UnitY()).norm(), 0, 1e-12);
-    const int r = most.element_root[static_cast<std::size_t>(s.element)];
-    EXPECT_EQ(most.pieces[static_cast<std::size_t>(r)].size(), 1u);
-  }
-  // A quarter of the seed left (below kSeedCompletion): nothing is cut without its load.
-  EXPECT_TRUE(starts_of(seeded(0.5)).empty());
-  // Cutting on with the rule separates the cube.
-  VirtualNodeMesh m = most;
-  std::vector<CrackStart> next = starts;
-  for (int round = 0; round < 10 && !next.empty(); ++round) {
-    apply_crack_starts(m, next);
-    update_topology(m);
-    next = starts_of(m);
-  }
-  EXPECT_EQ(count_pieces(m), 2);
-}
-
 // A seed plane lowers the thresholds of the tets it crosses (inside its box) and cuts them along
 // itself: the body stretched along y is cut only there, and a crack along the seed separates it.
 TEST(VirtualNodeCut, SeedPlaneStartsTheCrackThereAndCutsAlongIt) {

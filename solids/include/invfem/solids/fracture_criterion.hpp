@@ -37,10 +37,6 @@ struct FractureCriterion {
   // ones through the cut points the neighbours left on it). So a crack starts and runs there
   // rather than where a pin or a collider concentrates the load, and one crack, not a band of
   // chips, grows. Beyond the box, a crack runs on by the stress criterion. seed_factor in (0, 1]; 1: no seed. Rest space is the mesh's (the transform applied).
-  // Once kSeedCompletion of the seed's tets are split, its remaining tets on the crack front are
-  // cut whatever their load (find_crack_starts): the full-resolution Buddha (buddha_fracture,
-  // mesh_resolution 40) otherwise kept a thin strand at its back joined for ever, its last seed
-  // tets having turned to compression or low tension once the rest had parted.
   double seed_factor = 1;
   Vec3 seed_point = Vec3::Zero(), seed_normal = Vec3::UnitY();  // normal: unit
   Vec3 seed_min = Vec3::Constant(-std::numeric_limits<double>::infinity());
@@ -49,10 +45,6 @@ struct FractureCriterion {
   // threshold is finite.
   void validate(const std::string& where) const;
 };
-
-// The share of a seed's tets (root tets the seed plane crosses, in its box) that must be split
-// before its remaining front tets are cut regardless of their load (FractureCriterion seed).
-inline constexpr double kSeedCompletion = 0.9;
 
 struct CrackStart {
   int element = -1;      // the element copy

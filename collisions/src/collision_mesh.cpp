@@ -10,7 +10,8 @@ namespace invfem::collisions {
 
 void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tris, const Points& x0, const Points& v,
                     const Eigen::VectorXd& inv_mass, bool kinematic,
-                    const std::vector<Weld>& welds, const std::vector<std::pair<int, int>>& joins) {
+                    const std::vector<Weld>& welds, const std::vector<std::pair<int, int>>& joins,
+                    const SurfaceEmbedding* embedding) {
   const Eigen::Index n = x0.rows();
   if (v.rows() != n || (!kinematic && inv_mass.size() != n))
     throw std::invalid_argument("collisions: surface \"" + name + "\": " + std::to_string(n) + " positions, " +
@@ -28,6 +29,25 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
     if (outside(a) || outside(b))
       throw std::invalid_argument("collisions: surface \"" + name + "\": joined pair (" + std::to_string(a) + ", " +
                                   std::to_string(b) + ") outside [0, " + std::to_string(n) + ")");
+  if (embedding) {
+    const SurfaceEmbedding& em = *embedding;
+    auto bad = [&](const std::string& what) {
+      throw std::invalid_argument("collisions: surface \"" + name + "\": embedding: " + what);
+    };
+    if (em.num_embedded < 0 || em.num_embedded > n) bad("embedded vertex count outside [0, #V]");
+    if (em.offsets.size() != static_cast<std::size_t>(em.num_embedded) + 1 || em.offsets.front() != 0 ||
+        em.nodes.size() != em.weights.size() || static_cast<std::size_t>(em.offsets.back()) != em.nodes.size())
+      bad("offsets do not match the nodes");
+    for (int i = 0; i < em.num_embedded; ++i)
+      if (em.offsets[static_cast<std::size_t>(i) + 1] <= em.offsets[static_cast<std::size_t>(i)])
+        bad("vertex " + std::to_string(i) + " lies in no node");
+    for (std::size_t k = 0; k < em.nodes.size(); ++k)
+      if (em.nodes[k] < em.num_embedded || em.nodes[k] >= n || !(em.weights[k] > 0))
+        bad("entry " + std::to_string(k) + ": node outside [#embedded, #V) or weight not positive");
+    for (Eigen::Index f = 0; f < tris.rows(); ++f)
+      for (int k = 0; k < 3; ++k)
+        if (tris(f, k) >= em.num_embedded) bad("triangle " + std::to_string(f) + " holds a node");
+  }
   CollisionMesh::Range r;
   r.name = name;
   r.first_vertex = static_cast<int>(mesh.x0.rows());
@@ -113,7 +133,71 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
     mesh.surface_of.push_back(static_cast<int>(mesh.surfaces.size()));
   }
   for (const Weld& w : welds) mesh.welds.push_back({v0 + w.i, v0 + w.j, w.k < 0 ? -1 : v0 + w.k, w.r});
+
+  // The embedding's arrays cover every vertex once any surface is embedded (empty rows elsewhere).
+  if (embedding && !mesh.has_embedding()) {
+    mesh.embed_offsets.assign(static_cast<std::size_t>(v0) + 1, 0);
+    mesh.carry_offsets.assign(static_cast<std::size_t>(v0) + 1, 0);
+    mesh.node_only.assign(static_cast<std::size_t>(v0), 0);
+  }
+  if (mesh.has_embedding()) {
+    std::vector<std::vector<int>> carried(static_cast<std::size_t>(n));
+    const int ne = embedding ? embedding->num_embedded : 0;
+    if (embedding) {
+      for (int i = 0; i < ne; ++i)
+        for (int k = embedding->offsets[static_cast<std::size_t>(i)]; k < embedding->offsets[static_cast<std::size_t>(i) + 1]; ++k)
+          carried[static_cast<std::size_t>(embedding->nodes[static_cast<std::size_t>(k)])].push_back(v0 + i);
+    }
+    for (int i = 0; i < static_cast<int>(n); ++i) {
+      if (i < ne)
+        for (int k = embedding->offsets[static_cast<std::size_t>(i)]; k < embedding->offsets[static_cast<std::size_t>(i) + 1]; ++k) {
+          mesh.embed_nodes.push_back(v0 + embedding->nodes[static_cast<std::size_t>(k)]);
+          mesh.embed_weights.push_back(embedding->weights[static_cast<std::size_t>(k)]);
+        }
+      mesh.embed_offsets.push_back(static_cast<int>(mesh.embed_nodes.size()));
+      append_csr(carried[static_cast<std::size_t>(i)], mesh.carry_offsets, mesh.carry_vertices);
+      mesh.node_only.push_back(embedding && i >= ne ? 1 : 0);
+    }
+  }
   mesh.surfaces.push_back(r);
+}
+
+void embedded_state(const SurfaceEmbedding& e, Points& x0, Points& v, Eigen::VectorXd& inv_mass) {
+  for (int i = 0; i < e.num_embedded; ++i) {
+    Vec3 x = Vec3::Zero(), u = Vec3::Zero();
+    double w2 = 0;
+    for (int k = e.offsets[static_cast<std::size_t>(i)]; k < e.offsets[static_cast<std::size_t>(i) + 1]; ++k) {
+      const int a = e.nodes[static_cast<std::size_t>(k)];
+      const double w = e.weights[static_cast<std::size_t>(k)];
+      x += w * x0.row(a).transpose();
+      u += w * v.row(a).transpose();
+      w2 += w * w * inv_mass(a);
+    }
+    x0.row(i) = x.transpose();
+    v.row(i) = u.transpose();
+    inv_mass(i) = w2;
+  }
+}
+
+namespace {
+void sync_vertex(const CollisionMesh& m, int i, Points& v) {
+  Vec3 u = Vec3::Zero();
+  for (int k = m.embed_offsets[static_cast<std::size_t>(i)]; k < m.embed_offsets[static_cast<std::size_t>(i) + 1]; ++k)
+    u += m.embed_weights[static_cast<std::size_t>(k)] * v.row(m.embed_nodes[static_cast<std::size_t>(k)]).transpose();
+  v.row(i) = u.transpose();
+}
+}  // namespace
+
+void sync_embedded(const CollisionMesh& m, Points& v) {
+  if (!m.has_embedding()) return;
+  for (int i = 0; i < static_cast<int>(m.num_vertices()); ++i)
+    if (m.is_embedded(i)) sync_vertex(m, i, v);
+}
+
+void sync_carried(const CollisionMesh& m, int node, Points& v) {
+  if (!m.has_embedding()) return;
+  for (int k = m.carry_offsets[static_cast<std::size_t>(node)]; k < m.carry_offsets[static_cast<std::size_t>(node) + 1]; ++k)
+    sync_vertex(m, m.carry_vertices[static_cast<std::size_t>(k)], v);
 }
 
 }  // namespace invfem::collisions

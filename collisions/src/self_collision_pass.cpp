@@ -34,10 +34,45 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
   auto excluded = [&](const std::string& name) {
     return std::find(settings_.excluded.begin(), settings_.excluded.end(), name) != settings_.excluded.end();
   };
-  // Per object, the surface's start positions, average velocities and inverse masses.
-  auto object_state = [&](std::size_t k, Points& x0, Points& v, Eigen::VectorXd& inv_mass) {
+  // Per object, the body node of each of its collision vertices (-1: an embedded vertex) and its
+  // embedding. A cut solid takes part with its embedded material surface (SimObject::embedded,
+  // MBF04 2.3): its vertices are points of element copies, then the nodes they lie in
+  // (collision_mesh.hpp SurfaceEmbedding); any other object with its surface, vertex s being node
+  // surface_nodes[s].
+  auto layout = [&](const SimObject& o, std::vector<int>& nodes, SurfaceEmbedding& e) {
+    e = SurfaceEmbedding{};
+    if (o.embedded.empty()) {
+      nodes = o.surface_nodes;
+      return;
+    }
+    const auto ne = static_cast<int>(o.embedded.vertices.size());
+    std::vector<int> local(static_cast<std::size_t>(o.body.x.rows()), -1);
+    std::vector<int> used;
+    for (const EmbeddedVertex& ev : o.embedded.vertices)
+      for (int k = 0; k < 4; ++k)
+        if (ev.weights[static_cast<std::size_t>(k)] != 0) used.push_back(o.tets(ev.element, k));
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    nodes.assign(static_cast<std::size_t>(ne), -1);
+    for (int node : used) {  // local vertex ne + rank
+      local[static_cast<std::size_t>(node)] = static_cast<int>(nodes.size());
+      nodes.push_back(node);
+    }
+    e.num_embedded = ne;
+    for (const EmbeddedVertex& ev : o.embedded.vertices) {
+      for (int k = 0; k < 4; ++k)
+        if (const double w = ev.weights[static_cast<std::size_t>(k)]; w != 0) {
+          e.nodes.push_back(local[static_cast<std::size_t>(o.tets(ev.element, k))]);
+          e.weights.push_back(w);
+        }
+      e.offsets.push_back(static_cast<int>(e.nodes.size()));
+    }
+  };
+  // Per object, its collision vertices' start positions, average velocities and inverse masses.
+  auto object_state = [&](std::size_t k, const std::vector<int>& nodes, const SurfaceEmbedding& e, Points& x0,
+                          Points& v, Eigen::VectorXd& inv_mass) {
     const SimObject& o = objects[k];
-    const auto n = static_cast<Eigen::Index>(o.surface_nodes.size());
+    const auto n = static_cast<Eigen::Index>(nodes.size());
     x0.resize(n, 3);
     v.resize(n, 3);
     inv_mass.resize(n);
@@ -46,12 +81,13 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
       for (int i : g.nodes) pinned[static_cast<std::size_t>(i)] = 1;
     for (const AttachmentGroup& g : o.attachments)  // they follow their solid
       for (const Attachment& a : g.vertices) pinned[static_cast<std::size_t>(a.node)] = 1;
-    for (Eigen::Index s = 0; s < n; ++s) {
-      const int i = o.surface_nodes[static_cast<std::size_t>(s)];
+    for (Eigen::Index s = e.num_embedded; s < n; ++s) {
+      const int i = nodes[static_cast<std::size_t>(s)];
       x0.row(s) = step.x_start[k].row(i);
       v.row(s) = (o.body.x.row(i) - step.x_start[k].row(i)) / dt;
       inv_mass(s) = pinned[static_cast<std::size_t>(i)] || !(o.body.mass(i) > 0) ? 0.0 : 1.0 / o.body.mass(i);
     }
+    if (e.num_embedded > 0) embedded_state(e, x0, v, inv_mass);
   };
   // A taking-part object whose topology changed (fracture: new nodes, tets and boundary) makes
   // the mesh be built again from the objects as they now are.
@@ -61,15 +97,22 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
     mesh_ = CollisionMesh{};
     source_.clear();
     versions_.clear();
+    vertex_nodes_.clear();
+    embeddings_.clear();
     for (std::size_t k = 0; k < objects.size(); ++k) {
       if (excluded(objects[k].name) || objects[k].surface.tris.rows() == 0) continue;
+      const SimObject& o = objects[k];
+      std::vector<int> nodes;
+      SurfaceEmbedding e;
+      layout(o, nodes, e);
       Points x0, v;
       Eigen::VectorXd w;
-      object_state(k, x0, v, w);
-      // A solid's boundary vertices that share a tet are joined (collision_mesh.hpp).
-      const SimObject& o = objects[k];
+      object_state(k, nodes, e, x0, v, w);
+      const bool embedded = e.num_embedded > 0;
+      // A solid's boundary vertices that share a tet are joined (collision_mesh.hpp); an embedded
+      // surface's vertices on a common node are joined instead (collision_mesh.hpp).
       std::vector<std::pair<int, int>> joins;
-      if (o.tets.rows() > 0) {
+      if (o.tets.rows() > 0 && !embedded) {
         std::vector<int> vertex_of(static_cast<std::size_t>(o.body.x.rows()), -1);
         for (std::size_t s = 0; s < o.surface_nodes.size(); ++s)
           vertex_of[static_cast<std::size_t>(o.surface_nodes[s])] = static_cast<int>(s);
@@ -81,12 +124,15 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
               if (sa >= 0 && sb >= 0) joins.emplace_back(sa, sb);
             }
       }
-      append_surface(mesh_, o.name, o.surface.tris, x0, v, w, false, o.welds, joins);
+      append_surface(mesh_, o.name, embedded ? o.embedded.surface.tris : o.surface.tris, x0, v, w, false, o.welds, joins,
+                     embedded ? &e : nullptr);
       mesh_.surfaces.back().untangle = objects[k].kind == ObjectKind::Solid;
       mesh_.surfaces.back().cut = objects[k].kind == ObjectKind::Solid && o.topology_version != 0;
       mesh_.surfaces.back().level = objects[k].kind == ObjectKind::Solid ? 1 : 0;  // one-way coupling
       source_.push_back(static_cast<int>(k));
       versions_.push_back(o.topology_version);
+      vertex_nodes_.push_back(std::move(nodes));
+      embeddings_.push_back(std::move(e));
     }
     if (settings_.kinematic_bodies)
       for (std::size_t b = 0; b < step.kinematic.size(); ++b) {
@@ -97,6 +143,8 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
         append_surface(mesh_, step.kinematic[b]->name(), s->tris, step.kinematic_start[b], v, Eigen::VectorXd(), true);
         source_.push_back(-1 - static_cast<int>(b));
         versions_.push_back(0);
+        vertex_nodes_.emplace_back();
+        embeddings_.emplace_back();
       }
     built_ = true;
     end_.resize(0, 3);  // a new mesh: its start is searched
@@ -109,7 +157,7 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
     if (src >= 0) {
       Points x0, v;
       Eigen::VectorXd w;
-      object_state(static_cast<std::size_t>(src), x0, v, w);
+      object_state(static_cast<std::size_t>(src), vertex_nodes_[r], embeddings_[r], x0, v, w);
       mesh_.x0.middleRows(range.first_vertex, range.num_vertices) = x0;
       mesh_.v.middleRows(range.first_vertex, range.num_vertices) = v;
       mesh_.inv_mass.segment(range.first_vertex, range.num_vertices) = w;
@@ -144,7 +192,7 @@ void SelfCollisionPass::mark_folding(const std::vector<SimObject>& objects, cons
   const double reach = 2 * settings_.thickness;
   bool any = false;
   for (std::size_t r = 0; r < mesh_.surfaces.size(); ++r) {
-    if (source_[r] < 0) continue;
+    if (source_[r] < 0 || embeddings_[r].num_embedded > 0) continue;  // embedded: common nodes instead
     const SimObject& o = objects[static_cast<std::size_t>(source_[r])];
     if (o.tets.rows() == 0) continue;
     const Points& x0 = step.x_start[static_cast<std::size_t>(source_[r])];
@@ -295,7 +343,9 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
         bool moved = false;
         std::vector<Vec3> zone_shift(zones.size(), Vec3::Zero());
         for (Eigen::Index i = 0; i < mesh_.num_vertices(); ++i) {
-          if (!mesh_.movable(static_cast<int>(i)) || vel.row(i) == v_in.row(i)) continue;
+          // An embedded vertex follows its nodes, which are vertices here too.
+          if (!mesh_.movable(static_cast<int>(i)) || vel.row(i) == v_in.row(i) || mesh_.is_embedded(static_cast<int>(i)))
+            continue;
           for (const ImplicitSurface* b : bodies) {
             const Vec3 x1 = mesh_.position(static_cast<int>(i), vel, 1.0, dt);
             const double phi = b->phi(x1, t1);
@@ -319,11 +369,12 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
           if (!zone_shift[z].isZero()) {
             const int lowest = lowest_level(mesh_, zones[z]);
             for (int i : zones[z])
-              if (!fixed_in_zone(mesh_, i, lowest)) vel.row(i) += (zone_shift[z] / dt).transpose();
+              if (!fixed_in_zone(mesh_, i, lowest) && !mesh_.is_embedded(i)) vel.row(i) += (zone_shift[z] / dt).transpose();
           }
         any = any || moved;
         if (!moved) break;
       }
+      if (any) sync_embedded(mesh_, vel);
       return any;
     };
   const long long unresolved_before = r.unresolved_steps;
@@ -339,8 +390,8 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
     const CollisionMesh::Range& range = mesh_.surfaces[s];
     for (int j = 0; j < range.num_vertices; ++j) {
       const int g = range.first_vertex + j;
-      if (!mesh_.movable(g) || v.row(g) == v_in.row(g)) continue;
-      const int node = o.surface_nodes[static_cast<std::size_t>(j)];
+      const int node = vertex_nodes_[s][static_cast<std::size_t>(j)];
+      if (node < 0 || !mesh_.movable(g) || v.row(g) == v_in.row(g)) continue;  // embedded: its nodes are written
       o.body.x.row(node) = mesh_.x0.row(g) + dt * v.row(g);
       o.body.v.row(node) += v.row(g) - v_in.row(g);
       if (const int k = projected_at[static_cast<std::size_t>(g)]; k >= 0) {

@@ -30,7 +30,10 @@ class Builder {
     if (a > b) std::swap(a, b), std::swap(i, j);  // i: the slot of the smaller root node
     const auto it = m_.cuts.find({a, b});
     if (it == m_.cuts.end()) throw std::logic_error("embedded surface: copy " + std::to_string(e) + " borders an uncut edge");
-    const double s = it->second;
+    // A crack face sits kCrackFaceGap of the edge back into its own material (header).
+    const std::uint8_t mask = m_.material[static_cast<std::size_t>(e)];
+    const bool at_i = ((mask >> i) & 1) != 0, at_j = ((mask >> j) & 1) != 0;
+    const double s = it->second + (at_i && !at_j ? -kCrackFaceGap : !at_i && at_j ? kCrackFaceGap : 0.0);
     return vertex({m_.tets(e, i), m_.tets(e, j)}, e, [&](EmbeddedVertex& v) {
       v.weights[static_cast<std::size_t>(i)] = 1 - s;
       v.weights[static_cast<std::size_t>(j)] = s;

@@ -216,6 +216,7 @@ bool keep_vf(const CollisionMesh& m, const std::vector<Box>& vertex_boxes, const
              int f) {
   const int* tri = &m.tris(f, 0);
   if (!m.movable(i) && !m.movable(tri[0]) && !m.movable(tri[1]) && !m.movable(tri[2])) return false;
+  if (m.is_node_only(i)) return false;  // a node under an embedded surface: not on it
   if (adjacent(m, &i, 1, tri, 3)) return false;
   if (m.is_exempt(VertexFaceCandidate{i, f})) return false;
   if (m.released_pair(&i, 1, tri, 3)) return false;

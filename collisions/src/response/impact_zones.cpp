@@ -48,7 +48,18 @@ int lowest_level(const CollisionMesh& m, const std::vector<int>& zone) {
   return lowest;
 }
 
-void rigidify_zone(const CollisionMesh& m, const std::vector<int>& zone, double dt, Points& v) {
+void rigidify_zone(const CollisionMesh& m, const std::vector<int>& zone_in, double dt, Points& v) {
+  // Embedded vertices move with their nodes, which the zone holds (resolve_impact_zones): the
+  // motion is fitted to and applied on the degrees of freedom only.
+  std::vector<int> dofs;
+  const std::vector<int>* members = &zone_in;
+  if (m.has_embedding()) {
+    for (int i : zone_in)
+      if (!m.is_embedded(i)) dofs.push_back(i);
+    if (dofs.empty()) return;
+    members = &dofs;
+  }
+  const std::vector<int>& zone = *members;
   const int lowest = lowest_level(m, zone);
   auto fixed = [&](int i) { return fixed_in_zone(m, i, lowest); };
   bool kinematic = false;
@@ -180,6 +191,15 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
         }
         for (int i : ids) in_zone[static_cast<std::size_t>(i)] = 1;
         for (int j = 1; j < 4; ++j) zones.unite(ids[0], ids[static_cast<std::size_t>(j)]);
+        // An embedded vertex brings its nodes: the zone moves them (rigidify_zone), and zones
+        // that share a node are one (each writes only its own entries).
+        if (m.has_embedding())
+          for (int i : ids)
+            for (int e = m.embed_offsets[static_cast<std::size_t>(i)]; e < m.embed_offsets[static_cast<std::size_t>(i) + 1]; ++e) {
+              const int node = m.embed_nodes[static_cast<std::size_t>(e)];
+              in_zone[static_cast<std::size_t>(node)] = 1;
+              zones.unite(ids[0], node);
+            }
       }
     };
     merge(c.vf, vf_hit);
@@ -254,6 +274,9 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
         moved_size[static_cast<std::size_t>(i)] = static_cast<int>(zone.size());
       }
     });
+    // The embedded vertices follow their nodes (in one pass after the zones: a vertex on nodes of
+    // two zones, or of a zone and none, is written once).
+    sync_embedded(m, v);
     // Impulses (BFA02 section 5, the kinematic side of infinite mass) on the own colliding pairs
     // of the following zones kept as they were: a body part sweeping past the cloth within the
     // step, which the triangle the cloth follows does not see, asks for a small local change.

@@ -1,6 +1,7 @@
 #include "invfem/collisions/response/pair_impulse.hpp"
 
 #include <algorithm>
+#include <array>
 
 namespace invfem::collisions {
 
@@ -40,7 +41,80 @@ double inverse_effective_mass(const CollisionMesh& m, const PairStencil& p) {
   return s;
 }
 
+namespace {
+
+// The pair over the degrees of freedom it moves: an embedded vertex (collision_mesh.hpp) is
+// replaced by its nodes, v_rel = sum_a C_a v_a with C_a = sum_k c_k w_ka (a node two of the
+// pair's vertices lie on gets both shares). sum_a C_a = sum_k c_k = 0, so the impulse
+// j = Delta / sum_a C_a^2 / m_a, v_a += (C_a j / m_a) n conserves momentum, and it is the exact
+// solution for the nodes (BFA02 section 4's rule for a point inside a simplex, with the simplex
+// being the element copy: an embedded point alone has 1 / m_eff = sum_k w_k^2 / m_k).
+struct DofStencil {
+  int count = 0;
+  std::array<int, 16> ids{};
+  std::array<double, 16> c{};
+  std::array<double, 16> inv_mass{};
+};
+
+DofStencil dof_stencil(const CollisionMesh& m, const PairStencil& p) {
+  DofStencil d;
+  int lowest = m.level(p.ids[0]);
+  for (int id : p.ids) lowest = std::min(lowest, m.level(id));
+  auto add = [&](int dof, double c) {
+    for (int k = 0; k < d.count; ++k)
+      if (d.ids[static_cast<std::size_t>(k)] == dof) {
+        d.c[static_cast<std::size_t>(k)] += c;
+        return;
+      }
+    const auto k = static_cast<std::size_t>(d.count++);
+    d.ids[k] = dof;
+    d.c[k] = c;
+    // One-way coupling (pair_inverse_mass): a node above the pair's lowest level is fixed.
+    d.inv_mass[k] = m.level(dof) > lowest ? 0.0 : m.inv_mass(dof);
+  };
+  for (int k = 0; k < 4; ++k) {
+    const int i = p.ids[static_cast<std::size_t>(k)];
+    if (!m.is_embedded(i)) {
+      add(i, p.c(k));
+      continue;
+    }
+    for (int e = m.embed_offsets[static_cast<std::size_t>(i)]; e < m.embed_offsets[static_cast<std::size_t>(i) + 1]; ++e)
+      add(m.embed_nodes[static_cast<std::size_t>(e)], p.c(k) * m.embed_weights[static_cast<std::size_t>(e)]);
+  }
+  return d;
+}
+
+bool embedded_pair(const CollisionMesh& m, const PairStencil& p) {
+  if (!m.has_embedding()) return false;
+  for (int id : p.ids)
+    if (m.is_embedded(id)) return true;
+  return false;
+}
+
+}  // namespace
+
 bool apply_pair_impulse(const CollisionMesh& m, const PairStencil& p, double delta, double mu, Points& v) {
+  if (embedded_pair(m, p)) {
+    const DofStencil d = dof_stencil(m, p);
+    double w = 0;
+    for (int k = 0; k < d.count; ++k)
+      w += d.c[static_cast<std::size_t>(k)] * d.c[static_cast<std::size_t>(k)] * d.inv_mass[static_cast<std::size_t>(k)];
+    if (!(w > 0)) return false;
+    const Vec3 v_rel = relative_velocity(p, v);
+    const Vec3 v_T = v_rel - v_rel.dot(p.n) * p.n;
+    Vec3 change = delta * p.n;
+    const double len = v_T.norm();
+    if (mu > 0 && len > 0) change -= std::min(1.0, mu * delta / len) * v_T;
+    const Vec3 j = change / w;
+    for (int k = 0; k < d.count; ++k) {
+      const auto u = static_cast<std::size_t>(k);
+      v.row(d.ids[u]) += (d.c[u] * d.inv_mass[u]) * j.transpose();
+    }
+    // The embedded vertices on the nodes moved (the pair's own among them) follow them.
+    for (int k = 0; k < d.count; ++k)
+      if (m.is_node_only(d.ids[static_cast<std::size_t>(k)])) sync_carried(m, d.ids[static_cast<std::size_t>(k)], v);
+    return true;
+  }
   const double w = inverse_effective_mass(m, p);
   if (!(w > 0)) return false;
   const Vec3 v_rel = relative_velocity(p, v);

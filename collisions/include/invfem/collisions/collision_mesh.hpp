@@ -41,6 +41,25 @@
 //                        (candidates/tangles.hpp TangleAges): held by pairs the exemptions above
 //                        keep, it could not come apart, so its vertices are released from every
 //                        pair for the step
+//   embed_offsets, embed_nodes, embed_weights   #V + 1 (CSR) or empty: an embedded surface
+//                        (SurfaceEmbedding below: a cut solid's material surface, MBF04 section
+//                        2.3) has vertices that are points inside element copies,
+//                        x_i = sum_k w_k x_{embed_nodes[k]} over k in [embed_offsets[i],
+//                        embed_offsets[i+1]) (sum w_k = 1, slot order), whose nodes are vertices of
+//                        the mesh too (`node_only`: in no triangle or edge, never a candidate). A
+//                        vertex with no entries is an ordinary one (its own degree of freedom)
+//   carry_offsets, carry_vertices   #V + 1 (CSR) or empty: per node, the embedded vertices on it.
+//                        Two embedded vertices that lie on a common node are joined (never a pair,
+//                        like one vertex): they are points of the edges of one particle, within an
+//                        element of each other in the material and moved by the same node. The two
+//                        faces of a crack share particles only near its front, where the material
+//                        still holds them together (virtual_node_cut.hpp: a particle is glued across
+//                        faces where the material is continuous around its node); across an open
+//                        crack their particles differ and they collide. A wider rule (nodes that
+//                        share an element copy) was tried and let more through: on the quick
+//                        buddha_fracture it exempted crack faces from the boundary faces beside them
+//                        (659 crossing pairs over the run against 331)
+//   node_only   #V or empty   1: a node of an embedded surface (a degree of freedom only)
 //   released    #V or empty   1: a vertex of a cloth (a surface that is not `untangle`) edge or
 //                        triangle that crosses a kinematic body's triangle or edge at the step's
 //                        start (the fail-safe gave up in an earlier step). Its pairs with the
@@ -96,8 +115,18 @@ struct CollisionMesh {
   std::vector<char> stuck;
   std::vector<char> loose;
   std::vector<char> released;
+  std::vector<int> embed_offsets, embed_nodes;
+  std::vector<double> embed_weights;
+  std::vector<int> carry_offsets, carry_vertices;
+  std::vector<char> node_only;
 
   Eigen::Index num_vertices() const { return x0.rows(); }
+  bool has_embedding() const { return !embed_offsets.empty(); }
+  bool is_embedded(int i) const {
+    return !embed_offsets.empty() &&
+           embed_offsets[static_cast<std::size_t>(i) + 1] > embed_offsets[static_cast<std::size_t>(i)];
+  }
+  bool is_node_only(int i) const { return !node_only.empty() && node_only[static_cast<std::size_t>(i)]; }
   Vec3 start(int i) const { return x0.row(i).transpose(); }
   // Vertex i at normalized time s in [0, 1] of the step under velocities vel (#V x 3: the mesh's
   // own v, or the layer's changed ones): x0 + s dt vel. The one place trajectories are formed.
@@ -145,6 +174,23 @@ struct CollisionMesh {
   }
 };
 
+// How a surface's vertices are embedded in nodes (local indices of the surface): its first
+// num_embedded vertices are embedded points, the rest (num_embedded .. #V) the nodes they lie in.
+// Per embedded vertex i its nodes nodes[offsets[i] .. offsets[i+1]) (local indices >=
+// num_embedded) and weights (positive, summing to 1). x0, v and inv_mass of the embedded vertices
+// must be those the nodes give (embedded_state).
+struct SurfaceEmbedding {
+  int num_embedded = 0;
+  std::vector<int> offsets{0}, nodes;
+  std::vector<double> weights;
+};
+
+// Fills the rows [0, num_embedded) of x0, v, inv_mass (a surface's #V rows) from its node rows:
+// x_i = sum_k w_k x_node_k, the same for v, and 1 / m_i = sum_k w_k^2 / m_node_k, the inverse of
+// the effective mass of a point inside a simplex (BFA02 section 4: an impulse J on the point,
+// spread to the nodes as w_k J, changes its velocity by J sum_k w_k^2 / m_k).
+void embedded_state(const SurfaceEmbedding& e, Points& x0, Points& v, Eigen::VectorXd& inv_mass);
+
 // Appends a surface. x0, v: its #V x 3 start positions and average velocities; inv_mass its #V
 // inverse masses (ignored and set to 0 when kinematic); welds: its seam points (world.hpp Weld,
 // the rule `invfem check` applies: the primitives a stitch makes touch, and no others); joins: a
@@ -154,7 +200,13 @@ struct CollisionMesh {
 // std::invalid_argument naming the surface for mismatched sizes or indices.
 void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tris, const Points& x0, const Points& v,
                     const Eigen::VectorXd& inv_mass, bool kinematic,
-                    const std::vector<Weld>& welds = {}, const std::vector<std::pair<int, int>>& joins = {});
+                    const std::vector<Weld>& welds = {}, const std::vector<std::pair<int, int>>& joins = {},
+                    const SurfaceEmbedding* embedding = nullptr);
+
+// v of every embedded vertex from its nodes' (the sum x0 takes), after the nodes' rows changed.
+void sync_embedded(const CollisionMesh& mesh, Points& v);
+// The same for the embedded vertices on node `node` only.
+void sync_carried(const CollisionMesh& mesh, int node, Points& v);
 
 // True when b is among a's partners in the CSR lists (offsets, partners).
 inline bool listed(const std::vector<int>& offsets, const std::vector<int>& partners, int a, int b) {
@@ -163,10 +215,19 @@ inline bool listed(const std::vector<int>& offsets, const std::vector<int>& part
   return first != last && std::binary_search(first, last, b);  // a seam corner joins ~100 vertices
 }
 
-// True when vertices a and b are one vertex, welded, or share a tet of a solid that is folding
-// at both (CollisionMesh::folding).
+// True when embedded vertices a and b lie on a common node (CollisionMesh::carry_offsets).
+inline bool embedded_linked(const CollisionMesh& m, int a, int b) {
+  for (int k = m.embed_offsets[static_cast<std::size_t>(a)]; k < m.embed_offsets[static_cast<std::size_t>(a) + 1]; ++k)
+    for (int l = m.embed_offsets[static_cast<std::size_t>(b)]; l < m.embed_offsets[static_cast<std::size_t>(b) + 1]; ++l)
+      if (m.embed_nodes[static_cast<std::size_t>(k)] == m.embed_nodes[static_cast<std::size_t>(l)]) return true;
+  return false;
+}
+
+// True when vertices a and b are one vertex, welded, share a tet of a solid that is folding
+// at both (CollisionMesh::folding), or are embedded vertices on a common node.
 inline bool joined(const CollisionMesh& m, int a, int b) {
   if (a == b || listed(m.weld_offsets, m.weld_partners, a, b)) return true;
+  if (m.has_embedding() && m.is_embedded(a) && m.is_embedded(b) && embedded_linked(m, a, b)) return true;
   return !m.folding.empty() && m.folding[static_cast<std::size_t>(a)] && m.folding[static_cast<std::size_t>(b)] &&
          listed(m.join_offsets, m.join_partners, a, b);
 }

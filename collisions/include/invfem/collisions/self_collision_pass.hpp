@@ -68,9 +68,12 @@ class SelfCollisionPass final : public StepPass {
  private:
   // Gathers the taking-part surfaces into mesh_ (topology built at the first step and again when
   // an object's topology_version changes, world.hpp; positions every step). A solid takes part
-  // with its boundary SimObject::surface: for a fractured solid the enlarged mesh's boundary,
-  // whose vertices are nodes (the embedded surface's vertices are not; impulses on them would
-  // have to be spread to their elements' nodes).
+  // with its boundary SimObject::surface, or once cut (fracture) with its embedded material
+  // surface SimObject::embedded (MBF04 2.3: what is written and drawn), whose vertices are points
+  // of element copies: they enter the mesh with the nodes they lie in (collision_mesh.hpp
+  // SurfaceEmbedding), impulses on them are spread to those nodes by their weights, impact zones
+  // move the nodes, and the nodes are what is written back. Embedded vertices on a common node
+  // are no pair (the two faces of a crack near its front are one material there).
   void gather(const std::vector<SimObject>& objects, const StepPassInput& step);
   // Stages 1-4 on mesh_ (its inverse masses and exemptions as set), changing v. have_candidates:
   // candidates_ already holds the repulsion's candidates for these velocities and filters.
@@ -98,6 +101,10 @@ class SelfCollisionPass final : public StepPass {
   // Per mesh surface: the object it comes from (or -1 - k for kinematic body k).
   std::vector<int> source_;
   std::vector<std::uint64_t> versions_;  // per mesh surface: its object's topology_version when built
+  // Per mesh surface: the body node of each of its vertices (-1 for an embedded vertex; empty for
+  // a kinematic body) and its embedding (num_embedded 0 unless it is a cut solid's).
+  std::vector<std::vector<int>> vertex_nodes_;
+  std::vector<SurfaceEmbedding> embeddings_;
   Candidates candidates_;
   std::vector<std::pair<int, int>> edge_triangles_;
 };

@@ -21,18 +21,33 @@
 // Several pieces of one copy (a crack that does not separate the material around a tet: its tip)
 // are one region: no crack polygon between them.
 //
+// The two faces of a crack do not start on one another: a cut point on an edge from the copy's
+// material to the rest sits kCrackFaceGap of the edge (a fraction, so the gap scales with the
+// mesh) back toward the material end, so each face lies just inside its own side and the two are
+// apart from the moment of the cut (about 2 kCrackFaceGap of an edge's length across the crack,
+// less along edges nearly parallel to it). Coincident faces would count as touching for `invfem
+// check`, and the self-collision layer, which keeps the surfaces apart and collides this
+// surface (self_collision_pass.hpp), could not tell which way they must part. Cut fractions
+// are at least kMinCutFraction (0.05) from a node, so the moved point stays strictly inside its
+// edge. Only the drawn and collided surface moves: the pieces' volumes, masses and elements are
+// those of the cut. Cut points on an edge with both ends in the copy's material (the front's, on
+// a boundary face) and corners stay where they are.
 // Vertices are shared: a corner is keyed by its particle, a cut point by the particles of its
 // edge's two ends (the fraction is the root edge's), so copies on one side of a crack share
 // their points and the surface of each piece is connected, while the two faces of a crack, in
 // copies with different particles, have their own vertices and part as the crack opens. A vertex
 // is embedded in the first copy (lowest index) that makes it: weight 1 on a corner's slot,
-// (1 - s, s) on a cut point's ends, s the cut fraction from the smaller root node.
+// (1 - s, s) on a cut point's ends, s the cut fraction from the smaller root node (moved by the
+// gap on a crack face).
 #include <string>
 
 #include "invfem/core/embedded_surface.hpp"
 #include "invfem/solids/virtual_node_cut.hpp"
 
 namespace invfem {
+
+// Fraction of an edge by which a crack face's cut point is moved into its own material (above).
+inline constexpr double kCrackFaceGap = 0.02;
 
 // The material surface of `mesh`'s current copies, positions at rest (rest_positions); its
 // surface.source is `source`. Deterministic (depends only on the mesh). Uncut, it is the root

@@ -19,6 +19,11 @@
 // move rigidly with their zone. In a zone holding surfaces of several levels
 // (CollisionMesh::Range::level: a solid's boundary and a cloth), the vertices above the zone's
 // lowest level count as kinematic (one-way coupling).
+// An embedded vertex (a cut solid's material surface, collision_mesh.hpp) that joins a zone brings
+// its nodes into it: the rigid motion is fitted to the zone's degrees of freedom (its nodes and
+// ordinary vertices, by their masses) and moves them; the embedded vertices follow their nodes
+// (an affine combination of rigidly moved points moves rigidly), so MBF04's embedded surface
+// moves with its element copies and zones sharing a node are one zone.
 // Pairs within one rigid zone of movable vertices move rigidly from an intersection-free start
 // and are not tested again. Each round re-detects its candidates with the broad phase on the
 // current velocities (a zone's motion can carry a vertex out of its first swept box).
@@ -59,7 +64,8 @@ inline bool fixed_in_zone(const CollisionMesh& mesh, int i, int lowest) {
 }
 
 // The rigid velocities of one zone (vertex ids, all movable or some kinematic, as above),
-// written into v. Exposed for the tests; the loop's other rule is follow_kinematic_triangles.
+// written into v. Embedded vertices of the zone are left to the caller (sync_embedded): the
+// motion is that of the zone's other members (its nodes). Exposed for the tests; the loop's other rule is follow_kinematic_triangles.
 void rigidify_zone(const CollisionMesh& mesh, const std::vector<int>& zone, double dt, Points& v);
 
 }  // namespace invfem::collisions

@@ -36,7 +36,10 @@ double inverse_effective_mass(const CollisionMesh& m, const PairStencil& p);
 // Raises the normal relative velocity by delta >= 0 and applies Coulomb friction for it
 // (BFA02 section 4.3): the tangential relative velocity v_T before the impulse becomes
 // max(1 - mu delta / |v_T|, 0) v_T. Returns false (and changes nothing) when the pair has no
-// movable vertex.
+// movable vertex. A pair holding embedded vertices (CollisionMesh::embed_offsets) is applied to
+// their nodes instead (the sums over the pair's degrees of freedom, pair_impulse.cpp), and the
+// embedded vertices on those nodes are brought up to date (sync_carried); the others keep the
+// formula above exactly.
 bool apply_pair_impulse(const CollisionMesh& m, const PairStencil& p, double delta, double mu, Points& v);
 
 }  // namespace invfem::collisions

@@ -407,9 +407,19 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {
     const CollisionMesh::Range& range = mesh_.surfaces[s];
     if (source_[s] >= 0) {
+      // As gather() forms x0: the nodes' positions, and embedded vertices (listed first) as
+      // their weighted sums, in the same order of operations so the bits agree.
       const SimObject& o = objects[static_cast<std::size_t>(source_[s])];
-      for (int j = 0; j < range.num_vertices; ++j)
-        end_.row(range.first_vertex + j) = o.body.x.row(o.surface_nodes[static_cast<std::size_t>(j)]);
+      const SurfaceEmbedding& em = embeddings_[s];
+      Points x(range.num_vertices, 3);
+      for (int j = em.num_embedded; j < range.num_vertices; ++j)
+        x.row(j) = o.body.x.row(vertex_nodes_[s][static_cast<std::size_t>(j)]);
+      if (em.num_embedded > 0) {
+        Points unused_v = Points::Zero(range.num_vertices, 3);
+        Eigen::VectorXd unused_w = Eigen::VectorXd::Zero(range.num_vertices);
+        embedded_state(em, x, unused_v, unused_w);
+      }
+      end_.middleRows(range.first_vertex, range.num_vertices) = x;
     } else {
       end_.middleRows(range.first_vertex, range.num_vertices) =
           step.kinematic[static_cast<std::size_t>(-1 - source_[s])]->surface()->x;

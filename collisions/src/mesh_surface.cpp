@@ -165,6 +165,11 @@ const MeshClosestPoint& MeshSurface::cached(const Vec3& x) const {
 double MeshSurface::phi(const Vec3& x, double) const { return cached(x).phi; }
 Vec3 MeshSurface::normal(const Vec3& x, double) const { return cached(x).normal; }
 Vec3 MeshSurface::velocity(const Vec3& x, double) const { return cached(x).velocity; }
+double MeshSurface::clearance(const Vec3& x, double) const {
+  const MeshClosestPoint& c = cached(x);
+  return c.found && c.phi > 0 ? c.phi : 0.0;
+}
+std::uint64_t MeshSurface::version() const { return impl_->stamp; }
 
 const TriangleSurface& MeshSurface::surface() const { return impl_->surface(); }
 double MeshSurface::query_radius() const { return impl_->options.query_radius; }

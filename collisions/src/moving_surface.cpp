@@ -13,6 +13,10 @@ double MovingSurface::phi(const Vec3& x, double t) const {
   return body_->phi(motion_.world_to_body(t).apply(x), t);
 }
 
+double MovingSurface::clearance(const Vec3& x, double t) const {
+  return body_->clearance(motion_.world_to_body(t).apply(x), t);
+}
+
 Vec3 MovingSurface::normal(const Vec3& x, double t) const {
   const RigidTransform T = motion_.body_to_world(t);
   const Vec3 X = T.rotation.transpose() * (x - T.translation);

@@ -1,13 +1,24 @@
 #include "invfem/collisions/rigid_collisions.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
+#include <string>
+
+#include "invfem/core/parallel.hpp"
 
 #include "invfem/core/world.hpp"
 
 namespace invfem {
 
 namespace {
+// Nodes per TBB task: a node's query is a BVH point query (a few microseconds near the body).
+constexpr std::size_t kNodeGrain = 256;
+// A clearance is used a hair short of its value, so that rounding in phi at its edge cannot make
+// a skipped node one that would have collided.
+constexpr double kClearanceShrink = 1 - 1e-9;
+
 // Coulomb cut of a tangential vector: shrink its length by `normal_change`, not below zero.
 Vec3 coulomb(const Vec3& tangential, double mu, double normal_change) {
   const double len = tangential.norm();
@@ -17,6 +28,7 @@ Vec3 coulomb(const Vec3& tangential, double mu, double normal_change) {
 }  // namespace
 
 void RigidCollisions::begin_object(const SimObject& object) {
+  ++object_serial_;
   active_ = colliders_;
   if (object.kind != ObjectKind::Cloth) return;
   for (std::size_t c = 0; c < couplings_.size(); ++c) {
@@ -59,15 +71,38 @@ void RigidCollisions::solids_stepped(const std::vector<SimObject>& objects, doub
 }
 
 int RigidCollisions::process(const Points& x_old, Points& x_new, Points& v, double t_new, double dt,
-                             NodeConstraints& constraints) {
-  int count = 0;
+                             NodeConstraints& constraints, const std::vector<char>* skip) {
   const Eigen::Index n = x_new.rows();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    bool collided = false;
-    NodeConstraint contact{static_cast<int>(i), NodeConstraint::Kind::Normal};
-    for (const RigidCollider& c : active_.empty() ? colliders_ : active_) {
+  if (skip && static_cast<Eigen::Index>(skip->size()) != n)
+    throw std::invalid_argument("collisions: " + std::to_string(skip->size()) + " skip flags for " +
+                                std::to_string(n) + " nodes");
+  const std::vector<RigidCollider>& colliders = active_.empty() ? colliders_ : active_;
+  // The clearances are known for this object's nodes when the colliders are the same surfaces at
+  // the same time and versions as at the last call (the implicit step's calls within one step).
+  ClearanceKey key{t_new, n, object_serial_, {}};
+  for (const RigidCollider& c : colliders) key.surfaces.emplace_back(c.surface.get(), c.surface->version());
+  if (!(key == clearance_key_)) {
+    clearance_.assign(static_cast<std::size_t>(n), NodeClearance{});
+    clearance_key_ = std::move(key);
+  }
+  contact_scratch_.resize(static_cast<std::size_t>(n));
+  collided_scratch_.assign(static_cast<std::size_t>(n), 0);
+  parallel_for_each(static_cast<std::size_t>(n), kNodeGrain, [&](std::size_t node) {
+    if (skip && (*skip)[node]) return;
+    const auto i = static_cast<Eigen::Index>(node);
+    NodeClearance& clear = clearance_[node];
+    const Vec3 x0 = x_new.row(i).transpose();
+    if ((x0 - clear.x).squaredNorm() < clear.radius * clear.radius) return;  // no collider can reach it
+    clear.x = x0;
+    clear.radius = std::numeric_limits<double>::infinity();
+    NodeConstraint& contact = contact_scratch_[node];
+    contact = NodeConstraint{static_cast<int>(i), NodeConstraint::Kind::Normal};
+    for (const RigidCollider& c : colliders) {
       Vec3 x = x_new.row(i).transpose();
       const double phi = c.surface->phi(x, t_new);
+      // The first collider's clearance is at x0; after a projection by an earlier collider none is
+      // claimed (the node moved).
+      clear.radius = std::min(clear.radius, x == x0 ? kClearanceShrink * c.surface->clearance(x, t_new) : 0.0);
       if (!(phi < 0)) continue;
       const Vec3 N = c.surface->normal(x, t_new);
       const Vec3 v_obj = c.surface->velocity(x, t_new);
@@ -89,17 +124,19 @@ int RigidCollisions::process(const Points& x_old, Points& x_new, Points& v, doub
       x -= d_T - coulomb(d_T, c.friction, dx_N + dt * dv_N);
 
       x_new.row(i) = x.transpose();
-      collided = true;
+      collided_scratch_[node] = 1;
       contact.normal = N;
       contact.velocity = v_obj + std::max(vn, 0.0) * N;  // body's tangential, the held normal
       contact.friction = c.friction;
       contact.friction_charged = dv_N + dx_N / dt;
     }
-    if (collided) {
-      constraints.push_back(contact);
+  });
+  int count = 0;
+  for (std::size_t node = 0; node < static_cast<std::size_t>(n); ++node)
+    if (collided_scratch_[node]) {
+      constraints.push_back(contact_scratch_[node]);
       ++count;
     }
-  }
   return count;
 }
 

@@ -390,11 +390,14 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
     k.friction.resize(kept);
     return released;
   };
-  Points x_proj;
+  // The collision processing on x, for the nodes not held already (a held node's answer is never
+  // used: add_contacts and the fail-safe skip it). Within the step it repeats, after each
+  // iterate, on nodes that moved little: the processor skips the queries it can (clearances).
+  Points x_proj, v_proc;
   auto detect = [&](NodeConstraints& found) {
     x_proj = x;
-    Points v_proc = v_tilde;
-    collisions->process(x_start, x_proj, v_proc, t_new, dt, found);
+    v_proc = v_tilde;
+    collisions->process(x_start, x_proj, v_proc, t_new, dt, found, &constrained);
   };
 
   // One Newton loop whose contact set follows its iterates (the header): at the prediction

@@ -18,7 +18,9 @@
 #include <vector>
 
 #include "invfem/collisions/analytic_surfaces.hpp"
+#include "invfem/collisions/mesh_surface.hpp"
 #include "invfem/collisions/moving_surface.hpp"
+#include "invfem/collisions/rigid_body.hpp"
 #include "invfem/collisions/rigid_collisions.hpp"
 #include "invfem/core/implicit_step.hpp"
 #include "invfem/core/newmark_step.hpp"
@@ -326,6 +328,61 @@ TEST(Contact, ImplicitContactSetLetsGoAndSettlesWithinOneNewtonLoop) {
     }
     RecordProperty("worst_newton_iterations_resting", std::to_string(worst_iterations));
   }
+}
+
+
+TEST(Contact, MeshColliderClearanceSkipsOnlyNodesThatCannotCollide) {
+  // A 0.2 m box as a mesh collider (offset 1 mm, query radius 5 cm). Its clearance is phi outside
+  // within the radius and 0 inside or beyond it.
+  TriangleSurface box = box_triangles(Vec3(0.1, 0.1, 0.1));
+  const auto mesh = std::make_shared<MeshSurface>(box, MeshSurfaceOptions{0.05, 0.001});
+  EXPECT_NEAR(mesh->clearance(Vec3(0, 0.13, 0), 0), 0.029, 1e-12);
+  EXPECT_EQ(mesh->clearance(Vec3(0, 0.09, 0), 0), 0.0);  // inside
+  EXPECT_EQ(mesh->clearance(Vec3(0, 0.3, 0), 0), 0.0);   // nothing within the radius
+  // Nodes on a line through the top face, queried after three sets of small moves at one time:
+  // each answer (count, positions, velocities, constraints) equals a fresh processor's, and flagged
+  // nodes are left alone.
+  const int n = 41;
+  Points x_old(n, 3), x(n, 3), v(n, 3);
+  for (int i = 0; i < n; ++i) {
+    x_old.row(i) << 0.01 * (i % 7) - 0.03, 0.08 + 0.002 * i, 0.0;
+    v.row(i) << 0.1, -0.2, 0.0;
+  }
+  x = x_old;
+  RigidCollisions repeated({{mesh, 0.3}});
+  std::vector<char> skip(static_cast<std::size_t>(n), 0);
+  for (int i = 0; i < n; i += 5) skip[static_cast<std::size_t>(i)] = 1;
+  for (int round = 0; round < 3; ++round) {
+    for (int i = 0; i < n; ++i) x(i, 1) -= 0.0015 * ((i + round) % 3);  // some nodes cross into the box
+    const std::vector<char>* const choices[] = {nullptr, &skip};
+    for (const std::vector<char>* flags : choices) {
+      RigidCollisions fresh({{mesh, 0.3}});
+      Points xa = x, va = v, xb = x, vb = v;
+      NodeConstraints ca, cb;
+      const int count = repeated.process(x_old, xa, va, 0.02, 0.01, ca, flags);
+      EXPECT_EQ(count, fresh.process(x_old, xb, vb, 0.02, 0.01, cb, flags));
+      EXPECT_GT(count, 0);
+      EXPECT_EQ(xa, xb);
+      EXPECT_EQ(va, vb);
+      ASSERT_EQ(ca.size(), cb.size());
+      for (std::size_t j = 0; j < ca.size(); ++j) {
+        EXPECT_EQ(ca[j].node, cb[j].node);
+        EXPECT_EQ(ca[j].normal, cb[j].normal);
+        if (flags) {
+          EXPECT_FALSE((*flags)[static_cast<std::size_t>(ca[j].node)]);
+        }
+      }
+      if (flags) {
+        for (int i = 0; i < n; i += 5) {
+          EXPECT_EQ(xa.row(i), x.row(i));
+          EXPECT_EQ(va.row(i), v.row(i));
+        }
+      }
+    }
+  }
+  std::vector<char> wrong(3, 0);
+  NodeConstraints c;
+  EXPECT_THROW(repeated.process(x_old, x, v, 0.02, 0.01, c, &wrong), std::invalid_argument);
 }
 
 }  // namespace

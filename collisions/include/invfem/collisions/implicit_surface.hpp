@@ -2,6 +2,8 @@
 // Rigid bodies as implicit surfaces (ITF04 section 9). phi < 0 inside the body, phi > 0
 // outside; the normal is the outward unit gradient of phi. Bodies move kinematically, so
 // every query takes the time t.
+#include <cstdint>
+
 #include "invfem/core/types.hpp"
 
 namespace invfem {
@@ -15,6 +17,16 @@ class ImplicitSurface {
   virtual Vec3 normal(const Vec3& x, double t) const = 0;
   // Velocity [m/s] of the body's material point at x, time t.
   virtual Vec3 velocity(const Vec3& x, double t) const { return Vec3::Zero(); }
+  // A radius r >= 0 such that phi(y, t) > 0 for every y with |y - x| < r (0: none known). The
+  // collision processing does not query again a node that has moved less than that since its
+  // last query at the same t and version() (RigidCollisions::process). The default claims none.
+  virtual double clearance(const Vec3& x, double t) const {
+    (void)x, (void)t;
+    return 0;
+  }
+  // Changes whenever phi(., t) may have changed for a given t (a deforming mesh refit); surfaces
+  // that are functions of time alone keep 0. Queries are const and safe from several threads.
+  virtual std::uint64_t version() const { return 0; }
 };
 
 // A static half-space: everything below the plane through `point` with outward `normal`.

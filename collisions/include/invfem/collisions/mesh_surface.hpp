@@ -68,6 +68,12 @@ class MeshSurface final : public ImplicitSurface {
   double phi(const Vec3& x, double t) const override;
   Vec3 normal(const Vec3& x, double t) const override;
   Vec3 velocity(const Vec3& x, double t) const override;
+  // phi(x) when the closest point lies within the query radius and x is outside the collision
+  // surface, else 0: the distance to the mesh is 1-Lipschitz and a point cannot change sides of a
+  // closed mesh without crossing it, so every y nearer x than phi(x) has phi(y) > 0.
+  double clearance(const Vec3& x, double t) const override;
+  // A fresh number at construction and at every update().
+  std::uint64_t version() const override;
 
   const TriangleSurface& surface() const;
   double query_radius() const;

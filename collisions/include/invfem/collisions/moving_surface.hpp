@@ -18,6 +18,9 @@ class MovingSurface final : public ImplicitSurface {
   double phi(const Vec3& x, double t) const override;
   Vec3 normal(const Vec3& x, double t) const override;
   Vec3 velocity(const Vec3& x, double t) const override;
+  // The body's, at X (rigid maps keep distances).
+  double clearance(const Vec3& x, double t) const override;
+  std::uint64_t version() const override { return body_->version(); }
 
   const Motion& motion() const { return motion_; }
   const ImplicitSurface& body() const { return *body_; }

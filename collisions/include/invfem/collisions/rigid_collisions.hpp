@@ -3,6 +3,8 @@
 // (ITF04 section 9). Every node is processed, interior nodes included, so small bodies cannot
 // slip between surface nodes.
 #include <cstdint>
+#include <limits>
+#include <utility>
 #include <memory>
 #include <string>
 #include <vector>
@@ -54,8 +56,18 @@ class RigidCollisions final : public CollisionProcessor {
   //  - the tangential part of the step's displacement gets the same Coulomb cut, so a node in
   //    static contact does not creep;
   //  - flag the node: a Kind::Normal constraint holding its normal velocity in the trapezoid.
+  // Nodes are processed in parallel (the surfaces' queries are const and thread-safe), each
+  // writing only its own rows; the constraints are appended in node order, so the result does not
+  // depend on the thread count.
+  // Repeated calls for one object at one time (the implicit step runs this after every Newton
+  // iterate, on nodes that move little) skip the queries they can: each node keeps the position
+  // of its last query and the smallest clearance the colliders gave there
+  // (ImplicitSurface::clearance: no collider's phi can be negative nearer than that); a node still
+  // within it cannot collide, and is left as a query would leave it. Kept while the object
+  // (begin_object), t_new, the node count and every collider's surface and version() stay the
+  // same, so the answers are the same as without it.
   int process(const Points& x_old, Points& x_new, Points& v, double t_new, double dt,
-              NodeConstraints& constraints) override;
+              NodeConstraints& constraints, const std::vector<char>* skip = nullptr) override;
 
  private:
   std::vector<RigidCollider> colliders_;
@@ -63,6 +75,23 @@ class RigidCollisions final : public CollisionProcessor {
   std::vector<std::shared_ptr<MeshSurface>> solid_surfaces_;  // per coupling, once built
   std::vector<std::uint64_t> surface_versions_;                // the solid's topology_version it was built at
   std::vector<RigidCollider> active_;  // what process() uses for the current object
+  std::vector<NodeConstraint> contact_scratch_;  // process(): per node, its contact if it collided
+  std::vector<char> collided_scratch_;
+  // Per node: where it was last queried and the radius around it no collider reaches.
+  struct NodeClearance {
+    Vec3 x = Vec3::Zero();
+    double radius = 0;
+  };
+  struct ClearanceKey {
+    double t_new = std::numeric_limits<double>::quiet_NaN();
+    Eigen::Index nodes = -1;
+    std::uint64_t object = 0;
+    std::vector<std::pair<const ImplicitSurface*, std::uint64_t>> surfaces;  // identity, version
+    bool operator==(const ClearanceKey&) const = default;
+  };
+  std::vector<NodeClearance> clearance_;
+  ClearanceKey clearance_key_;
+  std::uint64_t object_serial_ = 0;  // counts begin_object calls
 };
 
 }  // namespace invfem

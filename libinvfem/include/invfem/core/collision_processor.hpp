@@ -25,9 +25,11 @@ class CollisionProcessor {
   // x_old: x(n); x_new: the predicted x~(n+1), projected in place to x(n+1); v: v(n), modified in
   // place to v~(n) (normal velocity of the object where approaching, friction with the
   // dx_N/dt term). Appends one Kind::Normal constraint per colliding node, whose normal velocity
-  // the trapezoid solve then holds fixed. Returns the number of colliding nodes.
+  // the trapezoid solve then holds fixed. Returns the number of colliding nodes. skip (one flag
+  // per node, or null): nodes flagged non-zero are left as they are and get no constraint (the
+  // implicit step's nodes already held, whose answer it would not use).
   virtual int process(const Points& x_old, Points& x_new, Points& v, double t_new, double dt,
-                      NodeConstraints& constraints) = 0;
+                      NodeConstraints& constraints, const std::vector<char>* skip = nullptr) = 0;
 };
 
 }  // namespace invfem

@@ -442,6 +442,68 @@ TEST(Seams, HoldSeamsUndoesWhatOpensAStitchAndConservesMomentum) {
   EXPECT_EQ(hold_seams(m, v_in, v), 0);            // closed seams are left alone
 }
 
+TEST(ImpactZones, ASeamWithOneSideInAZoneIsNotTornOpen) {
+  // Two cloth panels sewn along z = 0 (C-IPC's stitches: vertex a_m of the upper panel's edge
+  // held at the midpoint of the lower panel's edge (b_m, b_m+1)), a kinematic triangle (a hand)
+  // sweeping up through the seam under a_2 by 3 mm in the step. The zone that stops it holds
+  // the cloth around a_2 and the hand, and the stitches beside it have one side in the zone and
+  // one out. The zone's motion must not tear them open: the earlier rule took the seam into the
+  // zone one stitch a round and left the last round's stitches half in (a_0 and a_4 opened by
+  // 1.5 mm, half the hand's travel; dress_dance: seams under her hand, 2-8 mm).
+  CollisionMesh m;
+  const int n = 6;  // lower edge b_0..b_6 (x = 0..6 cm), upper edge a_0..a_5 at the midpoints
+  const double h = 0.01, dt = 0.01;
+  Points x(2 * (n + 1) + 2 * n, 3);
+  for (int i = 0; i <= n; ++i) {
+    x.row(i) << h * i, 0, 0;                  // b_i: the lower panel's seam edge
+    x.row(n + 1 + i) << h * i, 0, -h;         // its second row
+  }
+  const int a0 = 2 * (n + 1);
+  for (int i = 0; i < n; ++i) {
+    x.row(a0 + i) << h * (i + 0.5), 0, 0;     // a_i: the upper panel's seam edge, on b's edges
+    x.row(a0 + n + i) << h * (i + 0.5), 0, h; // its second row
+  }
+  std::vector<Eigen::Vector3i> tris;
+  for (int i = 0; i < n; ++i) {
+    tris.emplace_back(i, n + 1 + i, i + 1);
+    tris.emplace_back(i + 1, n + 1 + i, n + 2 + i);
+  }
+  for (int i = 0; i + 1 < n; ++i) {
+    tris.emplace_back(a0 + i, a0 + i + 1, a0 + n + i);
+    tris.emplace_back(a0 + i + 1, a0 + n + i + 1, a0 + n + i);
+  }
+  Tris t(static_cast<Eigen::Index>(tris.size()), 3);
+  for (std::size_t f = 0; f < tris.size(); ++f) t.row(static_cast<Eigen::Index>(f)) = tris[f].transpose();
+  std::vector<Weld> welds;
+  for (int i = 0; i < n; ++i) welds.push_back({a0 + i, i, i + 1, 0.5});
+  append_surface(m, "panels", t, x, Points::Zero(x.rows(), 3), Eigen::VectorXd::Ones(x.rows()), false, welds);
+  // The hand: a small triangle 1 mm under a_2, rising 3 mm in the step.
+  Points hx(3, 3);
+  const Vec3 c(h * 2.5, -1e-3, 0);
+  hx.row(0) = (c + Vec3(-4e-3, 0, -3e-3)).transpose();
+  hx.row(1) = (c + Vec3(4e-3, 0, -3e-3)).transpose();
+  hx.row(2) = (c + Vec3(0, 0, 5e-3)).transpose();
+  Tris ht(1, 3);
+  ht << 0, 2, 1;
+  Points hv(3, 3);
+  hv.rowwise() = Vec3(0, 0.3, 0).transpose();
+  append_surface(m, "hand", ht, hx, hv, Eigen::VectorXd(), true);
+  ASSERT_GT(colliding_pairs(m, m.v, dt, 1e-5), 0);
+  CcdSettings s;
+  s.min_distance = 1e-5;
+  BroadPhase bp;
+  Points v = m.v;
+  const ImpactZoneReport r = resolve_impact_zones(m, bp, 2e-5, dt, s, 100, v);
+  ASSERT_TRUE(r.resolved);
+  EXPECT_EQ(colliding_pairs(m, v, dt, 1e-5), 0);
+  EXPECT_GT(v(a0 + 2, 1), 0.25) << "a_2 was carried up by the hand";
+  for (int i = 0; i < n; ++i) {  // every stitch ends as closed as it started (closed)
+    const Weld& w = m.welds[static_cast<std::size_t>(i)];
+    const Vec3 gap = m.position(w.i, v, 1, dt) - 0.5 * (m.position(w.j, v, 1, dt) + m.position(w.k, v, 1, dt));
+    EXPECT_LT(gap.norm(), 1e-7) << "stitch of a_" << i << " open by " << gap.norm() * 1e3 << " mm";
+  }
+}
+
 TEST(ImpactZones, ResolveEveryCollisionOfAFastCrossing) {
   // The upper sheet falls through the lower one within one step; the zones must leave no pair
   // within the separation.

@@ -15,8 +15,10 @@
 // between two body surfaces (response/zone_following.hpp); its own pairs are then tested too, and
 // those still colliding get impulses, round after round (the rules and their order:
 // impact_zones.cpp).
-// A weld (a garment's stitch) with a vertex in a zone brings its other vertices into it, so seams
-// move rigidly with their zone. In a zone holding surfaces of several levels
+// A weld (a garment's stitch) with vertices in two zones makes them one zone. After each round's
+// moves the seams are held (response/seams.hpp hold_seams) with the rigid zones' vertices fixed:
+// a stitch's vertices outside every zone follow its side in the zone, and the vertices of a zone
+// that follows the body keep their seams as the time step left them (impact_zones.cpp). In a zone holding surfaces of several levels
 // (CollisionMesh::Range::level: a solid's boundary and a cloth), the vertices above the zone's
 // lowest level count as kinematic (one-way coupling).
 // An embedded vertex (a cut solid's material surface, collision_mesh.hpp) that joins a zone brings

@@ -9,13 +9,23 @@
 // (pair_impulse.hpp): linear momentum is conserved and infinite-mass vertices do not move. The
 // seam then moves as one with what the collision asked of either side. The caller re-detects
 // afterwards: the seam's move may itself collide, and the impact zones remain the fail-safe.
+//
+// The impact zones (impact_zones.hpp) hold the seams after each of their rounds too. A rigid
+// zone's motion is the fail-safe's and must stay rigid (its own pairs are not tested again):
+// `held` marks its vertices (infinite mass for this purpose), and the other vertices of its
+// welds take the whole correction, so a seam with one side in a zone follows that side instead
+// of being torn open by it.
+#include <vector>
+
 #include "invfem/collisions/collision_mesh.hpp"
 
 namespace invfem::collisions {
 
 // Gauss-Seidel sweeps over mesh.welds in order (deterministic); a weld whose relative change is
-// already below 1e-9 m/s is left alone. v_in, v: #V x 3. Returns how many weld impulses were
-// applied.
-long long hold_seams(const CollisionMesh& mesh, const Points& v_in, Points& v, int sweeps = 4);
+// already below 1e-9 m/s is left alone. v_in, v: #V x 3. held: empty, or #V flags, 1 for a
+// vertex that the sweeps must not move (as if of infinite mass). Returns how many weld impulses
+// were applied.
+long long hold_seams(const CollisionMesh& mesh, const Points& v_in, Points& v, int sweeps = 4,
+                     const std::vector<char>& held = {});
 
 }  // namespace invfem::collisions

@@ -91,6 +91,18 @@ bool embedded_pair(const CollisionMesh& m, const PairStencil& p) {
   return false;
 }
 
+// The change of the pair's relative velocity an impulse makes: delta along the normal, then
+// Coulomb friction (reference/collisions-BFA02.md, item 3) as the relative tangential change, at most mu delta, against the
+// tangential relative velocity v_T (all of it when that is smaller).
+Vec3 velocity_change(const PairStencil& p, const Points& v, double delta, double mu) {
+  const Vec3 v_rel = relative_velocity(p, v);
+  const Vec3 v_T = v_rel - v_rel.dot(p.n) * p.n;
+  Vec3 change = delta * p.n;
+  const double len = v_T.norm();
+  if (mu > 0 && len > 0) change -= std::min(1.0, mu * delta / len) * v_T;
+  return change;
+}
+
 }  // namespace
 
 bool apply_pair_impulse(const CollisionMesh& m, const PairStencil& p, double delta, double mu, Points& v) {
@@ -100,12 +112,7 @@ bool apply_pair_impulse(const CollisionMesh& m, const PairStencil& p, double del
     for (int k = 0; k < d.count; ++k)
       w += d.c[static_cast<std::size_t>(k)] * d.c[static_cast<std::size_t>(k)] * d.inv_mass[static_cast<std::size_t>(k)];
     if (!(w > 0)) return false;
-    const Vec3 v_rel = relative_velocity(p, v);
-    const Vec3 v_T = v_rel - v_rel.dot(p.n) * p.n;
-    Vec3 change = delta * p.n;
-    const double len = v_T.norm();
-    if (mu > 0 && len > 0) change -= std::min(1.0, mu * delta / len) * v_T;
-    const Vec3 j = change / w;
+    const Vec3 j = velocity_change(p, v, delta, mu) / w;
     for (int k = 0; k < d.count; ++k) {
       const auto u = static_cast<std::size_t>(k);
       v.row(d.ids[u]) += (d.c[u] * d.inv_mass[u]) * j.transpose();
@@ -117,13 +124,7 @@ bool apply_pair_impulse(const CollisionMesh& m, const PairStencil& p, double del
   }
   const double w = inverse_effective_mass(m, p);
   if (!(w > 0)) return false;
-  const Vec3 v_rel = relative_velocity(p, v);
-  const Vec3 v_T = v_rel - v_rel.dot(p.n) * p.n;
-  // Normal part, then friction: the relative tangential change dT, as an impulse along it.
-  Vec3 change = delta * p.n;
-  const double len = v_T.norm();
-  if (mu > 0 && len > 0) change -= std::min(1.0, mu * delta / len) * v_T;
-  const Vec3 j = change / w;
+  const Vec3 j = velocity_change(p, v, delta, mu) / w;
   for (int k = 0; k < 4; ++k) {
     const int i = p.ids[static_cast<std::size_t>(k)];
     v.row(i) += (p.c(k) * pair_inverse_mass(m, p, k)) * j.transpose();

@@ -19,6 +19,7 @@
 #include "invfem/solids/solid_object.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "test_meshes.hpp"
+#include "torn_cube.hpp"
 
 namespace invfem {
 namespace {
@@ -148,43 +149,15 @@ TEST(CrackCollisions, ARigidZoneMovesTheNodesOfItsEmbeddedVertices) {
           << a << "-" << b;
 }
 
-TetMaterial soft_material() {
-  const Lame l = lame_from_young_poisson(2e4, 0.3);
-  TetMaterial mat;
-  mat.model = NeoHookean{l.mu, l.lambda};
-  mat.density = 1000;
-  mat.damping = 0.002;
-  return mat;
-}
-
-// The 0.2 m cube of 2^3 cells torn at y = 0.15 (through its upper cell layer) into two pieces.
-struct TornCube {
+// The cube torn at y = 0.15 into two pieces (torn_cube.hpp).
+struct TornCube : test::CubeTear {
   SimObject solid;
-  VirtualNodeMesh mesh;
-  std::vector<int> component;
-  int top = -1;  // the component of the upper piece
 };
 
 TornCube torn_cube() {
-  const test::TetMesh t = test::cube_cells(std::array<int, 3>{2, 2, 2}, 0.1, Vec3::Zero(), [](int, int, int) { return true; });
-  TetMesh mesh{t.X, t.T, "cube"};
-  validate_and_orient(mesh);
-  SolidObjectParams p;
-  p.material = soft_material();
   TornCube c;
-  c.solid = make_solid_object("solid", mesh, p);
-  c.mesh = make_virtual_node_mesh(mesh);
-  for (int r = 0; r < static_cast<int>(c.mesh.root.tets.rows()); ++r)
-    cut_tet_by_plane(c.mesh, r, Vec3(0, 0.15, 0), Vec3::UnitY());
-  const TopologyChange change = update_topology(c.mesh);
-  FractureBase base;
-  base.material = soft_material();
-  base.density = base.material.density;
-  rebuild_fractured_solid(c.solid, c.mesh, base, &change);
-  count_pieces(c.mesh, &c.component);
-  const Points rest = rest_positions(c.mesh);
-  for (int i = 0; i < c.mesh.num_nodes(); ++i)
-    if (rest(i, 1) > 0.19) c.top = c.component[static_cast<std::size_t>(i)];
+  c.solid = test::soft_cube("solid", 0, Vec3::Zero());
+  static_cast<test::CubeTear&>(c) = test::tear_cube(c.solid);
   return c;
 }
 

@@ -24,6 +24,7 @@
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 #include "test_meshes.hpp"
+#include "torn_cube.hpp"
 
 namespace invfem {
 namespace {
@@ -88,29 +89,11 @@ TEST(OneWayCoupling, AnImpactZoneHoldingBothFollowsTheSolid) {
   for (int i = 0; i < 3; ++i) EXPECT_NEAR((v.row(i) - v_before.row(3)).norm(), 0.0, 1e-9) << "cloth vertex " << i;
 }
 
-TetMaterial soft_material() {
-  const Lame l = lame_from_young_poisson(2e4, 0.3);
-  TetMaterial mat;
-  mat.model = NeoHookean{l.mu, l.lambda};
-  mat.density = 1000;
-  mat.damping = 0.002;
-  return mat;
-}
-
-// A 0.2 m cube of 2^3 cells whose lowest corner is at (0, y0, 0).
-SimObject cube(const std::string& name, double y0, const Vec3& velocity) {
-  const test::TetMesh t = test::cube_cells(std::array<int, 3>{2, 2, 2}, 0.1, Vec3(0, y0, 0), [](int, int, int) { return true; });
-  TetMesh mesh{t.X, t.T, "cube"};
-  validate_and_orient(mesh);
-  SolidObjectParams p;
-  p.material = soft_material();
-  p.velocity = velocity;
-  return make_solid_object(name, mesh, p);
-}
+using test::soft_cube;
 
 TEST(OneWayCoupling, ASolidsBoundaryCollidesWithClothsOnly) {
   std::vector<SimObject> objects;
-  objects.push_back(cube("solid", 0, Vec3::Zero()));
+  objects.push_back(soft_cube("solid", 0, Vec3::Zero()));
   objects.push_back(make_cloth_object("cloth", make_grid(0.1, 0.1, 1, 1), ClothObjectParams{}));
   RigidCollisions c({}, {SolidCoupling{"solid", {}, 0.0, 0.05}});
   c.solids_stepped(objects, 0.01, 0.01);
@@ -140,7 +123,7 @@ TEST(OneWayCoupling, AttachedVerticesStayOnTheirEmbeddingWhileTheSolidBouncesAnd
   // with two vertices tied to it: one inside the cube (a tet's weights), one 1 cm above its top
   // face (a boundary triangle's weights and offset).
   std::vector<SimObject> objects;
-  objects.push_back(cube("cube", 0.3, Vec3(0.5, 0, 0)));
+  objects.push_back(soft_cube("cube", 0.3, Vec3(0.5, 0, 0)));
   ClothObjectParams cp;
   const Lame l = lame_from_young_poisson(1e5, 0.3);
   cp.model = RotatedLinear{l.mu, l.lambda};
@@ -191,7 +174,7 @@ TEST(OneWayCoupling, AFracturedSolidCollidesWithItsEmbeddedSurface) {
   // 0.1 m: a cloth point at y = 0.2, inside the cube before, now lies in the crack's gap
   // (0.15 < y < 0.25) and is free; one at y = 0.14 is inside the lower piece, under its crack face.
   std::vector<SimObject> objects;
-  objects.push_back(cube("solid", 0, Vec3::Zero()));
+  objects.push_back(soft_cube("solid", 0, Vec3::Zero()));
   objects.push_back(make_cloth_object("cloth", make_grid(0.1, 0.1, 1, 1), ClothObjectParams{}));
   RigidCollisions c({}, {SolidCoupling{"solid", {}, 0.0, 0.05}});
   c.solids_stepped(objects, 0.01, 0.01);
@@ -203,26 +186,15 @@ TEST(OneWayCoupling, AFracturedSolidCollidesWithItsEmbeddedSurface) {
   EXPECT_EQ(c.process(x_old, x_new, v, 0.01, 0.01, found), 1);  // whole: inside the cube
 
   SimObject& solid = objects[0];
-  TetMesh mesh{solid.body.x, solid.tets, "cube"};
-  VirtualNodeMesh m = make_virtual_node_mesh(mesh);
-  for (int r = 0; r < static_cast<int>(m.root.tets.rows()); ++r) cut_tet_by_plane(m, r, Vec3(0, 0.15, 0), Vec3::UnitY());
-  const TopologyChange change = update_topology(m);
-  ASSERT_TRUE(change.changed());
-  FractureBase base;
-  base.material = soft_material();
-  base.density = base.material.density;
   const std::uint64_t version = solid.topology_version;
-  rebuild_fractured_solid(solid, m, base, &change);
+  const test::CubeTear tear = test::tear_cube(solid);
+  ASSERT_TRUE(tear.changed);
   EXPECT_GT(solid.topology_version, version);
   ASSERT_FALSE(solid.embedded.empty());
-  std::vector<int> component;
-  ASSERT_EQ(count_pieces(m, &component), 2);
+  ASSERT_EQ(tear.pieces, 2);
   // Lift the piece holding the cube's top corner nodes (rest y = 0.2).
-  int top = -1;
-  for (int i = 0; i < m.num_nodes(); ++i)
-    if (rest_positions(m)(i, 1) > 0.19) top = component[static_cast<std::size_t>(i)];
-  for (int i = 0; i < m.num_nodes(); ++i)
-    if (component[static_cast<std::size_t>(i)] == top) solid.body.x(i, 1) += 0.1;
+  for (int i = 0; i < tear.mesh.num_nodes(); ++i)
+    if (tear.component[static_cast<std::size_t>(i)] == tear.top) solid.body.x(i, 1) += 0.1;
   solid.refresh_surface();
   c.solids_stepped(objects, 0.02, 0.01);
   c.begin_object(objects[1]);

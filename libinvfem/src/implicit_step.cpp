@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
@@ -14,6 +16,19 @@ namespace invfem {
 namespace {
 
 constexpr std::size_t kGrain = 2048;
+
+// INVFEM_DEBUG_CONTACTS=1: each update of the contact set inside the Newton loop prints to stderr
+// the contacts held before it, those let go (with the median and largest pull, -f_N / (m g)), those
+// caught (and how many of them were let go earlier in the step, and in this same update), the
+// contacts held while pulling (let go once already: kMaxReleases), and each iterate's residual.
+// A diagnostic for the contact set's flipping (README, Benchmarks).
+bool debug_contacts() {
+  static const bool on = [] {
+    const char* e = std::getenv("INVFEM_DEBUG_CONTACTS");
+    return e && *e && *e != '0';
+  }();
+  return on;
+}
 
 // Builds the pattern of M + h^2 K + h C from every force's element lists (once per body).
 void prepare(ImplicitWorkspace& ws, const Body& body, const std::vector<Force*>& forces) {
@@ -246,6 +261,9 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
       g0 = g_norm;
     }
     stats.newton_residual = force_scale > 0 ? g_norm / (h * h) / force_scale : 0.0;
+    if (debug_contacts())
+      std::fprintf(stderr, "implicit iterate %d: residual %.3g%s\n", it, stats.newton_residual,
+                   set_changed ? " (contact set changed)" : "");
     if (!set_changed && (g_norm / (h * h) <= settings.tolerance * force_scale || g_norm == 0)) {
       stats.newton_converged = true;
       return;
@@ -366,13 +384,20 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   // the prediction's h^2 g puts every resting node inside, and only this lets an element lying on
   // the ground lift.
   std::vector<int> releases(static_cast<std::size_t>(n), 0);
+  std::vector<double> pulls;  // INVFEM_DEBUG_CONTACTS: -f_N / (m g) of the contacts let go
+  int held_pulling = 0;
   auto let_go = [&](const Points& grad) {
     bool released = false;
     std::size_t kept = k.first_contact;
+    pulls.clear();
+    held_pulling = 0;
     for (std::size_t j = k.first_contact; j < k.constraints.size(); ++j) {
       const NodeConstraint& c = k.constraints[j];
       auto& count = releases[static_cast<std::size_t>(c.node)];
-      if (count < kMaxReleases && grad.row(c.node).dot(c.normal.transpose()) < 0) {
+      const double g_n = grad.row(c.node).dot(c.normal.transpose());
+      if (count >= kMaxReleases && g_n < 0) ++held_pulling;
+      if (count < kMaxReleases && g_n < 0) {
+        if (debug_contacts()) pulls.push_back(-g_n / (h * h) / (body.mass(c.node) * g_scale));
         released = true;
         ++count;
         constrained[static_cast<std::size_t>(c.node)] = 0;
@@ -406,10 +431,23 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   ws.x_hat = x_start + h * v_tilde;
   auto update_contacts = [&](const Points& grad) {
     if (!collisions) return false;
+    const std::size_t held = k.constraints.size() - k.first_contact;
     bool changed = let_go(grad);
+    const std::size_t after_let_go = k.constraints.size();
     NodeConstraints found;
     detect(found);
     changed = add_contacts(x_proj, found) || changed;
+    if (debug_contacts()) {
+      int again = 0;
+      for (std::size_t j = after_let_go; j < k.constraints.size(); ++j)
+        again += releases[static_cast<std::size_t>(k.constraints[j].node)] > 0;
+      std::sort(pulls.begin(), pulls.end());
+      std::fprintf(stderr,
+                   "implicit contacts: %zu held, %zu let go (pull/mg median %.3g, max %.3g), %zu caught (%d of them let go "
+                   "before in this step), %d held while pulling\n",
+                   held, held + k.first_contact - after_let_go, pulls.empty() ? 0.0 : pulls[pulls.size() / 2],
+                   pulls.empty() ? 0.0 : pulls.back(), k.constraints.size() - after_let_go, again, held_pulling);
+    }
     return changed;
   };
   Points f;

@@ -15,12 +15,18 @@ constexpr int kFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
 
 class Builder {
  public:
-  explicit Builder(const VirtualNodeMesh& m) : m_(m) {}
+  explicit Builder(const VirtualNodeMesh& m) : m_(m), pinched_(pinched_particles(m)) {}
 
-  // The vertex at slot k of copy e.
+  // The vertex at slot k of copy e; a pinched particle's sits kCrackFaceGap of the way from the
+  // corner toward the tet's centroid (header).
   int corner(int e, int k) {
     const int p = m_.tets(e, k);
-    return vertex({p, -1}, e, [&](EmbeddedVertex& v) { v.weights[static_cast<std::size_t>(k)] = 1; });
+    const double g = pinched_[static_cast<std::size_t>(p)] ? kCrackFaceGap : 0.0;
+    return vertex({p, -1}, e, [&](EmbeddedVertex& v) {
+      v.on = static_cast<std::uint8_t>(1 << k);
+      for (double& w : v.weights) w = g / 4;
+      v.weights[static_cast<std::size_t>(k)] += 1 - g;
+    });
   }
 
   // The cut point on the edge between slots i and j of copy e (the root edge must be cut).
@@ -72,7 +78,24 @@ class Builder {
     return it->second;
   }
 
+  // Per particle: material corners of other particles of its root node exist (pieces that meet
+  // only at that node).
+  static std::vector<char> pinched_particles(const VirtualNodeMesh& m) {
+    std::vector<char> material(static_cast<std::size_t>(m.num_nodes()), 0);
+    for (int e = 0; e < m.num_elements(); ++e)
+      for (int k = 0; k < 4; ++k)
+        if ((m.material[static_cast<std::size_t>(e)] >> k) & 1) material[static_cast<std::size_t>(m.tets(e, k))] = 1;
+    std::vector<int> count(m.root.X.rows(), 0);
+    for (int p = 0; p < m.num_nodes(); ++p)
+      if (material[static_cast<std::size_t>(p)]) ++count[static_cast<std::size_t>(m.node_root[static_cast<std::size_t>(p)])];
+    std::vector<char> pinched(material.size(), 0);
+    for (int p = 0; p < m.num_nodes(); ++p)
+      pinched[static_cast<std::size_t>(p)] = material[static_cast<std::size_t>(p)] && count[static_cast<std::size_t>(m.node_root[static_cast<std::size_t>(p)])] > 1;
+    return pinched;
+  }
+
   const VirtualNodeMesh& m_;
+  std::vector<char> pinched_;  // per particle
   std::map<std::pair<int, int>, int> index_;  // (particle, -1) or (particle, particle) -> vertex
   std::vector<EmbeddedVertex> vertices_;
   std::vector<std::array<int, 3>> tris_;

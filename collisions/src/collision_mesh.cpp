@@ -153,6 +153,7 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
         for (int k = embedding->offsets[static_cast<std::size_t>(i)]; k < embedding->offsets[static_cast<std::size_t>(i) + 1]; ++k) {
           mesh.embed_nodes.push_back(v0 + embedding->nodes[static_cast<std::size_t>(k)]);
           mesh.embed_weights.push_back(embedding->weights[static_cast<std::size_t>(k)]);
+          mesh.embed_on.push_back(embedding->on.empty() ? 1 : embedding->on[static_cast<std::size_t>(k)]);
         }
       mesh.embed_offsets.push_back(static_cast<int>(mesh.embed_nodes.size()));
       append_csr(carried[static_cast<std::size_t>(i)], mesh.carry_offsets, mesh.carry_vertices);

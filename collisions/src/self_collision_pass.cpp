@@ -64,6 +64,7 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
         if (const double w = ev.weights[static_cast<std::size_t>(k)]; w != 0) {
           e.nodes.push_back(local[static_cast<std::size_t>(o.tets(ev.element, k))]);
           e.weights.push_back(w);
+          e.on.push_back(ev.on == 0 || ((ev.on >> k) & 1) ? 1 : 0);
         }
       e.offsets.push_back(static_cast<int>(e.nodes.size()));
     }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -20,7 +21,10 @@ class Builder {
   // The vertex at slot k of copy e.
   int corner(int e, int k) {
     const int p = m_.tets(e, k);
-    return vertex({p, -1}, e, [&](EmbeddedVertex& v) { v.weights[static_cast<std::size_t>(k)] = 1; });
+    return vertex({p, -1}, {m_.node_root[static_cast<std::size_t>(p)], -1, 0.0}, e, [&](EmbeddedVertex& v) {
+      v.on = static_cast<std::uint8_t>(1 << k);
+      v.weights[static_cast<std::size_t>(k)] = 1;
+    });
   }
 
   // The cut point on the edge between slots i and j of copy e (the root edge must be cut).
@@ -34,7 +38,8 @@ class Builder {
     const std::uint8_t mask = m_.material[static_cast<std::size_t>(e)];
     const bool at_i = ((mask >> i) & 1) != 0, at_j = ((mask >> j) & 1) != 0;
     const double s = it->second + (at_i && !at_j ? -kCrackFaceGap : !at_i && at_j ? kCrackFaceGap : 0.0);
-    return vertex({m_.tets(e, i), m_.tets(e, j)}, e, [&](EmbeddedVertex& v) {
+    return vertex({m_.tets(e, i), m_.tets(e, j)}, {a, b, s}, e, [&](EmbeddedVertex& v) {
+      v.on = static_cast<std::uint8_t>((1 << i) | (1 << j));
       v.weights[static_cast<std::size_t>(i)] = 1 - s;
       v.weights[static_cast<std::size_t>(j)] = s;
     });
@@ -49,6 +54,17 @@ class Builder {
   }
 
   EmbeddedSurface finish(const std::string& source) {
+    // Vertices of different particles made at one rest point: each sits kCrackFaceGap of the way
+    // toward its copy's centroid (header).
+    for (const auto& [point, made] : at_rest_) {
+      if (made.size() < 2) continue;
+      for (int i : made) {
+        EmbeddedVertex& v = vertices_[static_cast<std::size_t>(i)];
+        const std::array<double, 4> c = material_centroid(v.element);
+        for (int k = 0; k < 4; ++k)
+          v.weights[static_cast<std::size_t>(k)] = (1 - kCrackFaceGap) * v.weights[static_cast<std::size_t>(k)] + kCrackFaceGap * c[static_cast<std::size_t>(k)];
+      }
+    }
     EmbeddedSurface out;
     out.vertices = std::move(vertices_);
     out.surface.source = source;
@@ -60,20 +76,47 @@ class Builder {
   }
 
  private:
+  // The mean of the corners of copy e's material region (its material slots and the cut points
+  // of the edges from them to the rest), as weights: a point inside that convex region.
+  std::array<double, 4> material_centroid(int e) const {
+    const int r = m_.element_root[static_cast<std::size_t>(e)];
+    const std::uint8_t mask = m_.material[static_cast<std::size_t>(e)];
+    std::array<double, 4> c{0, 0, 0, 0};
+    int count = 0;
+    for (int i = 0; i < 4; ++i) {
+      if (!((mask >> i) & 1)) continue;
+      c[static_cast<std::size_t>(i)] += 1, ++count;
+      for (int j = 0; j < 4; ++j) {
+        if ((mask >> j) & 1) continue;
+        const int a = m_.root.tets(r, i), b = m_.root.tets(r, j);
+        const double s = m_.cuts.at({std::min(a, b), std::max(a, b)});
+        const double t = a < b ? s : 1 - s;  // from slot i toward slot j
+        c[static_cast<std::size_t>(i)] += 1 - t, c[static_cast<std::size_t>(j)] += t, ++count;
+      }
+    }
+    for (double& w : c) w /= count;
+    return c;
+  }
+
+  // A rest point: a root node (b = -1) or a point at fraction s of root edge (a, b).
+  using RestPoint = std::tuple<int, int, double>;
+
   template <class Weights>
-  int vertex(std::pair<int, int> key, int e, Weights set) {
+  int vertex(std::pair<int, int> key, const RestPoint& point, int e, Weights set) {
     const auto [it, fresh] = index_.try_emplace(key, static_cast<int>(vertices_.size()));
     if (fresh) {
       EmbeddedVertex v;
       v.element = e;
       set(v);
       vertices_.push_back(v);
+      at_rest_[point].push_back(it->second);
     }
     return it->second;
   }
 
   const VirtualNodeMesh& m_;
   std::map<std::pair<int, int>, int> index_;  // (particle, -1) or (particle, particle) -> vertex
+  std::map<RestPoint, std::vector<int>> at_rest_;  // the vertices made at each rest point
   std::vector<EmbeddedVertex> vertices_;
   std::vector<std::array<int, 3>> tris_;
 };

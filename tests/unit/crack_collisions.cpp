@@ -18,6 +18,7 @@
 #include "invfem/solids/fracture_pass.hpp"
 #include "invfem/solids/solid_object.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
+#include "invfem/solids/virtual_node_cut.hpp"
 #include "test_meshes.hpp"
 #include "torn_cube.hpp"
 
@@ -226,6 +227,67 @@ TEST(CrackCollisions, TheFacesOfACrackThatCloseOntoEachOtherAreStopped) {
   Vec3 p_after = Vec3::Zero();
   for (int i = 0; i < objects[0].body.x.rows(); ++i) p_after += objects[0].body.mass(i) * objects[0].body.v.row(i).transpose();
   EXPECT_LT((p_after - p_before).norm(), 1e-9 * p_before.norm());
+}
+
+// Tets A = (0, 1, 2, 3) and B = (0, 4, 6, 5) meet only at node 0 (a pinch, as BCC-meshed surfaces
+// have); a plane cuts B's corner at node 0 off its far face. Once B is not whole, node 0 splits
+// into A's particle and B's (no face joins them), so the two pieces' surfaces meet only there.
+TEST(CrackCollisions, PiecesThatACutLeavesMeetingOnlyAtANodeDoNotTouch) {
+  Points X(7, 3);
+  X << 0, 0, 0,  1, 0, 0,  0, 1, 0,  0, 0, 1,  -1, 0, 0,  0, -1, 0,  0, 0, -1;
+  Tets T(2, 4);
+  T << 0, 1, 2, 3,  0, 4, 6, 5;
+  VirtualNodeMesh m = make_virtual_node_mesh(TetMesh{X, T, "pinch"});
+  ASSERT_GT(cut_tet_by_plane(m, 1, Vec3(-0.3, 0, 0), Vec3(1, 1, 1).normalized()), 0);
+  update_topology(m);
+  // Node 0's particles: A's, B's corner piece's, and the virtual node of B's far copy.
+  ASSERT_EQ(std::count(m.node_root.begin(), m.node_root.end(), 0), 3) << "node 0 is not split";
+
+  const EmbeddedSurface s = embedded_material_surface(m, "pinch");
+  // Each piece's corner at node 0 is its own vertex, made on node 0 alone, set strictly inside its
+  // own copy: the two are apart.
+  std::vector<Vec3> corners;
+  for (std::size_t i = 0; i < s.vertices.size(); ++i) {
+    const EmbeddedVertex& v = s.vertices[i];
+    for (int k = 0; k < 4; ++k)
+      if (v.on == (1 << k) && m.node_root[static_cast<std::size_t>(m.tets(v.element, k))] == 0) {
+        for (double w : v.weights) EXPECT_GT(w, 0) << "vertex " << i;
+        corners.push_back(s.surface.x.row(static_cast<Eigen::Index>(i)).transpose());
+      }
+  }
+  ASSERT_EQ(corners.size(), 2u);
+  EXPECT_GT((corners[0] - corners[1]).norm(), 1e-3);
+  // No two triangles of the surface share a point (exact predicates): before the corners were set
+  // apart, A's three faces at node 0 touched B's corner piece there.
+  EXPECT_EQ(certificate::count_intersections({&s.surface}).total(), 0);
+}
+
+// A vertex set slightly off a node (a pinched corner leaning toward its copy's other nodes) is
+// joined only to the vertices made on its own node, not to every vertex on the nodes it leans to.
+TEST(CrackCollisions, VerticesAreJoinedByTheNodesTheyWereMadeOn) {
+  CollisionMesh m;
+  Tris t(2, 3);
+  t << 0, 1, 2,  3, 4, 5;
+  Points x(9, 3);
+  x << 0, 0, 0,  1, 0, 0,  0, 1, 0,  0, 0, 1,  1, 0, 1,  0, 1, 1,  0, 0, 0,  0, 0, 1,  1, 1, 1;
+  SurfaceEmbedding e;
+  e.num_embedded = 6;
+  // Vertex 0: node 6 with 0.01 of node 7 (made on node 6); vertex 3: node 7 alone; the others
+  // on node 8 alone.
+  e.offsets = {0, 2, 3, 4, 5, 6, 7};
+  e.nodes = {6, 7, 8, 8, 7, 8, 8};
+  e.weights = {0.99, 0.01, 1, 1, 1, 1, 1};
+  e.on = {1, 0, 1, 1, 1, 1, 1};
+  Points v = Points::Zero(9, 3);
+  Eigen::VectorXd inv_mass = Eigen::VectorXd::Ones(9);
+  collisions::embedded_state(e, x, v, inv_mass);
+  collisions::append_surface(m, "pinched", t, x, v, inv_mass, false, {}, {}, &e);
+  EXPECT_FALSE(collisions::joined(m, 0, 3));  // 0 leans toward node 7, on which 3 was made
+  EXPECT_TRUE(collisions::joined(m, 1, 4));   // both made on node 8
+  e.on.clear();                               // no flags: every weighted node counts
+  CollisionMesh all;
+  collisions::append_surface(all, "pinched", t, x, v, inv_mass, false, {}, {}, &e);
+  EXPECT_TRUE(collisions::joined(all, 0, 3));
 }
 
 }  // namespace

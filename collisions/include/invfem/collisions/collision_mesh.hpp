@@ -48,8 +48,13 @@
 //                        embed_offsets[i+1]) (sum w_k = 1, slot order), whose nodes are vertices of
 //                        the mesh too (`node_only`: in no triangle or edge, never a candidate). A
 //                        vertex with no entries is an ordinary one (its own degree of freedom)
-//   carry_offsets, carry_vertices   #V + 1 (CSR) or empty: per node, the embedded vertices on it.
-//                        Two embedded vertices that lie on a common node are joined (never a pair,
+//   carry_offsets, carry_vertices   #V + 1 (CSR) or empty: per node, the embedded vertices with
+//                        a weight on it (their velocities follow it: sync_carried).
+//   embed_on             per entry of embed_nodes: 1 when the vertex was made on that node
+//                        (EmbeddedVertex::on: a corner's node, a cut point's edge's two ends, not
+//                        the nodes a point set slightly off them leans toward, e.g. a pinched
+//                        corner, solids/embedded_crack_surface.hpp).
+//                        Two embedded vertices made on a common node are joined (never a pair,
 //                        like one vertex): they are points of the edges of one particle, within an
 //                        element of each other in the material and moved by the same node. The two
 //                        faces of a crack share particles only near its front, where the material
@@ -117,6 +122,7 @@ struct CollisionMesh {
   std::vector<char> released;
   std::vector<int> embed_offsets, embed_nodes;
   std::vector<double> embed_weights;
+  std::vector<char> embed_on;  // per entry of embed_nodes: the vertex was made on that node
   std::vector<int> carry_offsets, carry_vertices;
   std::vector<char> node_only;
 
@@ -183,6 +189,8 @@ struct SurfaceEmbedding {
   int num_embedded = 0;
   std::vector<int> offsets{0}, nodes;
   std::vector<double> weights;
+  std::vector<char> on;  // per entry of nodes: 1 when the vertex was made on that node
+                         // (EmbeddedVertex::on); empty: every entry
 };
 
 // Fills the rows [0, num_embedded) of x0, v, inv_mass (a surface's #V rows) from its node rows:
@@ -215,11 +223,14 @@ inline bool listed(const std::vector<int>& offsets, const std::vector<int>& part
   return first != last && std::binary_search(first, last, b);  // a seam corner joins ~100 vertices
 }
 
-// True when embedded vertices a and b lie on a common node (CollisionMesh::carry_offsets).
+// True when embedded vertices a and b were made on a common node (CollisionMesh::carry_offsets,
+// embed_on).
 inline bool embedded_linked(const CollisionMesh& m, int a, int b) {
   for (int k = m.embed_offsets[static_cast<std::size_t>(a)]; k < m.embed_offsets[static_cast<std::size_t>(a) + 1]; ++k)
     for (int l = m.embed_offsets[static_cast<std::size_t>(b)]; l < m.embed_offsets[static_cast<std::size_t>(b) + 1]; ++l)
-      if (m.embed_nodes[static_cast<std::size_t>(k)] == m.embed_nodes[static_cast<std::size_t>(l)]) return true;
+      if (m.embed_on[static_cast<std::size_t>(k)] && m.embed_on[static_cast<std::size_t>(l)] &&
+          m.embed_nodes[static_cast<std::size_t>(k)] == m.embed_nodes[static_cast<std::size_t>(l)])
+        return true;
   return false;
 }
 

@@ -55,7 +55,7 @@ class Builder {
 
   EmbeddedSurface finish(const std::string& source) {
     // Vertices of different particles made at one rest point: each sits kCrackFaceGap of the way
-    // toward its copy's centroid (header).
+    // toward the centre of its copy's material (header).
     for (const auto& [point, made] : at_rest_) {
       if (made.size() < 2) continue;
       for (int i : made) {

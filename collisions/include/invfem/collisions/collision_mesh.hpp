@@ -52,8 +52,8 @@
 //                        a weight on it (their velocities follow it: sync_carried).
 //   embed_on             per entry of embed_nodes: 1 when the vertex was made on that node
 //                        (EmbeddedVertex::on: a corner's node, a cut point's edge's two ends, not
-//                        the nodes a point set slightly off them leans toward, e.g. a pinched
-//                        corner, solids/embedded_crack_surface.hpp).
+//                        the nodes a point set slightly off them leans toward: a vertex set apart
+//                        from another that it would coincide with, solids/embedded_crack_surface.hpp).
 //                        Two embedded vertices made on a common node are joined (never a pair,
 //                        like one vertex): they are points of the edges of one particle, within an
 //                        element of each other in the material and moved by the same node. The two

@@ -22,9 +22,9 @@ struct EmbeddedVertex {
   std::array<double, 4> weights{0, 0, 0, 0};  // barycentric, over the element's 4 slots
   // The slots whose nodes the vertex was made on (bit k: slot k): a corner's one slot, a cut
   // point's edge's two, even when the point is set a little off them (a crack face's gap, two
-  // vertices that would coincide set apart). 0: every slot of nonzero weight. Collision layers join vertices made on a
-  // common node (collisions/collision_mesh.hpp carry_offsets); the weights alone would join a
-  // point set off a node with everything on the nodes it leans toward.
+  // vertices that would coincide set apart). 0: every slot of nonzero weight. Collision layers
+  // join vertices made on a common node (collisions/collision_mesh.hpp embed_on); the weights
+  // alone would join a point set off a node with everything on the nodes it leans toward.
   std::uint8_t on = 0;
 };
 

@@ -10,8 +10,7 @@ namespace invfem::collisions {
 
 void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tris, const Points& x0, const Points& v,
                     const Eigen::VectorXd& inv_mass, bool kinematic,
-                    const std::vector<Weld>& welds, const std::vector<std::pair<int, int>>& joins,
-                    const SurfaceEmbedding* embedding) {
+                    const std::vector<Weld>& welds, const SurfaceEmbedding* embedding) {
   const Eigen::Index n = x0.rows();
   if (v.rows() != n || (!kinematic && inv_mass.size() != n))
     throw std::invalid_argument("collisions: surface \"" + name + "\": " + std::to_string(n) + " positions, " +
@@ -25,10 +24,6 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
       throw std::invalid_argument("collisions: surface \"" + name + "\": weld (" + std::to_string(w.i) + ", " +
                                   std::to_string(w.j) + ", " + std::to_string(w.k) + ") outside [0, " +
                                   std::to_string(n) + ")");
-  for (const auto& [a, b] : joins)
-    if (outside(a) || outside(b))
-      throw std::invalid_argument("collisions: surface \"" + name + "\": joined pair (" + std::to_string(a) + ", " +
-                                  std::to_string(b) + ") outside [0, " + std::to_string(n) + ")");
   if (embedding) {
     const SurfaceEmbedding& em = *embedding;
     auto bad = [&](const std::string& what) {
@@ -116,11 +111,6 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
       for (int q : ring[static_cast<std::size_t>(m)]) join(i, q);
     }
   }
-  std::vector<std::vector<int>> tet_partners(static_cast<std::size_t>(n));
-  for (const auto& [a, b] : joins) {
-    tet_partners[static_cast<std::size_t>(a)].push_back(v0 + b);
-    tet_partners[static_cast<std::size_t>(b)].push_back(v0 + a);
-  }
   auto append_csr = [](std::vector<int>& p, std::vector<int>& offsets, std::vector<int>& all) {
     std::sort(p.begin(), p.end());
     p.erase(std::unique(p.begin(), p.end()), p.end());
@@ -129,7 +119,6 @@ void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tr
   };
   for (std::size_t i = 0; i < partners.size(); ++i) {
     append_csr(partners[i], mesh.weld_offsets, mesh.weld_partners);
-    append_csr(tet_partners[i], mesh.join_offsets, mesh.join_partners);
     mesh.surface_of.push_back(static_cast<int>(mesh.surfaces.size()));
   }
   for (const Weld& w : welds) mesh.welds.push_back({v0 + w.i, v0 + w.j, w.k < 0 ? -1 : v0 + w.k, w.r});

@@ -10,7 +10,6 @@
 #include "invfem/collisions/response/repulsion.hpp"
 #include "invfem/collisions/response/seams.hpp"
 #include "invfem/collisions/rigid_body.hpp"
-#include "invfem/core/parallel.hpp"
 
 namespace invfem::collisions {
 
@@ -110,22 +109,7 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
       Eigen::VectorXd w;
       object_state(k, nodes, e, x0, v, w);
       const bool embedded = e.num_embedded > 0;
-      // A solid's boundary vertices that share a tet are joined (collision_mesh.hpp); an embedded
-      // surface's vertices on a common node are joined instead (collision_mesh.hpp).
-      std::vector<std::pair<int, int>> joins;
-      if (o.tets.rows() > 0 && !embedded) {
-        std::vector<int> vertex_of(static_cast<std::size_t>(o.body.x.rows()), -1);
-        for (std::size_t s = 0; s < o.surface_nodes.size(); ++s)
-          vertex_of[static_cast<std::size_t>(o.surface_nodes[s])] = static_cast<int>(s);
-        for (Eigen::Index e = 0; e < o.tets.rows(); ++e)
-          for (int a = 0; a < 4; ++a)
-            for (int b = a + 1; b < 4; ++b) {
-              const int sa = vertex_of[static_cast<std::size_t>(o.tets(e, a))];
-              const int sb = vertex_of[static_cast<std::size_t>(o.tets(e, b))];
-              if (sa >= 0 && sb >= 0) joins.emplace_back(sa, sb);
-            }
-      }
-      append_surface(mesh_, o.name, embedded ? o.embedded.surface.tris : o.surface.tris, x0, v, w, false, o.welds, joins,
+      append_surface(mesh_, o.name, embedded ? o.embedded.surface.tris : o.surface.tris, x0, v, w, false, o.welds,
                      embedded ? &e : nullptr);
       mesh_.surfaces.back().untangle = objects[k].kind == ObjectKind::Solid;
       mesh_.surfaces.back().cut = objects[k].kind == ObjectKind::Solid && o.topology_version != 0;
@@ -169,57 +153,6 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
       mesh_.v.middleRows(range.first_vertex, range.num_vertices) = (s->x - step.kinematic_start[b]) / dt;
     }
   }
-}
-
-namespace {
-// True when the tet (a, b, c, d), positively oriented at rest (solids/tet_mesh.hpp), is inverted
-// or flat: 6V = (b - a) x (c - a) . (d - a) <= 0, or a node closer than `reach` to the plane of
-// its opposite face (its height 6V / |twice that face's area|).
-bool tet_folds(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double reach) {
-  const double six_v = (b - a).cross(c - a).dot(d - a);
-  if (!(six_v > 0)) return true;
-  const double twice_areas[4] = {(c - b).cross(d - b).norm(), (c - a).cross(d - a).norm(), (b - a).cross(d - a).norm(),
-                                 (b - a).cross(c - a).norm()};
-  for (double twice_area : twice_areas)
-    if (six_v < reach * twice_area) return true;
-  return false;
-}
-}  // namespace
-
-void SelfCollisionPass::mark_folding(const std::vector<SimObject>& objects, const StepPassInput& step) {
-  mesh_.folding.assign(static_cast<std::size_t>(mesh_.num_vertices()), 0);
-  // Twice the thickness: a tet flattening within the repulsion's reach is the element's business
-  // (its node nears its own face's neighbours as it goes), not a fold of the boundary.
-  const double reach = 2 * settings_.thickness;
-  bool any = false;
-  for (std::size_t r = 0; r < mesh_.surfaces.size(); ++r) {
-    if (source_[r] < 0 || embeddings_[r].num_embedded > 0) continue;  // embedded: common nodes instead
-    const SimObject& o = objects[static_cast<std::size_t>(source_[r])];
-    if (o.tets.rows() == 0) continue;
-    const Points& x0 = step.x_start[static_cast<std::size_t>(source_[r])];
-    const Points& x1 = o.body.x;
-    std::vector<int> node_to_vertex(static_cast<std::size_t>(o.body.x.rows()), -1);
-    for (std::size_t s = 0; s < o.surface_nodes.size(); ++s)
-      node_to_vertex[static_cast<std::size_t>(o.surface_nodes[s])] = mesh_.surfaces[r].first_vertex + static_cast<int>(s);
-    std::vector<char> folds(static_cast<std::size_t>(o.tets.rows()), 0);
-    parallel_for_each(folds.size(), 1024, [&](std::size_t e) {
-      const auto t = o.tets.row(static_cast<Eigen::Index>(e));
-      auto at = [&](const Points& x, int k) -> Vec3 { return x.row(t(k)).transpose(); };
-      folds[e] = tet_folds(at(x0, 0), at(x0, 1), at(x0, 2), at(x0, 3), reach) ||
-                         tet_folds(at(x1, 0), at(x1, 1), at(x1, 2), at(x1, 3), reach)
-                     ? 1
-                     : 0;
-    });
-    for (std::size_t e = 0; e < folds.size(); ++e) {
-      if (!folds[e]) continue;
-      for (int k = 0; k < 4; ++k)
-        if (const int g = node_to_vertex[static_cast<std::size_t>(o.tets(static_cast<Eigen::Index>(e), k))]; g >= 0) {
-          mesh_.folding[static_cast<std::size_t>(g)] = 1;
-          any = true;
-        }
-    }
-  }
-  if (!any) mesh_.folding.clear();
 }
 
 bool SelfCollisionPass::may_start_crossed() const {
@@ -276,10 +209,6 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   gather(objects, step);
   if (mesh_.tris.rows() == 0) return;
   FrameReport::Collisions& r = report.collisions;
-
-  // A solid's boundary vertices that share a tet are no pair while the tet folds (inverted or
-  // flat at either end of the step); where it is sound they collide like any others.
-  mark_folding(objects, step);
 
   // Tangles at the step's start release the pairs that can undo them (candidates/tangles.hpp);
   // only solids' boundaries are searched, so a scene of cloths pays nothing for it.
@@ -381,8 +310,8 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   const long long unresolved_before = r.unresolved_steps;
   resolve(dt, r, v_in, v, tangles == 0 && crossings == 0, keep_out);
   // What the next step's start may hold (may_start_crossed): a crossing only where this step let
-  // pairs go (folding tets, tangles, body crossings) or its fail-safe gave up.
-  left_crossable_ = !mesh_.folding.empty() || tangles > 0 || crossings > 0 || r.unresolved_steps > unresolved_before;
+  // pairs go (tangles, body crossings) or its fail-safe gave up.
+  left_crossable_ = tangles > 0 || crossings > 0 || r.unresolved_steps > unresolved_before;
 
   // Write back: x(n+1) = x0 + dt v on the surface nodes; v(n+1) gets the same change.
   for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {

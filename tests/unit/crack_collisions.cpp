@@ -55,7 +55,7 @@ CollisionMesh embedded_over_plate(bool plate_kinematic) {
   e.nodes = {3, 4, 5, 4, 5, 6};
   e.weights = {0.5, 0.5, 0.75, 0.25, 0.5, 0.5};
   collisions::embedded_state(e, x, v, inv_mass);
-  collisions::append_surface(m, "cut", t, x, v, inv_mass, false, {}, {}, &e);
+  collisions::append_surface(m, "cut", t, x, v, inv_mass, false, {}, &e);
   Points xp(3, 3);
   xp << 0, 0, 0, 0.2, 0, 0, 0, 0, 0.2;
   collisions::append_surface(m, "plate", t, xp, Points::Zero(3, 3), Eigen::VectorXd::Ones(3), plate_kinematic);

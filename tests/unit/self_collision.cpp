@@ -6,6 +6,8 @@
 #include <Eigen/Geometry>
 #include <tbb/global_control.h>
 
+#include <algorithm>
+#include <array>
 #include <random>
 #include <set>
 
@@ -19,6 +21,7 @@
 #include "invfem/collisions/response/seams.hpp"
 #include "invfem/collisions/response/zone_following.hpp"
 #include "invfem/collisions/self_collision_pass.hpp"
+#include "torn_cube.hpp"
 
 using namespace invfem;
 using namespace invfem::collisions;
@@ -133,33 +136,6 @@ TEST(CollisionMesh, WeldsJoinTheirSeamPointsOnlyAsTheCheckerDoes) {
   EXPECT_TRUE(m.movable(7));
   EXPECT_FALSE(m.movable(10));
   EXPECT_EQ(m.surfaces[1].first_vertex, 9);
-}
-
-// A solid's boundary vertices that share a tet (append_surface's joins) are no pair only while
-// both belong to a folding tet (inverted or flat at the step's start or end): a sound tet's
-// boundary is kept from folding through itself like any other surface.
-TEST(CollisionMesh, TetJoinedVerticesArePairsUnlessBothFold) {
-  CollisionMesh m;
-  Tris t(2, 3);
-  t << 0, 1, 2, 3, 4, 5;
-  append_surface(m, "solid", t, Points::Random(6, 3), Points::Zero(6, 3), Eigen::VectorXd::Ones(6), false, {{4, 5, -1}},
-                 {{0, 3}, {2, 5}});
-  const int a[] = {0, 1, 2}, b[] = {3, 4, 5};
-  EXPECT_FALSE(joined(m, 0, 3));
-  EXPECT_FALSE(adjacent(m, a, 3, b, 3));
-  EXPECT_TRUE(joined(m, 4, 5));  // a weld holds whatever the tets do
-  m.folding.assign(6, 0);
-  m.folding[0] = 1;
-  EXPECT_FALSE(joined(m, 0, 3));  // one side folding is not enough
-  EXPECT_FALSE(joined(m, 3, 0));
-  m.folding[3] = 1;
-  EXPECT_TRUE(joined(m, 0, 3));
-  EXPECT_TRUE(joined(m, 3, 0));
-  EXPECT_FALSE(joined(m, 2, 5));  // joined by another tet, which is sound
-  EXPECT_FALSE(joined(m, 0, 4));  // folding but never sharing a tet
-  EXPECT_TRUE(adjacent(m, a, 3, b, 3));
-  m.folding.clear();
-  EXPECT_FALSE(joined(m, 0, 3));
 }
 
 TEST(BroadPhase, FindsExactlyTheOverlappingSweptBoxesOfNonAdjacentPairs) {
@@ -698,6 +674,83 @@ TEST(SelfCollisionPass, StopsASheetTunnellingThroughAnotherAndConservesMomentum)
   Vec3 p = Vec3::Zero();
   for (const auto& o : objects) p += o.body.v.colwise().sum().transpose();
   EXPECT_NEAR(p.y(), 25 * (-0.05 / dt), 1e-9);  // momentum of the falling sheet, now shared
+}
+
+// A solid's boundary is a surface like a cloth (ITF04 section 9, collision_mesh.hpp): a step that
+// carries a boundary node through a boundary face of its own tet (inverting it through the
+// boundary) is stopped by the layer, while a tet that an interior node inverts is left to the
+// elements (the layer does not touch the interior). The soft 2^3 cube (torn_cube.hpp): all its
+// nodes but the centre are on the boundary.
+TEST(SelfCollisionPass, StopsASolidsBoundaryNodeAtItsOwnTetsBoundaryFace) {
+  SimObject cube = invfem::test::soft_cube("cube", 0.0, Vec3::Zero());
+  std::vector<int> vertex_of(static_cast<std::size_t>(cube.body.x.rows()), -1);
+  for (std::size_t s = 0; s < cube.surface_nodes.size(); ++s)
+    vertex_of[static_cast<std::size_t>(cube.surface_nodes[s])] = static_cast<int>(s);
+  // A boundary face (its nodes) whose tet's fourth node `apex` is on the boundary too.
+  int apex = -1, tet = -1;
+  std::array<int, 3> face{};
+  for (Eigen::Index f = 0; f < cube.surface.tris.rows() && apex < 0; ++f) {
+    for (int k = 0; k < 3; ++k) face[static_cast<std::size_t>(k)] = cube.surface_nodes[static_cast<std::size_t>(cube.surface.tris(f, k))];
+    for (Eigen::Index e = 0; e < cube.tets.rows() && apex < 0; ++e) {
+      int shared = 0, other = -1;
+      for (int k = 0; k < 4; ++k) {
+        const int n = cube.tets(e, k);
+        if (std::find(face.begin(), face.end(), n) != face.end()) ++shared; else other = n;
+      }
+      if (shared == 3 && vertex_of[static_cast<std::size_t>(other)] >= 0) apex = other, tet = static_cast<int>(e);
+    }
+  }
+  ASSERT_GE(apex, 0);
+  auto node = [&](const Points& x, int n) -> Vec3 { return x.row(n).transpose(); };
+  const Tets tets = cube.tets;  // cube is moved into the objects below
+  auto six_volume = [&](const Points& x, int e) {
+    const Vec3 a = node(x, tets(e, 0)), b = node(x, tets(e, 1)), c = node(x, tets(e, 2)), d = node(x, tets(e, 3));
+    return (b - a).cross(c - a).dot(d - a);
+  };
+  const Points rest = cube.body.x;
+  const Vec3 centroid = (node(rest, face[0]) + node(rest, face[1]) + node(rest, face[2])) / 3;
+  const Vec3 outward = (node(rest, face[1]) - node(rest, face[0])).cross(node(rest, face[2]) - node(rest, face[0])).normalized();
+  ASSERT_GT(outward.dot(centroid - node(rest, apex)), 0.01);  // the apex lies inside, below the face
+  // The interior node (the cube's centre) and a tet of it that it inverts by crossing its
+  // opposite face.
+  int centre = -1, centre_tet = -1;
+  for (int n = 0; n < cube.body.x.rows(); ++n)
+    if (vertex_of[static_cast<std::size_t>(n)] < 0) centre = n;
+  ASSERT_GE(centre, 0);
+  for (Eigen::Index e = 0; e < cube.tets.rows() && centre_tet < 0; ++e)
+    for (int k = 0; k < 4; ++k)
+      if (cube.tets(e, k) == centre && e != tet) centre_tet = static_cast<int>(e);
+  ASSERT_GE(centre_tet, 0);
+  Vec3 opposite = Vec3::Zero();
+  for (int k = 0; k < 4; ++k)
+    if (cube.tets(centre_tet, k) != centre) opposite += node(rest, cube.tets(centre_tet, k)) / 3;
+  // The step: the apex to 1 cm beyond the face's centroid, the centre to as far beyond the
+  // centroid of its opposite face.
+  const double dt = 0.01;
+  const Vec3 apex_end = centroid + 0.01 * outward;
+  const Vec3 centre_end = opposite + 0.2 * (opposite - node(rest, centre));
+  std::vector<SimObject> objects;
+  objects.push_back(std::move(cube));
+  SimObject& o = objects[0];
+  const std::vector<Points> x_start = {rest};
+  o.body.x.row(apex) = apex_end.transpose();
+  o.body.v.row(apex) = ((apex_end - node(rest, apex)) / dt).transpose();
+  o.body.x.row(centre) = centre_end.transpose();
+  o.body.v.row(centre) = ((centre_end - node(rest, centre)) / dt).transpose();
+  ASSERT_LT(six_volume(o.body.x, tet), 0);  // both tets inverted by the step
+  ASSERT_LT(six_volume(o.body.x, centre_tet), 0);
+  o.refresh_surface();
+  std::vector<std::shared_ptr<KinematicBody>> none;
+  std::vector<Points> none_start;
+  SelfCollisionPass pass({});
+  FrameReport report;
+  pass.after_step(objects, StepPassInput{x_start, none, none_start, 0.0, dt}, report);
+  // The apex stays inside, below its tet's boundary face (the tet flat at most, not inverted).
+  EXPECT_GT(outward.dot(centroid - node(o.body.x, apex)), 0) << "the apex crossed its tet's boundary face";
+  EXPECT_GT(report.collisions.ccd_hits + report.collisions.impact_zones, 0);
+  EXPECT_EQ(report.collisions.unresolved_steps, 0);
+  EXPECT_EQ(node(o.body.x, centre), centre_end);  // the interior is the elements' business
+  EXPECT_LT(six_volume(o.body.x, centre_tet), 0);
 }
 
 namespace {

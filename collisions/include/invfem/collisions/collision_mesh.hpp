@@ -10,27 +10,29 @@
 //   edges       #E x 2   global vertex indices (surface_edges of each surface, offset)
 //   weld_offsets, weld_partners   per vertex i, the vertices a seam joins it to (world.hpp
 //                        Weld: the other vertices of its seam point and of the points it
-//                        touches; a solid's tet neighbours, append_surface):
+//                        touches, append_surface):
 //                        weld_partners[weld_offsets[i] .. weld_offsets[i+1]), ascending. Two
 //                        primitives are adjacent (never a candidate) when they share a vertex or
 //                        hold two joined vertices. Not chained: the vertices along a seam are
-//                        not all joined to one another
-//   join_offsets, join_partners   per vertex i, a solid's boundary vertices that share a tet with
-//                        it (append_surface's joins), the same CSR layout; joined only while
-//                        both are `folding`
-//   folding     #V or empty   1: the vertex belongs to a tet that is inverted or flatter than
-//                        the layer's reach at the step's start or end (set per step by the pass).
-//                        A tet inverts and recovers by moving a node through its opposite face,
-//                        which the element governs, so pairs joined by such tets are no pairs;
-//                        where the tets are sound, the boundary is kept from folding through
-//                        itself like any other surface
+//                        not all joined to one another.
+//                        A solid's boundary is a surface like a cloth (ITF04 section 9): two of
+//                        its vertices that share a tet are a pair like any other, whether the tet
+//                        is sound, flat or inverted. Its elements invert and recover through the
+//                        interior (a node crossing an interior face, or an interior node crossing
+//                        anything); a boundary node is stopped at the boundary. An earlier rule
+//                        (`folding`) let boundary vertices sharing an inverted or flat tet pass
+//                        through each other so the element could govern them: every crossing on
+//                        buddha_gears (quick: 2,044 pairs over 58 frames) and torus_puddle (quick:
+//                        1,837 over 17) came from it; without it both run free of crossings, invert
+//                        (at most 59 and 48 tets) and recover
 //   welds                the surfaces' seam points (world.hpp Weld), global indices
 //   surface_of  #V       which surface (index into `surfaces`) a vertex belongs to
 //   triangle_edges  #F x 3   the global edge id of each triangle's local edge k (corner k to
 //                        corner (k + 1) % 3)
 //   exempt_vf, exempt_ee   sorted: the pairs a tangle at the step's start releases for the step
 //                        (candidates/tangles.hpp) on an `untangle` surface (an edge through a face
-//                        of a solid's boundary, left by inverted elements): for each crossing edge
+//                        of a solid's boundary, left by a fail-safe failure or a start the
+//                        layer did not make): for each crossing edge
 //                        e through triangle f, the vertex-face pairs (end of e, f) and the
 //                        edge-edge pairs (e, side of f), the only events by which that crossing
 //                        can come undone. Everything else about the tangle's vertices stays a
@@ -89,10 +91,10 @@ struct CollisionMesh {
     int first_triangle = 0, num_triangles = 0;
     int first_edge = 0, num_edges = 0;
     bool kinematic = false;
-    // A solid's boundary: where it crosses itself at a step's start (a fold through itself by
-    // inverted elements, which ITF04's recovery must undo) the pairs that can undo each crossing
-    // are released for the step (exempt_vf, exempt_ee; candidates/tangles.hpp). A cloth's
-    // crossing, which only a fail-safe failure leaves, stays held by the CCD instead.
+    // A solid's boundary: where it crosses itself at a step's start (a fold through itself that
+    // a fail-safe failure or its input left, which the elements' recovery must be let undo) the
+    // pairs that can undo each crossing are released for the step (exempt_vf, exempt_ee;
+    // candidates/tangles.hpp). A cloth's crossing stays held by the CCD instead.
     bool untangle = false;
     // A fractured solid's boundary (its enlarged mesh's, after a cut): right after a tear the
     // cut elements' copies on either side overlap by construction until they part, and every
@@ -111,8 +113,6 @@ struct CollisionMesh {
   Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> edges;
   Tris triangle_edges;
   std::vector<int> weld_offsets{0}, weld_partners;
-  std::vector<int> join_offsets{0}, join_partners;
-  std::vector<char> folding;
   std::vector<Weld> welds;  // every surface's welds, in global vertex indices
   std::vector<int> surface_of;
   std::vector<VertexFaceCandidate> exempt_vf;
@@ -201,15 +201,11 @@ void embedded_state(const SurfaceEmbedding& e, Points& x0, Points& v, Eigen::Vec
 
 // Appends a surface. x0, v: its #V x 3 start positions and average velocities; inv_mass its #V
 // inverse masses (ignored and set to 0 when kinematic); welds: its seam points (world.hpp Weld,
-// the rule `invfem check` applies: the primitives a stitch makes touch, and no others); joins: a
-// solid's boundary vertices that share a tet, joined while the tet folds (`folding`: a tet
-// inverts and recovers by moving a node through its own opposite face, which the element, not
-// the collision layer, governs). Throws
+// the rule `invfem check` applies: the primitives a stitch makes touch, and no others). Throws
 // std::invalid_argument naming the surface for mismatched sizes or indices.
 void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tris, const Points& x0, const Points& v,
                     const Eigen::VectorXd& inv_mass, bool kinematic,
-                    const std::vector<Weld>& welds = {}, const std::vector<std::pair<int, int>>& joins = {},
-                    const SurfaceEmbedding* embedding = nullptr);
+                    const std::vector<Weld>& welds = {}, const SurfaceEmbedding* embedding = nullptr);
 
 // v of every embedded vertex from its nodes' (the sum x0 takes), after the nodes' rows changed.
 void sync_embedded(const CollisionMesh& mesh, Points& v);
@@ -234,13 +230,10 @@ inline bool embedded_linked(const CollisionMesh& m, int a, int b) {
   return false;
 }
 
-// True when vertices a and b are one vertex, welded, share a tet of a solid that is folding
-// at both (CollisionMesh::folding), or are embedded vertices on a common node.
+// True when vertices a and b are one vertex, welded, or embedded vertices on a common node.
 inline bool joined(const CollisionMesh& m, int a, int b) {
   if (a == b || listed(m.weld_offsets, m.weld_partners, a, b)) return true;
-  if (m.has_embedding() && m.is_embedded(a) && m.is_embedded(b) && embedded_linked(m, a, b)) return true;
-  return !m.folding.empty() && m.folding[static_cast<std::size_t>(a)] && m.folding[static_cast<std::size_t>(b)] &&
-         listed(m.join_offsets, m.join_partners, a, b);
+  return m.has_embedding() && m.is_embedded(a) && m.is_embedded(b) && embedded_linked(m, a, b);
 }
 
 // True when the two primitives (vertex lists) are adjacent: some vertex of one is joined to

@@ -8,8 +8,7 @@
 // collision processing on the exact shape only.
 //
 // Per step, with x0 the surfaces at the step's start and v = (x(n+1) - x0) / dt the step's
-// average velocity (collisions-BFA02.md section 1), after releasing the pairs joined by a solid's
-// folding tets (inverted or flat at x0 or x(n+1): CollisionMesh::folding), releasing the pairs
+// average velocity (collisions-BFA02.md section 1), after releasing the pairs
 // that can undo each tangle at x0 (an edge through a face of a solid's boundary:
 // candidates/tangles.hpp), releasing a cloth's crossings with a kinematic body
 // at x0 from their pairs with the body (CollisionMesh::released, the recovery from an earlier
@@ -21,11 +20,14 @@
 //   4. rigid impact zones until no pair may come within ccd_distance (response/impact_zones.hpp)
 //   5. x(n+1) = x0 + dt v for every surface node; each node's end-of-step velocity gets the same
 //      change as its average velocity (for the implicit step the two are one).
-// Nodes off the surface (a solid's interior) are not touched. The start state must be free of
+// Nodes off the surface (a solid's interior) are not touched. A solid's boundary is handled as a
+// cloth (ITF04 section 9), its tet neighbours included: the layer stops the boundary, not the
+// interior, from crossing, and the elements invert and recover through the interior
+// (collision_mesh.hpp). The start state must be free of
 // intersections; then the end state is too (up to the fail-safe's iteration cap, reported).
 // Hence the tangle and body-crossing searches at x0 (edge-triangle tests over the whole surface,
 // most of the layer's cost on a scene without contact) run only when the last step let pairs go
-// (folding tets, tangles, body crossings), left a step unresolved, or did not end where this step
+// (tangles, body crossings), left a step unresolved, or did not end where this step
 // starts (the first step, a rebuilt mesh, another pass moved the surfaces).
 #include <cstdint>
 #include <string>
@@ -47,9 +49,10 @@ struct SelfCollisionSettings {
   int max_zone_iterations = 100;
   // How long [s] a tangle (candidates/tangles.hpp) may last, released only by the pairs that can
   // undo it, before it counts as stuck and its vertices leave the pairs among themselves. On
-  // buddha_gears (quick) 0.1 s (about 390 of its steps) gave the fewest crossings of those tried:
-  // 2,042 crossing pairs over the run, against 2,180 at 150 steps and 2,377 at 50; never stuck,
-  // one crossing was held to the last frame.
+  // buddha_gears (quick) 0.1 s (about 390 of its steps) gave the fewest crossings of those tried
+  // when the boundary vertices of folding tets were let through one another (an earlier rule that
+  // made tangles at every inversion): 2,042 crossing pairs over the run, against 2,180 at 150
+  // steps and 2,377 at 50. Without that rule the scene makes no tangle.
   double tangle_patience = 0.1;
   std::vector<std::string> excluded;  // names of objects that do not take part
   bool kinematic_bodies = true;       // kinematic bodies' shape triangles take part
@@ -84,10 +87,6 @@ class SelfCollisionPass final : public StepPass {
   BroadPhase broad_phase_;
   CollisionMesh mesh_;
   bool built_ = false;
-  // Marks mesh_.folding (collision_mesh.hpp): the boundary vertices of the tets that are inverted
-  // or flatter than twice the thickness at the step's start or end.
-  void mark_folding(const std::vector<SimObject>& objects, const StepPassInput& step);
-
   // True when the step's start (mesh_.x0) may hold a crossing, so the tangle and body-crossing
   // searches must run: the last step let pairs go or left one unresolved (left_crossable_), or
   // the start is not where the last step ended (end_: the first step, a rebuilt mesh, surfaces

@@ -1,15 +1,18 @@
 #pragma once
 // Tangles: where a solid's boundary already intersects itself at the step's start (an edge
-// passing through a triangle at x0). The layer assumes an intersection-free start; a boundary
-// folded through itself by inverted elements would otherwise be held crossed for ever by the CCD,
-// and ITF04's recovery could never undo the inversion. Each crossing releases, for the step, the
+// passing through a triangle at x0). The layer assumes an intersection-free start, and keeps a
+// boundary's vertices from crossing one another whatever its tets do (collision_mesh.hpp), so a
+// tangle is left only by a step the fail-safe could not finish, or by a start the layer did not
+// make (a scene's mesh that crosses itself, a restored state). It would otherwise be held crossed
+// for ever by the CCD. Each crossing releases, for the step, the
 // pairs whose events can undo it and no others (CollisionMesh::exempt_vf, exempt_ee): an edge e
 // through a triangle f stops crossing it when an end of e passes through f (vertex-face pairs
 // (end of e, f)) or when e slides off f over one of its sides (edge-edge pairs (e, side of f)).
 // The tangle's vertices keep every other pair (repulsion, CCD and impact zones against the rest
 // of the surface, and against the tangle's other triangles), so a tangle can come apart but not
 // spread: before, every pair holding one of its vertices was let go, and a tangle of a few
-// crossings grew to hundreds (buddha_gears, README "Self-collisions").
+// crossings grew to hundreds (buddha_gears under the earlier folding-tet rule, which made
+// tangles by the thousand: README "Self-collisions").
 // Floating-point tests, written here for the response: the certificate (certificate/) keeps its
 // own exact ones.
 #include <utility>

@@ -1,6 +1,7 @@
 #include "invfem/collisions/self_collision_pass.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <stdexcept>
 
@@ -99,6 +100,8 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
     versions_.clear();
     vertex_nodes_.clear();
     embeddings_.clear();
+    boundary_tets_.clear();
+    recovering_tets_.clear();
     for (std::size_t k = 0; k < objects.size(); ++k) {
       if (excluded(objects[k].name) || objects[k].surface.tris.rows() == 0) continue;
       const SimObject& o = objects[k];
@@ -114,6 +117,16 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
       mesh_.surfaces.back().untangle = objects[k].kind == ObjectKind::Solid;
       mesh_.surfaces.back().cut = objects[k].kind == ObjectKind::Solid && o.topology_version != 0;
       mesh_.surfaces.back().level = objects[k].kind == ObjectKind::Solid ? 1 : 0;  // one-way coupling
+      if (!embedded && o.tets.rows() > 0) {
+        std::vector<int> vertex_of(static_cast<std::size_t>(o.body.x.rows()), -1);
+        for (std::size_t s = 0; s < nodes.size(); ++s)
+          vertex_of[static_cast<std::size_t>(nodes[s])] = mesh_.surfaces.back().first_vertex + static_cast<int>(s);
+        for (Eigen::Index t = 0; t < o.tets.rows(); ++t) {
+          std::array<int, 4> g{};
+          for (int c = 0; c < 4; ++c) g[static_cast<std::size_t>(c)] = vertex_of[static_cast<std::size_t>(o.tets(t, c))];
+          if (std::all_of(g.begin(), g.end(), [](int i) { return i >= 0; })) boundary_tets_.push_back(g);
+        }
+      }
       source_.push_back(static_cast<int>(k));
       versions_.push_back(o.topology_version);
       vertex_nodes_.push_back(std::move(nodes));
@@ -155,10 +168,29 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
   }
 }
 
+int SelfCollisionPass::mark_recovering(bool fresh) {
+  mesh_.recovering.clear();
+  recovering_tets_.resize(boundary_tets_.size(), 0);
+  for (std::size_t e = 0; e < boundary_tets_.size(); ++e) {
+    const auto& t = boundary_tets_[e];
+    auto x = [&](std::size_t c) -> Vec3 { return mesh_.x0.row(t[c]).transpose(); };
+    const Vec3 a = x(0);
+    const bool inverted = !((x(1) - a).cross(x(2) - a).dot(x(3) - a) > 0);  // 6V <= 0: inverted or flat
+    char& flag = recovering_tets_[e];
+    flag = inverted && (flag || fresh) ? 1 : 0;
+    if (!flag) continue;
+    for (std::size_t c = 0; c < 4; ++c)
+      for (std::size_t d = c + 1; d < 4; ++d) mesh_.recovering.push_back(std::minmax(t[c], t[d]));
+  }
+  std::sort(mesh_.recovering.begin(), mesh_.recovering.end());
+  mesh_.recovering.erase(std::unique(mesh_.recovering.begin(), mesh_.recovering.end()), mesh_.recovering.end());
+  return static_cast<int>(mesh_.recovering.size());
+}
+
 bool SelfCollisionPass::may_start_crossed() const {
   // The last step's end, bit for bit: nothing moved the surfaces in between (another pass, a
   // restored checkpoint), and the mesh is the one it ended on (a rebuild leaves end_ empty).
-  return left_crossable_ || end_.rows() != mesh_.x0.rows() || end_ != mesh_.x0;
+  return left_crossable_ || !started_where_ended();
 }
 
 void SelfCollisionPass::resolve(double dt, FrameReport::Collisions& r, const Points& v_in, Points& v, bool have_candidates,
@@ -208,6 +240,15 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   const double dt = step.dt, t1 = step.t + dt;
   gather(objects, step);
   if (mesh_.tris.rows() == 0) return;
+  if (resumed_) {
+    if (resumed_->end.rows() == mesh_.x0.rows() && resumed_->recovering_tets.size() == boundary_tets_.size()) {
+      end_ = std::move(resumed_->end);
+      left_crossable_ = resumed_->left_crossable;
+      tangle_ages_ = std::move(resumed_->tangle_ages);
+      recovering_tets_ = std::move(resumed_->recovering_tets);
+    }
+    resumed_.reset();
+  }
   FrameReport::Collisions& r = report.collisions;
 
   // Tangles at the step's start release the pairs that can undo them (candidates/tangles.hpp);
@@ -221,6 +262,8 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   mesh_.stuck.clear();
   mesh_.loose.clear();
   mesh_.released.clear();
+  // Before the candidates: it joins vertices.
+  const int recovering = mark_recovering(!started_where_ended());
   broad_phase_.find(mesh_, dt, settings_.thickness, candidates_);
   int tangles = 0, crossings = 0;
   const bool search = may_start_crossed();
@@ -310,8 +353,8 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   const long long unresolved_before = r.unresolved_steps;
   resolve(dt, r, v_in, v, tangles == 0 && crossings == 0, keep_out);
   // What the next step's start may hold (may_start_crossed): a crossing only where this step let
-  // pairs go (tangles, body crossings) or its fail-safe gave up.
-  left_crossable_ = tangles > 0 || crossings > 0 || r.unresolved_steps > unresolved_before;
+  // pairs go (recovering tets, tangles, body crossings) or its fail-safe gave up.
+  left_crossable_ = recovering > 0 || tangles > 0 || crossings > 0 || r.unresolved_steps > unresolved_before;
 
   // Write back: x(n+1) = x0 + dt v on the surface nodes; v(n+1) gets the same change.
   for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {
@@ -356,6 +399,47 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
     }
   }
   r.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void SelfCollisionPass::save_state(StateWriter& out) const {
+  if (!built_) return;  // no step yet: nothing carries over
+  out.doubles(end_.data(), static_cast<std::size_t>(end_.size()));
+  out.pod(static_cast<std::uint8_t>(left_crossable_));
+  out.count(tangle_ages_.entries.size());
+  for (const TangleAges::Entry& e : tangle_ages_.entries) {
+    out.pod(static_cast<std::int64_t>(e.edge));
+    out.pod(static_cast<std::int64_t>(e.triangle));
+    out.pod(e.seconds);
+  }
+  out.count(recovering_tets_.size());
+  for (char f : recovering_tets_) out.pod(static_cast<std::uint8_t>(f));
+}
+
+void SelfCollisionPass::restore_state(StateReader& in, std::vector<SimObject>& objects) {
+  (void)objects;  // the mesh is rebuilt from them at the next step
+  built_ = false;
+  resumed_.reset();
+  if (in.at_end()) return;
+  const std::string what = "the self-collision layer's state";
+  Resumed r;
+  const std::uint64_t n = in.count(what);
+  if (n % 3 != 0) throw StateError(what + ": " + std::to_string(n) + " coordinates are not whole points");
+  // Element by element (not sized by the counts first): a damaged count ends as "truncated".
+  std::vector<double> end;
+  for (std::uint64_t k = 0; k < n; ++k) end.push_back(in.pod<double>(what));
+  r.end = Eigen::Map<const Points>(end.data(), static_cast<Eigen::Index>(n / 3), 3);  // row-major, as written
+  r.left_crossable = in.pod<std::uint8_t>(what) != 0;
+  const std::uint64_t tangles = in.count(what);
+  for (std::uint64_t k = 0; k < tangles; ++k) {
+    TangleAges::Entry e;
+    e.edge = static_cast<int>(in.pod<std::int64_t>(what));
+    e.triangle = static_cast<int>(in.pod<std::int64_t>(what));
+    e.seconds = in.pod<double>(what);
+    r.tangle_ages.entries.push_back(e);
+  }
+  const std::uint64_t tets = in.count(what);
+  for (std::uint64_t k = 0; k < tets; ++k) r.recovering_tets.push_back(static_cast<char>(in.pod<std::uint8_t>(what)));
+  resumed_ = std::move(r);
 }
 
 }  // namespace invfem::collisions

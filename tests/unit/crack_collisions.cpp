@@ -281,12 +281,12 @@ TEST(CrackCollisions, VerticesAreJoinedByTheNodesTheyWereMadeOn) {
   Points v = Points::Zero(9, 3);
   Eigen::VectorXd inv_mass = Eigen::VectorXd::Ones(9);
   collisions::embedded_state(e, x, v, inv_mass);
-  collisions::append_surface(m, "pinched", t, x, v, inv_mass, false, {}, {}, &e);
+  collisions::append_surface(m, "pinched", t, x, v, inv_mass, false, {}, &e);
   EXPECT_FALSE(collisions::joined(m, 0, 3));  // 0 leans toward node 7, on which 3 was made
   EXPECT_TRUE(collisions::joined(m, 1, 4));   // both made on node 8
   e.on.clear();                               // no flags: every weighted node counts
   CollisionMesh all;
-  collisions::append_surface(all, "pinched", t, x, v, inv_mass, false, {}, {}, &e);
+  collisions::append_surface(all, "pinched", t, x, v, inv_mass, false, {}, &e);
   EXPECT_TRUE(collisions::joined(all, 0, 3));
 }
 

@@ -943,3 +943,107 @@ TEST(SelfCollisionSettings, RejectsBadValues) {
   s.tangle_patience = 0;
   EXPECT_THROW(validate(s), std::invalid_argument);
 }
+
+namespace {
+// Two tets sharing the interior face (a, b, c) in the plane z = 0: tet (a, b, c, d) above it, tet
+// (a, b, c, e) below; every node is on the boundary. Node order: a, b, c, d, e.
+SimObject tet_pair() {
+  Points X(5, 3);
+  X << 0, 0, 0, 0.1, 0, 0, 0, 0.1, 0, 0.03, 0.03, 0.1, 0.03, 0.03, -0.1;
+  Tets T(2, 4);
+  T << 0, 1, 2, 3, 0, 2, 1, 4;
+  invfem::TetMesh mesh{X, T, "pair"};
+  validate_and_orient(mesh);
+  SolidObjectParams p;
+  p.material = invfem::test::soft_material();
+  return make_solid_object("pair", mesh, p);
+}
+
+// One step of `pass` on a one-object world whose nodes go from `start` to `end`.
+FrameReport step_pair(SelfCollisionPass& pass, std::vector<SimObject>& objects, const Points& start, const Points& end,
+                      double t, double dt) {
+  SimObject& o = objects[0];
+  o.body.x = end;
+  o.body.v = (end - start) / dt;
+  o.refresh_surface();
+  std::vector<std::shared_ptr<KinematicBody>> none;
+  std::vector<Points> none_start;
+  FrameReport report;
+  pass.after_step(objects, StepPassInput{{start}, none, none_start, t, dt}, report);
+  return report;
+}
+}  // namespace
+
+// A solid that starts mirrored (every tet inverted, every node on the boundary: inside out
+// without crossing itself) can only recover by passing boundary nodes through its own boundary
+// faces. Its inverted tets found at a start the layer did not make are `recovering`
+// (collision_mesh.hpp): their nodes are no pairs until the tet is sound again, on later steps
+// too. Under the plain cloth rule d and e would be stopped at each other's faces.
+TEST(SelfCollisionPass, LetsAMirroredSolidTurnBackThroughItself) {
+  std::vector<SimObject> objects;
+  objects.push_back(tet_pair());
+  const Points rest = objects[0].body.x;
+  Points mirrored = rest;
+  mirrored.col(2) *= -1;  // d below the plane, e above: both tets inverted
+  const double dt = 0.01;
+  SelfCollisionPass pass({});
+  // A first step that does not move (a start the layer did not make), then the way back.
+  FrameReport still = step_pair(pass, objects, mirrored, mirrored, 0, dt);
+  EXPECT_EQ(still.collisions.unresolved_steps, 0);
+  FrameReport back = step_pair(pass, objects, mirrored, rest, dt, dt);
+  EXPECT_EQ(back.collisions.unresolved_steps, 0);
+  for (int n = 0; n < 5; ++n)
+    EXPECT_TRUE(objects[0].body.x.row(n).isApprox(rest.row(n), 1e-12)) << "node " << n << " held: "
+                                                                         << objects[0].body.x.row(n);
+}
+
+// A tet that inverts while the layer watches (d pushed through the interior face into the
+// other tet: no boundary crossing) is no exception: d is stopped at e's boundary face. A
+// checkpoint keeps that knowledge (save_state / restore_state): a pass restored from it stops d
+// the same, bit for bit, while a pass that saw no earlier step takes the inverted tet for a
+// mirrored start and lets d through.
+TEST(SelfCollisionPass, ACheckpointKeepsWhichTetsRecover) {
+  const double dt = 0.01;
+  auto fresh_objects = [] {
+    std::vector<SimObject> objects;
+    objects.push_back(tet_pair());
+    return objects;
+  };
+  std::vector<SimObject> a_objects = fresh_objects();
+  const Points rest = a_objects[0].body.x;
+  Points inside = rest;  // d just below the shared face, inside tet (a, b, c, e)
+  inside.row(3) << 0.03, 0.03, -0.03;
+  Points through = rest;  // d out of the pair through e's boundary face (a, b, e)
+  through.row(3) << 0.03, -0.05, -0.05;
+  // > 0: d on the pair's side of the plane of (a, b, e).
+  auto inside_abe = [](const Points& x) {
+    const Vec3 a = x.row(0).transpose(), b = x.row(1).transpose(), d = x.row(3).transpose(), e = x.row(4).transpose();
+    return (d - a).dot((b - a).cross(e - a));
+  };
+  ASSERT_GT(inside_abe(inside), 0);
+  ASSERT_LT(inside_abe(through), 0);
+
+  SelfCollisionPass a({});
+  FrameReport first = step_pair(a, a_objects, rest, inside, 0, dt);
+  ASSERT_EQ(first.collisions.unresolved_steps, 0);
+  ASSERT_TRUE(a_objects[0].body.x.row(3).isApprox(inside.row(3), 1e-12)) << "no boundary event: d goes where sent";
+  const Points after_first = a_objects[0].body.x;
+  StateWriter saved;
+  a.save_state(saved);
+
+  std::vector<SimObject> b_objects = fresh_objects();
+  b_objects[0].body.x = after_first;
+  SelfCollisionPass b({});
+  StateReader in(saved.bytes());
+  b.restore_state(in, b_objects);
+  EXPECT_TRUE(in.at_end());
+  std::vector<SimObject> c_objects = fresh_objects();
+  SelfCollisionPass c({});
+
+  step_pair(a, a_objects, after_first, through, dt, dt);
+  step_pair(b, b_objects, after_first, through, dt, dt);
+  step_pair(c, c_objects, after_first, through, dt, dt);
+  EXPECT_GT(inside_abe(a_objects[0].body.x), 0) << "d crossed e's boundary face";
+  EXPECT_EQ(b_objects[0].body.x, a_objects[0].body.x);
+  EXPECT_TRUE(c_objects[0].body.x.row(3).isApprox(through.row(3), 1e-12)) << c_objects[0].body.x.row(3);
+}

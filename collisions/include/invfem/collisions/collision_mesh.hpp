@@ -24,7 +24,16 @@
 //                        through each other so the element could govern them: every crossing on
 //                        buddha_gears (quick: 2,044 pairs over 58 frames) and torus_puddle (quick:
 //                        1,837 over 17) came from it; without it both run free of crossings, invert
-//                        (at most 59 and 48 tets) and recover
+//                        (at most 59 and 48 tets) and recover. One exception, `recovering` below
+//   recovering  sorted (a, b), a < b, or empty: the vertex pairs of a solid's tets that are
+//                        inverted at the step's start and have all four nodes on the boundary
+//                        (SelfCollisionPass::mark_recovering), joined for the step. Such a tet
+//                        has no interior node to recover through: a solid that starts mirrored
+//                        (a reflected initial shape, every node on the boundary) is inside out
+//                        without crossing itself, and only gets back by passing boundary nodes
+//                        through its own boundary faces. Under the cloth rule a boundary tet
+//                        never inverts through the boundary, so this releases nothing on a
+//                        start the layer made sound
 //   welds                the surfaces' seam points (world.hpp Weld), global indices
 //   surface_of  #V       which surface (index into `surfaces`) a vertex belongs to
 //   triangle_edges  #F x 3   the global edge id of each triangle's local edge k (corner k to
@@ -75,6 +84,7 @@
 //                        body); its pairs with other cloth stay, so it cannot cross the cloth
 #include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "invfem/collisions/candidates/candidates.hpp"
@@ -114,6 +124,7 @@ struct CollisionMesh {
   Tris triangle_edges;
   std::vector<int> weld_offsets{0}, weld_partners;
   std::vector<Weld> welds;  // every surface's welds, in global vertex indices
+  std::vector<std::pair<int, int>> recovering;
   std::vector<int> surface_of;
   std::vector<VertexFaceCandidate> exempt_vf;
   std::vector<EdgeEdgeCandidate> exempt_ee;
@@ -230,10 +241,13 @@ inline bool embedded_linked(const CollisionMesh& m, int a, int b) {
   return false;
 }
 
-// True when vertices a and b are one vertex, welded, or embedded vertices on a common node.
+// True when vertices a and b are one vertex, welded, embedded vertices on a common node, or
+// nodes of a recovering tet (CollisionMesh::recovering).
 inline bool joined(const CollisionMesh& m, int a, int b) {
   if (a == b || listed(m.weld_offsets, m.weld_partners, a, b)) return true;
-  return m.has_embedding() && m.is_embedded(a) && m.is_embedded(b) && embedded_linked(m, a, b);
+  if (m.has_embedding() && m.is_embedded(a) && m.is_embedded(b) && embedded_linked(m, a, b)) return true;
+  return !m.recovering.empty() &&
+         std::binary_search(m.recovering.begin(), m.recovering.end(), std::pair<int, int>(std::minmax(a, b)));
 }
 
 // True when the two primitives (vertex lists) are adjacent: some vertex of one is joined to

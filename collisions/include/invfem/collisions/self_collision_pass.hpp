@@ -29,7 +29,9 @@
 // most of the layer's cost on a scene without contact) run only when the last step let pairs go
 // (tangles, body crossings), left a step unresolved, or did not end where this step
 // starts (the first step, a rebuilt mesh, another pass moved the surfaces).
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,6 +68,12 @@ class SelfCollisionPass final : public StepPass {
  public:
   explicit SelfCollisionPass(SelfCollisionSettings settings);
   void after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport& report) override;
+  // Checkpoints: what carries over from one step to the next (the last step's end end_, whether
+  // it let pairs go, the tangles' ages, the recovering tets), so a resumed run continues as the
+  // one never stopped would. A checkpoint written before this state was kept (an empty blob)
+  // resumes as a fresh start: the searches run and inverted boundary tets count as recovering.
+  void save_state(StateWriter& out) const override;
+  void restore_state(StateReader& in, std::vector<SimObject>& objects) override;
   const SelfCollisionSettings& settings() const { return settings_; }
 
  private:
@@ -83,6 +91,12 @@ class SelfCollisionPass final : public StepPass {
   void resolve(double dt, FrameReport::Collisions& report, const Points& v_in, Points& v, bool have_candidates,
                const ZoneConstraint& constrain);
 
+  // Sets mesh_.recovering (collision_mesh.hpp): the vertex pairs of the tets in boundary_tets_
+  // that are inverted at the step's start (mesh_.x0) and were already so at a start the layer did
+  // not make (fresh: !started_where_ended(): the first step, a rebuilt mesh, surfaces another
+  // pass moved), kept in recovering_tets_ until they are sound again. Returns the number of pairs.
+  int mark_recovering(bool fresh);
+
   SelfCollisionSettings settings_;
   BroadPhase broad_phase_;
   CollisionMesh mesh_;
@@ -93,6 +107,8 @@ class SelfCollisionPass final : public StepPass {
   // another pass moved). Otherwise the last step ended free of intersections (self_collision_pass
   // stage 4's guarantee) and the searches would find nothing: they are skipped.
   bool may_start_crossed() const;
+  // True when the step starts where the last one ended, bit for bit (end_).
+  bool started_where_ended() const { return end_.rows() == mesh_.x0.rows() && end_ == mesh_.x0; }
   bool left_crossable_ = true;
   TangleAges tangle_ages_;  // the crossings at the last step's start and how long each has lasted
   Points end_;  // mesh_.x0 + dt v of the last step, #V x 3
@@ -104,6 +120,19 @@ class SelfCollisionPass final : public StepPass {
   // a kinematic body) and its embedding (num_embedded 0 unless it is a cut solid's).
   std::vector<std::vector<int>> vertex_nodes_;
   std::vector<SurfaceEmbedding> embeddings_;
+  // The tets of every solid (not cut) whose four nodes are all boundary vertices, as global
+  // vertex indices in the tet's node order (positively oriented at rest, solids/tet_mesh.hpp).
+  std::vector<std::array<int, 4>> boundary_tets_;
+  std::vector<char> recovering_tets_;  // per boundary_tets_ entry: 1 while it recovers
+  // What restore_state read, applied after the first gather() (which rebuilds the mesh) if the
+  // mesh has the saved sizes.
+  struct Resumed {
+    Points end;
+    bool left_crossable = true;
+    TangleAges tangle_ages;
+    std::vector<char> recovering_tets;
+  };
+  std::optional<Resumed> resumed_;
   Candidates candidates_;
   std::vector<std::pair<int, int>> edge_triangles_;
 };

@@ -18,20 +18,19 @@ namespace {
 
 const std::filesystem::path kOut = INVFEM_SCENE_DIR;
 
-// Every frame: no cape triangle crosses a Buddha triangle, the cape never crosses itself; the
-// Buddha's boundary crosses itself only while the ball squashes it (a tet folding its boundary
-// through itself) and is clean at the start and the end.
-TEST(BuddhaCape, TheCapeNeverCrossesTheBuddhaOrItself) {
+// Every frame: no cape triangle crosses a Buddha triangle, the cape never crosses itself, and
+// the Buddha's boundary never crosses itself, while the ball squashes it too (the boundary is
+// handled as a cloth: its tets invert through the interior, collision_mesh.hpp).
+TEST(BuddhaCape, NothingCrossesTheBuddhaTheCapeOrItself) {
   const nlohmann::json rows = read_json(kOut / "check.json");
   const Csv csv = read_csv(kOut / "energies.csv");
   ASSERT_EQ(rows.size(), csv.rows());
   for (const auto& row : rows) {
     const int f = row["frame"].get<int>();
     EXPECT_EQ(row["self"]["cape"].get<long long>(), 0) << "frame " << f;
+    EXPECT_EQ(row["self"]["buddha"].get<long long>(), 0) << "frame " << f;
     for (const auto& c : row["cross"]) EXPECT_EQ(c["count"].get<long long>(), 0) << "frame " << f << ": " << c;
   }
-  EXPECT_EQ(rows.front()["total"].get<long long>(), 0);
-  EXPECT_EQ(rows.back()["total"].get<long long>(), 0);
 }
 
 // The attached cape vertices (the scene's box on the cape's frame 0) lie off the Buddha, so each

@@ -8,8 +8,9 @@
 // collision processing on the exact shape only.
 //
 // Per step, with x0 the surfaces at the step's start and v = (x(n+1) - x0) / dt the step's
-// average velocity (collisions-BFA02.md section 1), after releasing the pairs
-// that can undo each tangle at x0 (an edge through a face of a solid's boundary:
+// average velocity (collisions-BFA02.md section 1), after joining the nodes of recovering tets
+// (inverted since a start the layer did not make, every node on the boundary:
+// CollisionMesh::recovering), releasing the pairs that can undo each tangle at x0 (an edge through a face of a solid's boundary:
 // candidates/tangles.hpp), releasing a cloth's crossings with a kinematic body
 // at x0 from their pairs with the body (CollisionMesh::released, the recovery from an earlier
 // step's fail-safe failure; stats `body_crossings`) and holding those an analytic collider holds (infinite mass; a
@@ -27,7 +28,7 @@
 // intersections; then the end state is too (up to the fail-safe's iteration cap, reported).
 // Hence the tangle and body-crossing searches at x0 (edge-triangle tests over the whole surface,
 // most of the layer's cost on a scene without contact) run only when the last step let pairs go
-// (tangles, body crossings), left a step unresolved, or did not end where this step
+// (recovering tets, tangles, body crossings), left a step unresolved, or did not end where this step
 // starts (the first step, a rebuilt mesh, another pass moved the surfaces).
 #include <array>
 #include <cstdint>

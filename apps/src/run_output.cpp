@@ -165,14 +165,14 @@ void RunOutput::write_stats(int frame, const World& world, const FrameReport& r,
                 "\"self_collision\":{\"candidates\":%lld,\"proximity_impulses\":%lld,\"ccd_hits\":%lld,"
                 "\"impact_zones\":%d,\"largest_zone\":%d,\"unresolved_steps\":%d,\"tangled_pairs\":%lld,\"body_crossings\":%lld,"
                 "\"collider_projections\":%lld,"
-                "\"seam_impulses\":%lld},"
+                "\"seam_impulses\":%lld,\"limited_vertices\":%lld},"
                 "\"seconds\":{\"simulate\":%.6f,\"self_collision\":%.6f,\"measure\":%.6f,\"write\":%.6f,\"render\":%.6f}}\n",
                 frame, world.time(), r.substeps, r.cg_iterations, r.cg_all_converged ? "true" : "false",
                 r.colliding_nodes, r.elements.inverted, r.elements.elements, r.elements.min_det_F, r.elements.yielded,
                 r.elements.yielded_hinges, r.newton_iterations, r.newton_capped, r.newton_worst_residual, r.collisions.candidates,
                 r.collisions.proximity_impulses, r.collisions.ccd_hits, r.collisions.impact_zones,
                 r.collisions.largest_zone, r.collisions.unresolved_steps, r.collisions.tangled_pairs, r.collisions.body_crossings,
-                r.collisions.collider_projections, r.collisions.seam_impulses, t.simulate, r.collisions.seconds, t.measure,
+                r.collisions.collider_projections, r.collisions.seam_impulses, r.collisions.limited_vertices, t.simulate, r.collisions.seconds, t.measure,
                 t.write, t.render);
   stats_ += line;
   atomic_write(dir_ / "stats.jsonl", stats_);

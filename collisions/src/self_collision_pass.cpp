@@ -187,6 +187,25 @@ int SelfCollisionPass::mark_recovering(bool fresh) {
   return static_cast<int>(mesh_.recovering.size());
 }
 
+int limit_failed_step(const CollisionMesh& mesh, double dt, double thickness, const Points& v_in, Points& v,
+                      std::vector<int>& projected_at) {
+  // The farthest any vertex moved in the step before the layer (kinematic ones included), plus the
+  // thickness: what a working response could need to move a vertex by.
+  double reach = 0;
+  for (Eigen::Index i = 0; i < v_in.rows(); ++i) reach = std::max(reach, dt * v_in.row(i).norm());
+  const double bound = reach + thickness;
+  int limited = 0;
+  for (Eigen::Index i = 0; i < v.rows(); ++i) {
+    if (!mesh.movable(static_cast<int>(i)) || mesh.is_embedded(static_cast<int>(i))) continue;
+    if (!(dt * (v.row(i) - v_in.row(i)).norm() > bound)) continue;
+    v.row(i) = v_in.row(i);
+    if (static_cast<std::size_t>(i) < projected_at.size()) projected_at[static_cast<std::size_t>(i)] = -1;
+    ++limited;
+  }
+  if (limited > 0) sync_embedded(mesh, v);
+  return limited;
+}
+
 bool SelfCollisionPass::may_start_crossed() const {
   // The last step's end, bit for bit: nothing moved the surfaces in between (another pass, a
   // restored checkpoint), and the mesh is the one it ended on (a rebuild leaves end_ empty).
@@ -352,6 +371,7 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
     };
   const long long unresolved_before = r.unresolved_steps;
   resolve(dt, r, v_in, v, tangles == 0 && crossings == 0, keep_out);
+  if (r.unresolved_steps > unresolved_before) r.limited_vertices += limit_failed_step(mesh_, dt, settings_.thickness, v_in, v, projected_at);
   // What the next step's start may hold (may_start_crossed): a crossing only where this step let
   // pairs go (recovering tets, tangles, body crossings) or its fail-safe gave up.
   left_crossable_ = recovering > 0 || tangles > 0 || crossings > 0 || r.unresolved_steps > unresolved_before;

@@ -1047,3 +1047,29 @@ TEST(SelfCollisionPass, ACheckpointKeepsWhichTetsRecover) {
   EXPECT_EQ(b_objects[0].body.x, a_objects[0].body.x);
   EXPECT_TRUE(c_objects[0].body.x.row(3).isApprox(through.row(3), 1e-12)) << c_objects[0].body.x.row(3);
 }
+
+// A step the fail-safe could not finish puts back the step's own motion on every vertex the layer
+// moved further than any vertex moved in the step (plus the thickness); the others, and vertices
+// of infinite mass, keep what the layer gave them.
+TEST(SelfCollisionPass, AFailedStepMovesNoVertexFurtherThanTheStepDid) {
+  Points x(4, 3), v_in(4, 3);
+  x << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1;
+  v_in << 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0;  // vertex 1 moves fastest: 1 m/s
+  Tris t(2, 3);
+  t << 0, 1, 2, 0, 1, 3;
+  Eigen::VectorXd inv_mass = Eigen::VectorXd::Ones(4);
+  inv_mass(3) = 0;  // pinned: not its to move
+  CollisionMesh mesh;
+  append_surface(mesh, "sheet", t, x, v_in, inv_mass, false);
+  const double dt = 0.01, thickness = 0.001;  // bound: 0.01 + 0.001 m
+  Points v = v_in;
+  v.row(0) << 0, 1.05, 0;   // moved 0.0105 m by the layer: kept
+  v.row(2) << 0, 0, 73;     // 0.73 m: put back
+  v.row(3) << 50, 0, 0;     // infinite mass: left alone (the layer never moves it)
+  std::vector<int> projected_at = {-1, -1, 4, -1};
+  EXPECT_EQ(limit_failed_step(mesh, dt, thickness, v_in, v, projected_at), 1);
+  EXPECT_EQ(v.row(0), Eigen::RowVector3d(0, 1.05, 0));
+  EXPECT_EQ(v.row(2), v_in.row(2));
+  EXPECT_EQ(projected_at[2], -1);
+  EXPECT_EQ(v.row(3), Eigen::RowVector3d(50, 0, 0));
+}

@@ -65,6 +65,19 @@ struct SelfCollisionSettings {
 // distance not below the thickness, negative friction, non-positive counts).
 void validate(const SelfCollisionSettings& settings);
 
+// In a step the impact zones could not resolve (left with collisions whatever is done), puts
+// back the step's own velocity v_in on every vertex the layer moved further than any vertex
+// moved in the step before it, plus the thickness. A failing fail-safe otherwise adds up its
+// rounds' moves: a cape pressed between a flattened solid (infinite mass to it) and the ground
+// was translated out of the ground and back round after round, 0.73 m in one step, and flung
+// to 10^8 m within two frames (the quick mass-spring cape, README "Baselines"). Returns how
+// many vertices were put back (stats `limited_vertices`).
+// mesh: the step's CollisionMesh (movable, embedded vertices: these follow their nodes, synced);
+// v_in, v: #V x 3 average velocities before and after the layer; projected_at: per vertex, its
+// collider projection (-1 none), cleared where v is put back.
+int limit_failed_step(const CollisionMesh& mesh, double dt, double thickness, const Points& v_in, Points& v,
+                      std::vector<int>& projected_at);
+
 class SelfCollisionPass final : public StepPass {
  public:
   explicit SelfCollisionPass(SelfCollisionSettings settings);

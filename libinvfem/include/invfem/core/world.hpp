@@ -212,6 +212,7 @@ struct FrameReport {
     long long body_crossings = 0;        // a cloth's edge-triangle crossings with a kinematic body at a step's start (released)
     long long collider_projections = 0;  // vertices the layer moved into an analytic collider, put back
     long long seam_impulses = 0;         // welds whose opening by the layer's impulses was undone (response/seams.hpp)
+    long long limited_vertices = 0;      // vertices of unresolved steps put back to the step's own motion
     double seconds = 0;
   } collisions;
 };

@@ -25,15 +25,19 @@
 //                        buddha_gears (quick: 2,044 pairs over 58 frames) and torus_puddle (quick:
 //                        1,837 over 17) came from it; without it both run free of crossings, invert
 //                        (at most 59 and 48 tets) and recover. One exception, `recovering` below
-//   recovering  sorted (a, b), a < b, or empty: the vertex pairs of a solid's tets that are
-//                        inverted at the step's start and have all four nodes on the boundary
+//   recovering  sorted (a, b), a < b, or empty: the vertex pairs of a solid's tets that have
+//                        all four nodes on the boundary and are inverted at the step's start, and
+//                        were so already at a start the layer did not make (the first step, a
+//                        rebuilt or resumed mesh), until they are sound again
 //                        (SelfCollisionPass::mark_recovering), joined for the step. Such a tet
 //                        has no interior node to recover through: a solid that starts mirrored
 //                        (a reflected initial shape, every node on the boundary) is inside out
 //                        without crossing itself, and only gets back by passing boundary nodes
-//                        through its own boundary faces. Under the cloth rule a boundary tet
-//                        never inverts through the boundary, so this releases nothing on a
-//                        start the layer made sound
+//                        through its own boundary faces. A tet that inverts while the layer
+//                        watches (through an interior face) is no exception: it inverted without
+//                        its boundary crossing, and can recover so. Joining every inverted
+//                        all-boundary tet instead let boundaries cross (quick buddha_gears: 482
+//                        crossing pairs, torus_puddle: 284; with this rule 0 and 0)
 //   welds                the surfaces' seam points (world.hpp Weld), global indices
 //   surface_of  #V       which surface (index into `surfaces`) a vertex belongs to
 //   triangle_edges  #F x 3   the global edge id of each triangle's local edge k (corner k to

@@ -248,6 +248,36 @@ TEST(Ccd, HardQueriesTakeBoundedWork) {
   EXPECT_EQ(toi, 0);
 }
 
+TEST(Ccd, NearMissThatOnlyUOrVCanSettle) {
+  // A query of the full-resolution buddha_cape's impact zones: a body vertex 7.7e-6 m off the
+  // plane of a cape triangle it rests against and 0.254 mm outside one of its edges, both carried
+  // 33 mm along in the step (the distance stays 0.254 mm throughout). With min_distance 1e-5 the
+  // plane cannot exclude it; only refining u and v can, and the time-first search refined every
+  // slice of time: it ran out of its 10,000 boxes (a conservative hit, which kept an impact zone
+  // colliding for 75 rounds) and needed 557,079 boxes to answer. The retry splitting where F
+  // changes most answers it in about 40 (inclusion_search.hpp).
+  const Vec3 p0(0.148422021803607, 0.64006362298616049, -0.18636232437677233);
+  const Vec3 a0(0.15105096756013198, 0.63388876562949803, -0.1903893269467333);
+  const Vec3 b0(0.14942594726809724, 0.6398299311280361, -0.18628605404098841);
+  const Vec3 c0(0.14693069234934283, 0.63991735416423445, -0.18687649970867634);
+  const Vec3 p1(0.14294871345815219, 0.63364070480585433, -0.21874382379578702);
+  const Vec3 a1(0.1455657929431638, 0.62724375517218678, -0.22245473738359905);
+  const Vec3 b1(0.1439560622654249, 0.63341697375430506, -0.21866864851849452);
+  const Vec3 c1(0.14145057302261396, 0.6334533109702315, -0.21922642247838162);
+  CcdSettings s;
+  s.min_distance = 1e-5;
+  s.time_tolerance = 1e-4;  // the self-collision pass's settings
+  s.max_iterations = 10'000;
+  CcdStats stats;
+  double toi = 0;
+  EXPECT_FALSE(vertex_face_ccd(p0, a0, b0, c0, p1, a1, b1, c1, s, toi, stats));
+  EXPECT_FALSE(stats.exhausted);
+  EXPECT_LT(stats.boxes, 10'000 + 200);  // the time-first search's budget, then the retry's few
+  // Brought within the distance (the vertex moved onto the edge at the step's end), it is a hit.
+  const Vec3 onto = b1 + 0.5 * (c1 - b1);
+  EXPECT_TRUE(vertex_face_ccd(p0, a0, b0, c0, onto, a1, b1, c1, s, toi, stats));
+}
+
 // Thousands of random queries with known answers: hits must be found (toi <= the constructed
 // contact time), misses separated by more than the tolerance must not be reported.
 TEST(Ccd, RandomQueriesWithKnownAnswers) {

@@ -11,6 +11,8 @@
 
 #include "../union_find.hpp"
 #include "invfem/collisions/ccd/candidate_ccd.hpp"
+#include "invfem/collisions/distance/edge_edge.hpp"
+#include "invfem/collisions/distance/point_triangle.hpp"
 #include "invfem/collisions/response/ccd_impulses.hpp"
 #include "invfem/collisions/response/seams.hpp"
 #include "invfem/collisions/response/zone_following.hpp"
@@ -30,15 +32,44 @@ Vec3 pseudo_solve(const Mat3& I, const Vec3& L) {
   return es.eigenvectors() * y;
 }
 
-// INVFEM_DEBUG_ZONES=1: the loop prints to stderr the pairs still colliding in its last two
-// rounds (each vertex: c cloth / k kinematic, its index in its surface, its zone, the zone's
-// rule) and, per step, the zones that were left colliding. A diagnostic for the fail-safe.
+// INVFEM_DEBUG_ZONES=1: the loop prints to stderr each following zone's own colliding pairs
+// (print_pair), the pairs still colliding in its last two rounds (each vertex: c movable /
+// k kinematic, its index in its surface, its zone, the zone's rule) and, per step, the zones that
+// were left colliding. A diagnostic for the fail-safe.
 bool debug_zones() {
   static const bool on = [] {
     const char* e = std::getenv("INVFEM_DEBUG_ZONES");
     return e && *e && *e != '0';
   }();
   return on;
+}
+
+// INVFEM_DEBUG_ZONES, for a following zone's own colliding pair: the pair's distance at the
+// step's start and end and at the contact time its CCD reports, each vertex's level and surface,
+// then the pair as one `invfem ccd` query line (to replay it: grep, strip "[zones] query ").
+template <class Candidate>
+void print_pair(const CollisionMesh& m, const Candidate& c, const Points& v, double dt, const CcdSettings& s) {
+  constexpr bool vf = std::is_same_v<Candidate, VertexFaceCandidate>;
+  const auto ids = candidate_vertices(m, c);  // vertex-face: the face's three, then the vertex
+  auto x = [&](int j, double t) { return m.position(ids[static_cast<std::size_t>(j)], v, t, dt); };
+  auto distance = [&](double t) {
+    if constexpr (vf)
+      return point_triangle_proximity(x(3, t), x(0, t), x(1, t), x(2, t)).distance;
+    else
+      return edge_edge_proximity(x(0, t), x(1, t), x(2, t), x(3, t)).distance;
+  };
+  double toi = 0;
+  candidate_ccd(m, c, v, dt, s, toi);
+  std::fprintf(stderr, " d0 %.3g d1 %.3g toi %.3g d(toi) %.3g levels", distance(0), distance(1), toi, distance(toi));
+  for (int i : ids) std::fprintf(stderr, " %d/s%d", m.level(i), m.surface_of[static_cast<std::size_t>(i)]);
+  std::fprintf(stderr, "\n[zones] query %s", vf ? "vf" : "ee");
+  const int order[4] = {vf ? 3 : 0, vf ? 0 : 1, vf ? 1 : 2, vf ? 2 : 3};  // `invfem ccd`: vf lists the vertex first
+  for (double t : {0.0, 1.0})
+    for (int j : order) {
+      const Vec3 q = x(j, t);
+      std::fprintf(stderr, " %.17g %.17g %.17g", q(0), q(1), q(2));
+    }
+  std::fprintf(stderr, "\n");
 }
 
 }  // namespace
@@ -184,7 +215,8 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
               std::fprintf(stderr, " %c%d", m.movable(i) ? 'c' : 'k',
                            i - m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(i)])].first_vertex);
             const Vec3 p = m.start(ids[3]);
-            std::fprintf(stderr, " at (%.4f %.4f %.4f)\n", p(0), p(1), p(2));
+            std::fprintf(stderr, " at (%.4f %.4f %.4f)", p(0), p(1), p(2));
+            print_pair(m, list[k], v, dt, s);
           }
           if constexpr (std::is_same_v<std::decay_t<decltype(list[k])>, VertexFaceCandidate>)
             own_hits.vf.push_back(list[k]);

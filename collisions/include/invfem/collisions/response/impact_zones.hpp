@@ -28,7 +28,9 @@
 // moves with its element copies and zones sharing a node are one zone.
 // Pairs within one rigid zone of movable vertices move rigidly from an intersection-free start
 // and are not tested again. Each round re-detects its candidates with the broad phase on the
-// current velocities (a zone's motion can carry a vertex out of its first swept box).
+// current velocities (a zone's motion can carry a vertex out of its first swept box), and runs
+// the CCD again only on the pairs that collided in the last round or hold a vertex whose
+// velocity or rule changed since (the others would answer as they did: impact_zones.cpp).
 #include <functional>
 #include <vector>
 

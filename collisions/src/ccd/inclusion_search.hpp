@@ -268,8 +268,8 @@ bool inclusion_search(const Vec3* const x0, const Vec3* const x1, const CcdSetti
 // The search of ccd.hpp: time first, and when that runs out of boxes, once more splitting where F
 // changes most, whose answer is taken if it completes (either order's answer is exact up to the
 // tolerances; an exhausted one is only a conservative hit). Why: a near miss that only u or v can
-// settle while F hardly changes along t (a cloth vertex within min_distance of the plane of a
-// triangle of the body it rests on, 0.25 mm outside one of its edges, both carried 33 mm along in
+// settle while F hardly changes along t (a body vertex within min_distance of the plane of a
+// cape triangle resting on the body, 0.25 mm outside one of its edges, both carried 33 mm along in
 // the step: the full-resolution buddha_cape) has every slice of time refined in u and v by the
 // time-first order: 557,079 boxes, against 41 by the largest change. The queries that order is
 // bad at (contacts along a continuum) are answered time first within the budget, so the retry

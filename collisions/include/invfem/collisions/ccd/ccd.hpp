@@ -41,7 +41,9 @@
 // points (d / 4: resolving u and v finer than the distance sought only costs time).
 // Otherwise it is split in two along t, u or v: among the directions still too wide, taken in
 // that order, the first whose split excludes a half, or else t (u, v) when none does. False positives are thus limited to configurations
-// within about that tolerance (plus d) of contact.
+// within about that tolerance (plus d) of contact. A query that runs out of max_iterations boxes
+// that way is searched once more taking first the direction along which F changes most, and that
+// answer is taken when it completes (src/ccd/inclusion_search.hpp says why).
 //
 // Directional exclusion: besides the three axes, a box is dropped when n.F is bounded away from
 // [-|n|_1 (d + ...), +|n|_1 (d + ...)] for one of a few directions n fitted to the image of the box
@@ -63,14 +65,14 @@ struct CcdSettings {
   // Of the normalized step [0, 1]: the width of an accepted box in time, and (times the size of
   // the query) the distance tolerance of an accepted box. Raised to 2^-40 when smaller.
   double time_tolerance = 1e-6;
-  long max_iterations = 1'000'000;  // boxes examined; when exhausted: a (conservative) hit at the
-                                    // lowest time not excluded
+  long max_iterations = 1'000'000;  // boxes examined per search (a query makes at most two, above);
+                                    // when both run out: a (conservative) hit at the lowest time not excluded
 };
 
 // What one query did (optional output of the overloads below).
 struct CcdStats {
-  long boxes = 0;           // parameter boxes examined (0 when the quick exit answered)
-  bool exhausted = false;   // max_iterations ran out: the hit reported is the conservative one
+  long boxes = 0;           // parameter boxes examined, both searches (0 when the quick exit answered)
+  bool exhausted = false;   // both searches ran out: the hit reported is the conservative one
 };
 
 // Linear trajectories over the normalized step t in [0, 1]: x(t) = x0 + t (x1 - x0).

@@ -175,8 +175,8 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
   // it was tested then (a pair exempt then is exempt now: zones only merge, and the one way out
   // of the exemption, a change of `follows`, counts as a change). The answers are exactly those
   // of testing every pair; the rounds after the first cost what the zones' moves touch, not the
-  // whole mesh (full-resolution buddha_cape: 11 million candidate tests in the 100 rounds of
-  // frame 8).
+  // whole mesh (full-resolution buddha_cape, frame 10, 100 rounds in one step: the layer 801 s ->
+  // 279 s).
   Points v_tested;
   std::vector<char> follows_tested, changed(n, 1);
   std::vector<VertexFaceCandidate> hits_vf;

@@ -22,7 +22,8 @@
 namespace invfem::app {
 
 const char* const kBenchHelp =
-    "usage: invfem bench [--quick] [--units a,b,...] [--linear cg|direct] [--json FILE] [--list]\n"
+    "usage: invfem bench [--quick] [--units a,b,...] [--linear cg|direct]\n"
+    "                    [--preconditioner auto|block_jacobi|amg] [--json FILE] [--list]\n"
     "\n"
     "Runs the benchmark work units in this process and prints a table: unit, our figure (the\n"
     "median of at least 5 repetitions), the peer's figure, the measure, the ratio (above 1 when\n"
@@ -36,6 +37,8 @@ const char* const kBenchHelp =
     "  --units LIST   only these units, comma separated (see --list)\n"
     "  --linear S     scene units: solve the implicit step's Newton systems by S, cg or direct\n"
     "                 (solver.linear; default: each scene's own)\n"
+    "  --preconditioner P  scene units: CG's preconditioner, auto, block_jacobi or amg\n"
+    "                 (solver.preconditioner; default: each scene's own)\n"
     "  --json FILE    also write the rows as a JSON list of objects: unit, ours, peer, measure,\n"
     "                 ratio (null when n/a), goal, runs, samples, note, status (ok, n/a, failed),\n"
     "                 quick; rewritten after every unit\n"
@@ -213,7 +216,7 @@ nlohmann::json to_json(const std::vector<Row>& rows, bool quick) {
 }  // namespace
 
 int bench_command(const std::vector<std::string>& raw) {
-  const ParsedArgs args = parse_args(raw, "bench", {"--json", "--units", "--linear"}, {"--help", "-h", "--quick", "--list"});
+  const ParsedArgs args = parse_args(raw, "bench", {"--json", "--units", "--linear", "--preconditioner"}, {"--help", "-h", "--quick", "--list"});
   if (args.flag("--help") || args.flag("-h")) {
     std::cout << kBenchHelp;
     return 0;
@@ -238,6 +241,10 @@ int bench_command(const std::vector<std::string>& raw) {
   const std::string linear = args.has("--linear") ? args.value("--linear") : "";
   if (args.has("--linear") && linear != "cg" && linear != "direct")
     throw InputError("bench: --linear: expected cg or direct, found \"" + linear + "\"");
+  const std::string preconditioner = args.has("--preconditioner") ? args.value("--preconditioner") : "";
+  if (args.has("--preconditioner") && preconditioner != "auto" && preconditioner != "block_jacobi" &&
+      preconditioner != "amg")
+    throw InputError("bench: --preconditioner: expected auto, block_jacobi or amg, found \"" + preconditioner + "\"");
 
   std::printf("invfem bench%s: %zu unit%s on %s, %u hardware threads\n", quick ? " --quick" : "", units.size(),
               units.size() == 1 ? "" : "s", cpu_model().c_str(), std::thread::hardware_concurrency());
@@ -251,7 +258,7 @@ int bench_command(const std::vector<std::string>& raw) {
   for (std::size_t i = 0; i < units.size(); ++i) {
     const std::string prefix = bench::strf("[%zu/%zu] %s", i + 1, units.size(), units[i].name.c_str());
     std::cerr << prefix << (units[i].unavailable.empty() ? "" : ": n/a, " + units[i].unavailable) << "\n";
-    bench::RunOptions options{quick, temp.path(), linear, [&](const std::string& line) { std::cerr << prefix << ": " << line << "\n"; }};
+    bench::RunOptions options{quick, temp.path(), linear, preconditioner, [&](const std::string& line) { std::cerr << prefix << ": " << line << "\n"; }};
     rows.push_back(run_unit(units[i], options));
     const Row& r = rows.back();
     if (r.status == "failed") {

@@ -485,7 +485,7 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   s.gravity = root.vec3("gravity", s.gravity, limits::kAcceleration);
 
   const Fields solver = root.object_or_empty("solver");
-  solver.reject_unknown({"integrator", "linear", "cfl", "max_dt", "cg_tolerance", "cg_max_iterations",
+  solver.reject_unknown({"integrator", "linear", "preconditioner", "cfl", "max_dt", "cg_tolerance", "cg_max_iterations",
                          "newton_tolerance", "newton_max_iterations", "max_substeps_per_frame"});
   s.solver.integrator = solver.string("integrator", "");
   if (!s.solver.integrator.empty() && s.solver.integrator != "itf04" && s.solver.integrator != "implicit")
@@ -493,6 +493,9 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   s.solver.linear = solver.string("linear", s.solver.linear);
   if (s.solver.linear != "cg" && s.solver.linear != "direct")
     solver.fail("linear", "\"cg\" or \"direct\"");
+  s.solver.preconditioner = solver.string("preconditioner", s.solver.preconditioner);
+  if (s.solver.preconditioner != "auto" && s.solver.preconditioner != "block_jacobi" && s.solver.preconditioner != "amg")
+    solver.fail("preconditioner", "\"auto\", \"block_jacobi\" or \"amg\"");
   s.solver.cfl = solver.number_in("cfl", s.solver.cfl, 1e-3, 1);
   const bool max_dt_given = j.contains("solver") && j["solver"].is_object() && j["solver"].contains("max_dt");
   s.solver.max_dt = solver.number_in("max_dt", s.solver.max_dt, 1e-9, 1);
@@ -799,6 +802,7 @@ nlohmann::json to_json(const Scene& s) {
   j["gravity"] = s.gravity;
   j["solver"] = {{"integrator", s.solver.integrator},
                  {"linear", s.solver.linear},
+                 {"preconditioner", s.solver.preconditioner},
                  {"cfl", s.solver.cfl},
                  {"max_dt", s.solver.max_dt},
                  {"cg_tolerance", s.solver.cg_tolerance},

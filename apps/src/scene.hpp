@@ -269,6 +269,7 @@ struct SolverSpec {
   // core/sparse_direct.hpp). CG is the default: the direct solve measured slower on the cloth
   // drapes and the dress, faster on the stiff half torus shell (README "Benchmarks").
   std::string linear = "cg";
+  std::string preconditioner = "auto";  // auto | block_jacobi | amg (implicit integrator, CG)
   double cfl = 0.5;
   double max_dt = 0.005;          // [s]; implicit default: half a frame
   double cg_tolerance = 1e-8;     // relative residual (itf04 solves; floor of the implicit forcing term)

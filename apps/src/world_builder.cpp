@@ -93,6 +93,9 @@ World build_world(const Scene& scene) {
   settings.cg = CGSettings{scene.solver.cg_tolerance, scene.solver.cg_max_iterations};
   settings.integrator = scene.solver.integrator == "implicit" ? Integrator::Implicit : Integrator::ITF04;
   settings.implicit.linear = scene.solver.linear == "direct" ? LinearSolver::Direct : LinearSolver::CG;
+  settings.implicit.preconditioner = scene.solver.preconditioner == "amg"            ? Preconditioner::Amg
+                                     : scene.solver.preconditioner == "block_jacobi" ? Preconditioner::BlockJacobi
+                                                                                     : Preconditioner::Auto;
   settings.implicit.tolerance = scene.solver.newton_tolerance;
   settings.implicit.max_newton_iterations = scene.solver.newton_max_iterations;
   settings.implicit.cg = CGSettings{std::max(scene.solver.cg_tolerance, 1e-6), scene.solver.cg_max_iterations};

@@ -189,6 +189,17 @@ void assemble(const Body& body, const std::vector<Force*>& forces, const Contact
   });
 }
 
+// The multigrid hierarchy (Preconditioner::Amg) is built at the first step after
+// restart_preconditioner() (the World calls it every frame) and rebuilt at the start of a step when
+// it is kAmgMaxAge steps old or the last step's CG needed more than kAmgStale times (plus 2) the
+// iterations per solve of the first step after the setup; at every other Newton iteration only its
+// finest level is refreshed (amg.hpp). A setup costs about as much as a few dozen V-cycles (a
+// Galerkin product per level); on the 35K-tet Buddha under its cape (4 frames of 4 steps, 1 thread)
+// a setup at every step took 14.4 s, every 4 steps 12.9 s, every 16 steps 11.1 s, CG iterations
+// 118-196, 121-229 and 172-229 a frame.
+constexpr int kAmgMaxAge = 16;
+constexpr double kAmgStale = 2;
+
 // The Newton direction: ws.dir = d with S A S d = S rhs on the free subspace of `fixed`, by the
 // settings' linear solver (ws.A assembled). CG starts from zero and stops at the Eisenstat-Walker
 // forcing term min(0.1, sqrt(|g| / |g_0|)) (floored by cg.relative_tolerance): the square root
@@ -196,8 +207,8 @@ void assemble(const Body& body, const std::vector<Force*>& forces, const Contact
 // |g| / |g_0|, whose tight solves were wasted where contacts and friction make Newton linear (quick
 // cloth_on_moving_box: 62,383 -> 29,121 CG iterations, the same Newton count); the direct solve is exact
 // and falls back to CG when the filtered matrix is found not definite. Adds its CG iterations.
-void solve_newton_system(const NodeConstraints& fixed, double g_norm, double g0, const ImplicitSettings& settings,
-                         ImplicitWorkspace& ws, StepStats& stats) {
+void solve_newton_system(const NodeConstraints& fixed, const Points& x, bool first_iteration, double g_norm, double g0,
+                         const ImplicitSettings& settings, ImplicitWorkspace& ws, StepStats& stats) {
   if (settings.linear == LinearSolver::Direct) {
     if (!ws.direct.analyzed_for(ws.A)) ws.direct.analyze(ws.A);
     if (ws.direct.factorize(ws.A, fixed)) {
@@ -205,7 +216,34 @@ void solve_newton_system(const NodeConstraints& fixed, double g_norm, double g0,
       return;
     }
   }
+  const bool amg = settings.preconditioner == Preconditioner::Amg;  // Auto: resolved by the World, else Jacobi
+  if (amg) {
+    // amg_age: the steps solved with this hierarchy so far. At a step's start, the last step's CG
+    // iterations per solve are compared with the first step's after the setup.
+    bool rebuild = !ws.amg.ready_for(ws.A) || ws.amg_rebuild;
+    if (first_iteration) {
+      rebuild = rebuild || ws.amg_age >= kAmgMaxAge;
+      if (ws.amg_solves > 0) {
+        const double rate = static_cast<double>(ws.amg_cg) / static_cast<double>(ws.amg_solves);
+        if (ws.amg_age == 1) ws.amg_baseline = rate;
+        rebuild = rebuild || rate > kAmgStale * ws.amg_baseline + 2;
+      }
+      ws.amg_cg = ws.amg_solves = 0;
+    }
+    if (rebuild) {
+      ws.amg.setup(ws.A, fixed, x);
+      ws.amg_age = 0;
+      ws.amg_rebuild = false;
+    } else {
+      ws.amg.refresh(ws.A, fixed);
+    }
+    if (first_iteration || rebuild) ++ws.amg_age;
+  }
   auto precondition = [&](const Points& r, Points& z) {
+    if (amg) {
+      ws.amg.apply(r, z);
+      return;
+    }
     parallel_for_each(ws.block_inverse.size(), kGrain, [&](std::size_t i) {
       const auto k = static_cast<Eigen::Index>(i);
       z.row(k).noalias() = (ws.block_inverse[i] * r.row(k).transpose()).transpose();
@@ -219,6 +257,8 @@ void solve_newton_system(const NodeConstraints& fixed, double g_norm, double g0,
   const CGResult res = projected_pcg(apply_A, precondition, ws.rhs, fixed, ws.dir, cg, ws.cg);
   stats.cg_iterations += res.iterations;
   stats.cg_converged = stats.cg_converged && res.converged;
+  ws.amg_cg += res.iterations;
+  ++ws.amg_solves;
 }
 
 // Newton's method on E from the iterate x (the forces evaluated there) under the filter k.fixed.
@@ -274,7 +314,7 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
     // Newton direction: (M + h^2 K + h C) d = -S grad on the free subspace.
     assemble(body, forces, k, x, x_start, h, ws);
     ws.rhs = -ws.grad;
-    solve_newton_system(fixed, g_norm, g0, settings, ws, stats);
+    solve_newton_system(fixed, x, it == 0, g_norm, g0, settings, ws, stats);
 
     // Backtracking line search on E (Armijo with c = 1e-4): A is definite, so d is a descent
     // direction of E.

@@ -45,14 +45,12 @@ void FilteredDirectSolver::analyze(const BlockSparseMatrix& A) {
   K.resize(N, N);
   K.resizeNonZeros(static_cast<Eigen::Index>(nnz));
   source_.resize(nnz);
-  diag_entry_.resize(static_cast<std::size_t>(N));
   block_row_.resize(blocks_);
   std::size_t p = 0;
   for (Eigen::Index j = 0; j < n; ++j) {
     const int begin = row_start[static_cast<std::size_t>(j)], end = row_start[static_cast<std::size_t>(j) + 1];
     for (int k = begin; k < end; ++k) block_row_[static_cast<std::size_t>(k)] = static_cast<int>(j);
     for (int c = 0; c < 3; ++c) {
-      diag_entry_[static_cast<std::size_t>(3 * j + c)] = static_cast<int>(p);
       for (int k = begin; k < end; ++k) {
         const int i = col[static_cast<std::size_t>(k)];
         if (i < j) continue;
@@ -68,8 +66,6 @@ void FilteredDirectSolver::analyze(const BlockSparseMatrix& A) {
   std::fill(K.valuePtr(), K.valuePtr() + nnz, 0.0);
 
   filtered_.assign(blocks_, Mat3::Zero());
-  filter_.assign(static_cast<std::size_t>(n), Mat3::Identity());
-  constrained_.assign(static_cast<std::size_t>(n), 0);
   rhs_.resize(N);
   sol_.resize(N);
   f_->ldlt.analyzePattern(K);
@@ -83,50 +79,20 @@ bool FilteredDirectSolver::analyzed_for(const BlockSparseMatrix& A) const {
 bool FilteredDirectSolver::factorize(const BlockSparseMatrix& A, const NodeConstraints& fixed) {
   if (!analyzed_for(A)) throw std::logic_error("sparse direct: factorize on a pattern that was not analyzed");
   factorized_ = false;
-  // S_i = I - Q Q^T with Q an orthonormal basis of node i's constrained directions (Gram-Schmidt
-  // over its Kind::Normal normals; a Kind::Full constraint fixes all three). With one constraint per
-  // node, as the implicit step makes them, this is project_free's filter exactly.
-  for (std::size_t i = 0; i < filter_.size(); ++i)
-    if (constrained_[i]) {
-      filter_[i].setIdentity();
-      constrained_[i] = 0;
-    }
-  for (const NodeConstraint& c : fixed) {
-    const auto i = static_cast<std::size_t>(c.node);
-    constrained_[i] = 1;
-    if (c.kind == NodeConstraint::Kind::Full) {
-      filter_[i].setZero();
-      continue;
-    }
-    const Vec3 q = filter_[i] * c.normal;  // the normal's part not constrained yet
-    const double len = q.norm();
-    if (len > 1e-9) filter_[i] -= (q / len) * (q / len).transpose();
-  }
-
-  // Filtered blocks S_j A_ji S_i, then K's lower triangle gathered from them.
+  filter_.assign(nodes_, fixed);
+  // Filtered blocks S_j A_ji S_i (plus I - S_j on the diagonal), then K's lower triangle gathered
+  // from them.
   const std::vector<Mat3>& blocks = A.blocks();
   const std::vector<int>& col = A.columns();
   for (std::size_t k = 0; k < blocks_; ++k) {
-    const auto j = static_cast<std::size_t>(block_row_[k]), i = static_cast<std::size_t>(col[k]);
+    const int j = block_row_[k], i = col[k];
     if (i < j) continue;
-    if (!constrained_[i] && !constrained_[j]) {
-      filtered_[k] = blocks[k];
-    } else {
-      filtered_[k].noalias() = filter_[j] * blocks[k] * filter_[i];
-    }
+    filtered_[k] = filter_.filtered(j, i, blocks[k]);
   }
   const double* f = filtered_.front().data();
   double* value = f_->K.valuePtr();
   const std::size_t nnz = source_.size();
   for (std::size_t p = 0; p < nnz; ++p) value[p] = f[source_[p]];
-  // + (I - S_j) on the diagonal blocks: entry (r, c), r >= c, of block j's column c lies r - c
-  // entries below the column's diagonal entry.
-  for (std::size_t j = 0; j < filter_.size(); ++j) {
-    if (!constrained_[j]) continue;
-    const Mat3 complement = Mat3::Identity() - filter_[j];
-    for (int c = 0; c < 3; ++c)
-      for (int r = c; r < 3; ++r) value[diag_entry_[3 * j + static_cast<std::size_t>(c)] + (r - c)] += complement(r, c);
-  }
 
   f_->ldlt.factorize(f_->K);
   if (f_->ldlt.info() != Eigen::Success) return false;
@@ -141,7 +107,7 @@ void FilteredDirectSolver::solve(const Points& r, Points& d) {
   const Eigen::Index n = nodes_;
   for (Eigen::Index i = 0; i < n; ++i) {
     Vec3 ri = r.row(i).transpose();
-    if (constrained_[static_cast<std::size_t>(i)]) ri = filter_[static_cast<std::size_t>(i)] * ri;
+    if (filter_.constrained(i)) ri = filter_.S(i) * ri;
     rhs_.segment<3>(3 * i) = ri;
   }
   sol_ = f_->ldlt.solve(rhs_);
@@ -149,7 +115,7 @@ void FilteredDirectSolver::solve(const Points& r, Points& d) {
   for (Eigen::Index i = 0; i < n; ++i) {
     Vec3 di = sol_.segment<3>(3 * i);
     // d = S d in exact arithmetic; the filter removes the rounding left in constrained components.
-    if (constrained_[static_cast<std::size_t>(i)]) di = filter_[static_cast<std::size_t>(i)] * di;
+    if (filter_.constrained(i)) di = filter_.S(i) * di;
     d.row(i) = di.transpose();
   }
 }

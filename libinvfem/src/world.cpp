@@ -151,10 +151,19 @@ double World::substeps_for(double duration) const {
   return std::max(1.0, std::ceil(duration / step_size() - 1e-9));
 }
 
+ImplicitSettings World::implicit_settings(const SimObject& o) const {
+  ImplicitSettings s = settings_.implicit;
+  if (s.preconditioner == Preconditioner::Auto)
+    s.preconditioner = o.kind == ObjectKind::Solid && o.body.x.rows() >= kAutoAmgNodes ? Preconditioner::Amg
+                                                                                         : Preconditioner::BlockJacobi;
+  return s;
+}
+
 void World::advance_to(double t_end, FrameReport& report) {
   const std::vector<ObjectKind> stage_order = {ObjectKind::Solid, ObjectKind::Cloth};
   std::vector<Points> x_start, kinematic_start, x_before_passes;
   long long taken = 0;
+  for (ImplicitWorkspace& ws : implicit_) ws.restart_preconditioner();
   // Land exactly on t_end: the steps of a frame are equal, each within every object's stable
   // step (ITF04's scheme takes a variable dt).
   while (time_ < t_end - 1e-12 * std::max(1.0, t_end)) {
@@ -189,7 +198,7 @@ void World::advance_to(double t_end, FrameReport& report) {
         const StepStats s =
             settings_.integrator == Integrator::ITF04
                 ? newmark_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, settings_.cg)
-                : implicit_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, settings_.implicit,
+                : implicit_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, implicit_settings(o),
                                 implicit_[k]);
         report.cg_iterations += s.cg_iterations;
         report.cg_all_converged = report.cg_all_converged && s.cg_converged;

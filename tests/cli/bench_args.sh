@@ -17,6 +17,7 @@ expect 2 "bench: unknown option \"--bogus\"" -- bench --bogus
 expect 2 "bench: option --units needs a value" -- bench --units
 expect 2 "bench: unexpected argument \"svd\"" -- bench svd
 expect 2 "bench: --linear: expected cg or direct, found \"lu\"" -- bench --units svd --linear lu
+expect 2 "bench: --preconditioner: expected auto, block_jacobi or amg, found \"ilu\"" -- bench --units svd --preconditioner ilu
 # Nothing was written by the failed runs.
 if [ -n "$(ls -A "$work")" ]; then
   echo "FAIL: a rejected bench left files in $work: $(ls -A "$work")"

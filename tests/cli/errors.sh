@@ -35,6 +35,8 @@ expect 2 "\$.solver.linear: expected \"cg\" or \"direct\"" -- \
   run "$(scene linear '{ "solver": {"integrator": "implicit", "linear": "lu"}, '"$solid"' }] }')" --out "$work/o"
 expect 2 "\$.solver.linear: expected a string" -- \
   run "$(scene linear_type '{ "solver": {"linear": 1}, '"$solid"' }] }')" --out "$work/o"
+expect 2 "\$.solver.preconditioner: expected \"auto\", \"block_jacobi\" or \"amg\"" -- \
+  run "$(scene preconditioner '{ "solver": {"integrator": "implicit", "preconditioner": "ilu"}, '"$solid"' }] }')" --out "$work/o"
 expect 2 "\$.gravity: expected an array of 3" -- run "$(scene grav '{ "gravity": [0, 1], '"$solid"' }] }')" --out "$work/o"
 printf 'ASCII garbage\n' > "$work/data/broken.vtk"
 expect 2 "broken.vtk" -- run "$(scene broken '{ "solids": [{"name": "t", "mesh": "data/broken.vtk"}] }')" --out "$work/o"

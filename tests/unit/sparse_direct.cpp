@@ -7,62 +7,18 @@
 
 #include <random>
 
-#include "invfem/core/block_sparse.hpp"
-#include "invfem/core/materials/neo_hookean.hpp"
-#include "invfem/core/projected_cg.hpp"
 #include "invfem/core/sparse_direct.hpp"
-#include "invfem/solids/mass.hpp"
-#include "invfem/solids/tet_solid_force.hpp"
-#include "force_checks.hpp"
-#include "test_meshes.hpp"
+#include "newton_system.hpp"
 
 namespace {
 
 using namespace invfem;
 using namespace invfem::test;
 
-// A = M + h^2 K of a 3x2x2-cell neo-Hookean block (36 nodes) deformed at random, so that the
-// stiffness couples x, y and z in every block.
-struct System {
-  TetMesh mesh = cube_cells_mesh({3, 2, 2}, 0.05);
-  BlockSparseMatrix A;
-
-  explicit System(std::mt19937& rng) {
-    TetMaterial mat{NeoHookean{1e5 / 2.6, 1e5 * 0.3 / (1.3 * 0.4)}};
-    TetSolidForce force(make_tet_rest(mesh.X, mesh.T), std::move(mat));
-    const Points x = mesh.X + random_points(mesh.X.rows(), 0.01, rng);
-    force.evaluate_at(x, 0);
-    ElementMatrices K;
-    EXPECT_TRUE(force.stiffness_matrices(K));
-    A = BlockSparseMatrix(mesh.X.rows(), {&K});
-    const double h = 1.0 / 60;
-    ElementScatter(K, A).add(K, h * h, A);
-    A.add_to_diagonal(lumped_masses(mesh.X, mesh.T, 1000.0));
-  }
-};
-
-NodeConstraint full(int node) {
-  NodeConstraint c;
-  c.node = node;
-  c.kind = NodeConstraint::Kind::Full;
-  return c;
-}
-NodeConstraint normal(int node, const Vec3& n) {
-  NodeConstraint c;
-  c.node = node;
-  c.kind = NodeConstraint::Kind::Normal;
-  c.normal = n.normalized();
-  return c;
-}
-
+NodeConstraint full(int node) { return full_constraint(node); }
+NodeConstraint normal(int node, const Vec3& n) { return normal_constraint(node, n); }
 Points cg_solve(const BlockSparseMatrix& A, const NodeConstraints& fixed, const Points& r) {
-  Eigen::VectorXd inv_diag(A.rows());
-  for (Eigen::Index i = 0; i < A.rows(); ++i) inv_diag(i) = 3 / A.diagonal(i).trace();
-  Points d = Points::Zero(r.rows(), 3);
-  const CGResult res = projected_cg([&](const Points& p, Points& Ap) { A.multiply(p, Ap); }, r, inv_diag, fixed, d,
-                                    CGSettings{1e-14, 10000});
-  EXPECT_TRUE(res.converged) << "CG residual " << res.residual;
-  return d;
+  return reference_solve(A, fixed, r);
 }
 
 double relative_difference(const Points& a, const Points& b) {
@@ -71,7 +27,7 @@ double relative_difference(const Points& a, const Points& b) {
 
 TEST(SparseDirect, EqualsProjectedCGOnAFilteredSystem) {
   std::mt19937 rng(7);
-  System sys(rng);
+  NewtonSystem sys({3, 2, 2}, rng);
   const Eigen::Index n = sys.A.rows();
   // Pins on three nodes, single normal constraints with oblique normals, and one node held along
   // two orthogonal normals (it may slide along the third axis only).
@@ -114,7 +70,7 @@ TEST(SparseDirect, EqualsProjectedCGOnAFilteredSystem) {
 
 TEST(SparseDirect, RefusesAMatrixThatIsNotDefinite) {
   std::mt19937 rng(3);
-  System sys(rng);
+  NewtonSystem sys({3, 2, 2}, rng);
   FilteredDirectSolver direct;
   direct.analyze(sys.A);
   // Flip one free node's diagonal block: the filtered matrix gets a negative pivot.
@@ -128,7 +84,7 @@ TEST(SparseDirect, RefusesAMatrixThatIsNotDefinite) {
 
 TEST(SparseDirect, FactorizeOnAnotherPatternIsAnError) {
   std::mt19937 rng(5);
-  System sys(rng);
+  NewtonSystem sys({3, 2, 2}, rng);
   FilteredDirectSolver direct;
   EXPECT_THROW(direct.factorize(sys.A, {}), std::logic_error) << "not analyzed";
   direct.analyze(sys.A);

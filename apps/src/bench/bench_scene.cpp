@@ -13,8 +13,9 @@ void set_integrator(nlohmann::json& scene, const char* integrator) {
   if (integrator) scene["solver"]["integrator"] = integrator;
 }
 
-void set_linear(nlohmann::json& scene, const std::string& linear) {
-  if (!linear.empty()) scene["solver"]["linear"] = linear;
+void set_solver(nlohmann::json& scene, const RunOptions& o) {
+  if (!o.linear.empty()) scene["solver"]["linear"] = o.linear;
+  if (!o.preconditioner.empty()) scene["solver"]["preconditioner"] = o.preconditioner;
 }
 
 }  // namespace invfem::app::bench

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 
+#include "bench/bench_unit.hpp"
 #include "invfem/core/world.hpp"
 
 namespace invfem::app::bench {
@@ -17,7 +18,8 @@ World world_from_json(const nlohmann::json& scene, const std::filesystem::path& 
 // Sets solver.integrator when `integrator` is not null; null leaves the scene's default step.
 void set_integrator(nlohmann::json& scene, const char* integrator);
 
-// Sets solver.linear when `linear` is not empty (invfem bench --linear); "" leaves the scene's default.
-void set_linear(nlohmann::json& scene, const std::string& linear);
+// Sets solver.linear and solver.preconditioner from the options (invfem bench --linear,
+// --preconditioner) where they are not empty; "" leaves the scene's default.
+void set_solver(nlohmann::json& scene, const RunOptions& o);
 
 }  // namespace invfem::app::bench

@@ -20,6 +20,7 @@ struct RunOptions {
   bool quick = false;                  // reduced length: fewer frames or passes, the same sizes
   std::filesystem::path temp_dir;      // scratch folder (generated meshes), removed after the bench
   std::string linear;                  // scene units: solver.linear ("cg", "direct"); "" = the scene's default
+  std::string preconditioner;          // scene units: solver.preconditioner; "" = the scene's default
   std::function<void(const std::string&)> progress;  // one line of progress (stderr)
 };
 

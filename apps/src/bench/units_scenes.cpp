@@ -36,7 +36,12 @@ UnitResult time_frames(World& world, double fps, int frames, const RunOptions& o
   const double mean = std::accumulate(r.samples.begin(), r.samples.end(), 0.0) / frames;
   r.note = strf("%d frames, mean %.3g s/frame, %d threads", frames, mean, tbb::this_task_arena::max_concurrency());
   if (world.settings().integrator == Integrator::Implicit)
-    r.note += world.settings().implicit.linear == LinearSolver::Direct ? ", direct Newton solves" : ", CG Newton solves";
+    r.note += world.settings().implicit.linear == LinearSolver::Direct ? ", direct Newton solves"
+              : world.settings().implicit.preconditioner == Preconditioner::Amg ? ", CG Newton solves (multigrid)"
+              : world.settings().implicit.preconditioner == Preconditioner::BlockJacobi
+                  ? ", CG Newton solves (block Jacobi)"
+                  : strf(", CG Newton solves (multigrid for solids of %lld nodes or more)",
+                         static_cast<long long>(kAutoAmgNodes));
   return r;
 }
 
@@ -101,7 +106,7 @@ nlohmann::json torus_scene(const RunOptions& o) {
       {"colliders",
        {{{"name", "ground"}, {"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 1, 0}}, {"friction", 0.3}}}}};
   set_integrator(j, kTorusIntegrator);
-  set_linear(j, o.linear);
+  set_solver(j, o);
   return j;
 }
 
@@ -124,7 +129,7 @@ UnitResult torus_115k(const RunOptions& o) {
 // lands at about t = 0.25 s (frame 7) and frames in contact cost about 5 times more (CG): the full
 // run is 50 frames (2 s), --quick 13 (6 falling, 7 in contact), so that the median is a frame in
 // contact in both.
-nlohmann::json cloth_drape_scene(int cells, int frames, const std::string& linear) {
+nlohmann::json cloth_drape_scene(int cells, int frames, const RunOptions& o) {
   nlohmann::json j = {
       {"name", "cloth_drape_" + std::to_string(cells)},
       {"fps", 25},
@@ -139,12 +144,12 @@ nlohmann::json cloth_drape_scene(int cells, int frames, const std::string& linea
            {"bending_stiffness", 1e-4}, {"bending_damping", 1e-5}}}}}},
       {"colliders", {{{"name", "ball"}, {"type", "sphere"}, {"radius", 0.25}, {"friction", 0.4}}}}};
   set_integrator(j, kClothDrapeIntegrator);
-  set_linear(j, linear);
+  set_solver(j, o);
   return j;
 }
 
 UnitResult cloth_drape(const RunOptions& o, int cells) {
-  const nlohmann::json scene = cloth_drape_scene(cells, o.quick ? 13 : 50, o.linear);
+  const nlohmann::json scene = cloth_drape_scene(cells, o.quick ? 13 : 50, o);
   World world = world_from_json(scene, o.temp_dir, scene["name"].get<std::string>());
   UnitResult r = time_frames(world, scene["fps"].get<double>(), scene["frames"].get<int>(), o);
   r.note = strf("%dx%d cells (%s triangles), ", cells, cells, count_text(2LL * cells * cells).c_str()) + r.note;
@@ -166,7 +171,7 @@ UnitResult dress_dance(const RunOptions& o) {
   nlohmann::json scene = nlohmann::json::parse(in);
   const int frames = o.quick ? 5 : 25;
   scene["frames"] = frames;
-  set_linear(scene, o.linear);
+  set_solver(scene, o);
   o.progress("loading the dress and the dancer");
   World world = world_from_json(scene, kDressDance.parent_path(), "dress_dance");
   UnitResult r = time_frames(world, scene["fps"].get<double>(), frames, o);

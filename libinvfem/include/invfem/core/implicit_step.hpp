@@ -51,6 +51,7 @@
 // input of an after-step collision pass (world.hpp, stage 4).
 #include <vector>
 
+#include "invfem/core/amg.hpp"
 #include "invfem/core/block_sparse.hpp"
 #include "invfem/core/collision_processor.hpp"
 #include "invfem/core/element_matrices.hpp"
@@ -65,8 +66,15 @@ namespace invfem {
 // forcing), or the filtered system factorized by sparse LDL^T (FilteredDirectSolver).
 enum class LinearSolver { CG, Direct };
 
+// CG's preconditioner: block Jacobi (the inverse 3x3 diagonal blocks), or one V-cycle of the
+// smoothed-aggregation multigrid of amg.hpp (its reuse: implicit_step.cpp, kAmgMaxAge). Auto is
+// resolved per object by the World (world.hpp: the multigrid for solids of kAutoAmgNodes nodes or
+// more); implicit_step takes an unresolved Auto as BlockJacobi.
+enum class Preconditioner { BlockJacobi, Amg, Auto };
+
 struct ImplicitSettings {
   LinearSolver linear = LinearSolver::CG;
+  Preconditioner preconditioner = Preconditioner::Auto;
   int max_newton_iterations = 12;
   double tolerance = 1e-4;   // relative residual of the stopping rule above
   int max_line_search = 12;  // halvings of the Newton step before giving up on descent
@@ -86,6 +94,19 @@ struct ImplicitWorkspace {
   CGWorkspace cg;
   FilteredDirectSolver direct;      // LinearSolver::Direct: analyzed at its first use on this pattern
   Points x_hat, x_trial, grad, grad_trial, dir, rhs, scratch, product;
+  AmgPreconditioner amg;            // Preconditioner::Amg
+  bool amg_rebuild = true;          // build the hierarchy at the next step (implicit_step.cpp)
+  int amg_age = 0;                  // steps solved with the hierarchy
+  long amg_cg = 0, amg_solves = 0;  // this step's CG iterations and solves
+  double amg_baseline = 0;          // CG iterations per solve in the first step after the setup
+
+  // The multigrid's hierarchy depends on the steps since it was built; after this call the next
+  // step builds it afresh, so what follows depends on the state only (the World calls it at the
+  // start of every frame: a resumed run solves as the uninterrupted one did).
+  void restart_preconditioner() {
+    amg_rebuild = true;
+    amg_cg = amg_solves = 0;
+  }
 };
 
 // Advance `body` from t to t + dt. Same precondition and constraint conventions as

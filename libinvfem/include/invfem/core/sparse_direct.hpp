@@ -1,10 +1,10 @@
 #pragma once
 // A sparse direct solve of the implicit step's filtered Newton systems, beside projected CG.
 //
-// With S the Baraff-Witkin filter of projected_cg.hpp (per node: S_i = 0 for a Kind::Full node,
-// I - n n^T for a Kind::Normal one, I for a free node), the filtered system S A S d = S r on the
-// free subspace is solved as the full-rank system (Ascher-Boxerman 2003; Tamstorf et al. 2015,
-// section 4)
+// With S the Baraff-Witkin filter of projected_cg.hpp (node_filter.hpp: per node S_i = 0 for a
+// Kind::Full node, I - n n^T for a Kind::Normal one, I for a free node), the filtered system
+// S A S d = S r on the free subspace is solved as the full-rank system (Ascher-Boxerman 2003;
+// Tamstorf et al. 2015, section 4)
 //
 //   K d = S r,   K = S A S + (I - S),
 //
@@ -29,6 +29,7 @@
 
 #include "invfem/core/block_sparse.hpp"
 #include "invfem/core/node_constraint.hpp"
+#include "invfem/core/node_filter.hpp"
 #include "invfem/core/types.hpp"
 
 namespace invfem {
@@ -62,11 +63,9 @@ class FilteredDirectSolver {
   // of A, as block index * 9 + the column-major offset of entry (c, r) in that block, where K's
   // entry is (row 3 i + r, column 3 j + c) and the block is A_ji (i >= j; A_ij = A_ji^T).
   std::vector<int> source_;
-  std::vector<int> diag_entry_;  // per scalar column 3 j + c: index of K's diagonal entry (j c, j c)
   std::vector<int> block_row_;   // per block of A: its block row j
-  std::vector<Mat3> filtered_;   // per block of A: S_j A_ji S_i (a copy of A_ji on free nodes)
-  std::vector<Mat3> filter_;     // per node: S_i
-  std::vector<char> constrained_;  // per node: S_i != I
+  std::vector<Mat3> filtered_;   // per block of A (upper triangle): K's block (j, i)
+  NodeFilter filter_;
   Eigen::VectorXd rhs_, sol_;      // 3n
   Eigen::Index nodes_ = -1;
   std::size_t blocks_ = 0;

@@ -2,11 +2,12 @@
 # A run killed with SIGKILL mid-frame and resumed gives results bit-identical to a run that was
 # never stopped (same --threads). Also: two runs with the same thread count are identical, and
 # so are runs with different thread counts (ordered reductions).
-#   resume_after_sigkill.sh INVFEM SCENE WORKDIR [FRAMES]
+#   resume_after_sigkill.sh INVFEM SCENE WORKDIR [FRAMES [RUN OPTIONS...]]
 set -euo pipefail
 invfem="$1" scene="$2" work="$3" frames="${4:-60}"
+shift $(( $# < 4 ? $# : 4 ))
 rm -rf "$work" && mkdir -p "$work"
-common=(--quick --set frames="$frames" --checkpoint-every 5 --quiet --format obj,vtu)
+common=(--quick --set frames="$frames" --checkpoint-every 5 --quiet --format obj,vtu "$@")
 kill_after=$(printf '%04d' $(( (frames / 2) / 5 * 5 )))  # a checkpoint half-way through
 last=$(printf '%04d' "$frames")
 

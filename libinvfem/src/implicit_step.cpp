@@ -200,6 +200,57 @@ void assemble(const Body& body, const std::vector<Force*>& forces, const Contact
 constexpr int kAmgMaxAge = 16;
 constexpr double kAmgStale = 2;
 
+// Preconditioner::Auto: block Jacobi, until a solve it does not finish within this many iterations;
+// that solve goes on from where it stopped, and the rest of the frame runs, under the multigrid. A
+// V-cycle costs about 6 products with A and a setup a few dozen, so the multigrid pays where block
+// Jacobi needs more than about a hundred iterations a solve: the 35K-tet Buddha (about 220) and the
+// full-resolution one (its cap of 1,000) engage it, the quick cape's Buddha (about 50) and the
+// 111K-tet torus of `invfem bench` (40 a frame collapsed, about 60 a solve at full strength; the
+// multigrid measured slower in every phase of that shot) do not.
+constexpr int kAutoProbeIterations = 100;
+
+// Prepares the multigrid for a solve (above: build, rebuild or refresh).
+void prepare_multigrid(const NodeConstraints& fixed, const Points& x, bool first_iteration, ImplicitWorkspace& ws) {
+  // amg_age: the steps solved with this hierarchy so far. At a step's start, the last step's CG
+  // iterations per solve are compared with the first step's after the setup.
+  bool rebuild = !ws.amg.ready_for(ws.A) || ws.amg_rebuild;
+  if (first_iteration) {
+    rebuild = rebuild || ws.amg_age >= kAmgMaxAge;
+    if (ws.amg_solves > 0) {
+      const double rate = static_cast<double>(ws.amg_cg) / static_cast<double>(ws.amg_solves);
+      if (ws.amg_age == 1) ws.amg_baseline = rate;
+      rebuild = rebuild || rate > kAmgStale * ws.amg_baseline + 2;
+    }
+    ws.amg_cg = ws.amg_solves = 0;
+  }
+  if (rebuild) {
+    ws.amg.setup(ws.A, fixed, x);
+    ws.amg_age = 0;
+    ws.amg_rebuild = false;
+  } else {
+    ws.amg.refresh(ws.A, fixed);
+  }
+  if (first_iteration || rebuild) ++ws.amg_age;
+}
+
+// CG on the filtered Newton system from ws.dir, preconditioned by the multigrid (prepared) or by
+// block Jacobi.
+CGResult run_cg(const NodeConstraints& fixed, bool multigrid, const CGSettings& cg, ImplicitWorkspace& ws) {
+  auto precondition = [&](const Points& r, Points& z) {
+    if (multigrid) {
+      ws.amg.apply(r, z);
+      return;
+    }
+    parallel_for_each(ws.block_inverse.size(), kGrain, [&](std::size_t i) {
+      const auto k = static_cast<Eigen::Index>(i);
+      z.row(k).noalias() = (ws.block_inverse[i] * r.row(k).transpose()).transpose();
+    });
+    project_free(fixed, z);
+  };
+  auto apply_A = [&](const Points& p, Points& Ap) { ws.A.multiply(p, Ap); };
+  return projected_pcg(apply_A, precondition, ws.rhs, fixed, ws.dir, cg, ws.cg);
+}
+
 // The Newton direction: ws.dir = d with S A S d = S rhs on the free subspace of `fixed`, by the
 // settings' linear solver (ws.A assembled). CG starts from zero and stops at the Eisenstat-Walker
 // forcing term min(0.1, sqrt(|g| / |g_0|)) (floored by cg.relative_tolerance): the square root
@@ -216,46 +267,29 @@ void solve_newton_system(const NodeConstraints& fixed, const Points& x, bool fir
       return;
     }
   }
-  const bool amg = settings.preconditioner == Preconditioner::Amg;  // Auto: resolved by the World, else Jacobi
-  if (amg) {
-    // amg_age: the steps solved with this hierarchy so far. At a step's start, the last step's CG
-    // iterations per solve are compared with the first step's after the setup.
-    bool rebuild = !ws.amg.ready_for(ws.A) || ws.amg_rebuild;
-    if (first_iteration) {
-      rebuild = rebuild || ws.amg_age >= kAmgMaxAge;
-      if (ws.amg_solves > 0) {
-        const double rate = static_cast<double>(ws.amg_cg) / static_cast<double>(ws.amg_solves);
-        if (ws.amg_age == 1) ws.amg_baseline = rate;
-        rebuild = rebuild || rate > kAmgStale * ws.amg_baseline + 2;
-      }
-      ws.amg_cg = ws.amg_solves = 0;
-    }
-    if (rebuild) {
-      ws.amg.setup(ws.A, fixed, x);
-      ws.amg_age = 0;
-      ws.amg_rebuild = false;
-    } else {
-      ws.amg.refresh(ws.A, fixed);
-    }
-    if (first_iteration || rebuild) ++ws.amg_age;
-  }
-  auto precondition = [&](const Points& r, Points& z) {
-    if (amg) {
-      ws.amg.apply(r, z);
-      return;
-    }
-    parallel_for_each(ws.block_inverse.size(), kGrain, [&](std::size_t i) {
-      const auto k = static_cast<Eigen::Index>(i);
-      z.row(k).noalias() = (ws.block_inverse[i] * r.row(k).transpose()).transpose();
-    });
-    project_free(fixed, z);
-  };
-  auto apply_A = [&](const Points& p, Points& Ap) { ws.A.multiply(p, Ap); };
   ws.dir.setZero();
   CGSettings cg = settings.cg;
   cg.relative_tolerance = std::max(settings.cg.relative_tolerance, std::min(0.1, std::sqrt(g_norm / g0)));
-  const CGResult res = projected_pcg(apply_A, precondition, ws.rhs, fixed, ws.dir, cg, ws.cg);
-  stats.cg_iterations += res.iterations;
+  bool multigrid = settings.preconditioner == Preconditioner::Amg ||
+                   (settings.preconditioner == Preconditioner::Auto && ws.amg_engaged);
+  int iterations = 0;
+  if (settings.preconditioner == Preconditioner::Auto && !multigrid && cg.max_iterations > kAutoProbeIterations) {
+    CGSettings probe = cg;
+    probe.max_iterations = kAutoProbeIterations;
+    const CGResult res = run_cg(fixed, false, probe, ws);
+    iterations = res.iterations;
+    if (!res.converged) {  // on from ws.dir under the multigrid, within the same cap
+      ws.amg_engaged = multigrid = true;
+      cg.max_iterations -= res.iterations;
+    } else {
+      stats.cg_iterations += iterations;
+      return;
+    }
+  }
+  if (multigrid) prepare_multigrid(fixed, x, first_iteration, ws);
+  const CGResult res = run_cg(fixed, multigrid, cg, ws);
+  iterations += res.iterations;
+  stats.cg_iterations += iterations;
   stats.cg_converged = stats.cg_converged && res.converged;
   ws.amg_cg += res.iterations;
   ++ws.amg_solves;

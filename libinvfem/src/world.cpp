@@ -153,9 +153,8 @@ double World::substeps_for(double duration) const {
 
 ImplicitSettings World::implicit_settings(const SimObject& o) const {
   ImplicitSettings s = settings_.implicit;
-  if (s.preconditioner == Preconditioner::Auto)
-    s.preconditioner = o.kind == ObjectKind::Solid && o.body.x.rows() >= kAutoAmgNodes ? Preconditioner::Amg
-                                                                                         : Preconditioner::BlockJacobi;
+  if (s.preconditioner == Preconditioner::Auto && o.kind != ObjectKind::Solid)
+    s.preconditioner = Preconditioner::BlockJacobi;
   return s;
 }
 

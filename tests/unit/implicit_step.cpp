@@ -139,6 +139,51 @@ TEST(ImplicitStep, MultigridPreconditionerTakesTheSameSteps) {
   RecordProperty("cg_iterations", std::to_string(cg[0]) + " block Jacobi, " + std::to_string(cg[1]) + " multigrid");
 }
 
+// Preconditioner::Auto keeps block Jacobi while its solves finish within kAutoProbeIterations (a
+// soft bar: bit-identical to block Jacobi) and engages the multigrid for the rest of the frame at the
+// first that does not (a bar 1,000 times stiffer), until restart_preconditioner.
+TEST(ImplicitStep, AutoPreconditionerEngagesTheMultigridOnlyWhereBlockJacobiStruggles) {
+  TetMesh bar = cube_cells_mesh({16, 4, 4}, 0.025);
+  Points x0 = bar.X;
+  x0.col(0) *= 1.2;
+  const NodeConstraints pins = pin_nodes_with_x_below(bar.X, 1e-9);
+  for (const double young : {1e4, 1e7}) {
+    SCOPED_TRACE("young " + std::to_string(young));
+    std::vector<Points> ends;
+    std::vector<int> cg;
+    bool engaged = false;
+    for (const Preconditioner p : {Preconditioner::BlockJacobi, Preconditioner::Auto}) {
+      ImplicitSettings settings;
+      settings.preconditioner = p;
+      settings.tolerance = 1e-6;
+      Solid s(bar, x0, young, 0.01, Vec3(0, -9.81, 0));
+      int iterations = 0;
+      for (int k = 0; k < 6; ++k) {
+        const StepStats st = s.step(1.0 / 60, pins, settings);
+        ASSERT_TRUE(st.newton_converged) << "step " << k;
+        iterations += st.cg_iterations;
+      }
+      if (p == Preconditioner::Auto) {
+        engaged = s.ws.amg_engaged;
+        s.ws.restart_preconditioner();
+        EXPECT_FALSE(s.ws.amg_engaged);
+      }
+      ends.push_back(s.body.x);
+      cg.push_back(iterations);
+    }
+    RecordProperty("cg_iterations_young_" + std::to_string(static_cast<long>(young)),
+                   std::to_string(cg[0]) + " block Jacobi, " + std::to_string(cg[1]) + " auto");
+    if (young < 1e5) {
+      EXPECT_FALSE(engaged);
+      EXPECT_EQ(ends[1], ends[0]) << "never engaged: the same bits as block Jacobi";
+    } else {
+      EXPECT_TRUE(engaged);
+      EXPECT_LT((ends[1] - ends[0]).rowwise().norm().maxCoeff(), 1e-5 * 0.4);
+      EXPECT_LT(2 * cg[1], cg[0]) << "auto " << cg[1] << ", block Jacobi " << cg[0] << " CG iterations";
+    }
+  }
+}
+
 TEST(ImplicitStep, HittingTheIterationCapIsReported) {
   TetMesh bar = cube_cells_mesh({6, 1, 1}, 0.05);
   Points x0 = bar.X;

@@ -67,14 +67,15 @@ namespace invfem {
 enum class LinearSolver { CG, Direct };
 
 // CG's preconditioner: block Jacobi (the inverse 3x3 diagonal blocks), or one V-cycle of the
-// smoothed-aggregation multigrid of amg.hpp (its reuse: implicit_step.cpp, kAmgMaxAge). Auto is
-// resolved per object by the World (world.hpp: the multigrid for solids of kAutoAmgNodes nodes or
-// more); implicit_step takes an unresolved Auto as BlockJacobi.
+// smoothed-aggregation multigrid of amg.hpp (its reuse: implicit_step.cpp, kAmgMaxAge), or Auto:
+// block Jacobi until a solve needs more than kAutoProbeIterations, then the multigrid for the rest of
+// the frame (until restart_preconditioner). The World gives Auto to solids only: on cloth the
+// multigrid loses (world.hpp).
 enum class Preconditioner { BlockJacobi, Amg, Auto };
 
 struct ImplicitSettings {
   LinearSolver linear = LinearSolver::CG;
-  Preconditioner preconditioner = Preconditioner::Auto;
+  Preconditioner preconditioner = Preconditioner::BlockJacobi;  // scenes: Auto (solver.preconditioner)
   int max_newton_iterations = 12;
   double tolerance = 1e-4;   // relative residual of the stopping rule above
   int max_line_search = 12;  // halvings of the Newton step before giving up on descent
@@ -96,15 +97,17 @@ struct ImplicitWorkspace {
   Points x_hat, x_trial, grad, grad_trial, dir, rhs, scratch, product;
   AmgPreconditioner amg;            // Preconditioner::Amg
   bool amg_rebuild = true;          // build the hierarchy at the next step (implicit_step.cpp)
+  bool amg_engaged = false;         // Preconditioner::Auto has switched to the multigrid
   int amg_age = 0;                  // steps solved with the hierarchy
   long amg_cg = 0, amg_solves = 0;  // this step's CG iterations and solves
   double amg_baseline = 0;          // CG iterations per solve in the first step after the setup
 
-  // The multigrid's hierarchy depends on the steps since it was built; after this call the next
-  // step builds it afresh, so what follows depends on the state only (the World calls it at the
+  // The multigrid's hierarchy and Auto's choice depend on the steps since they were made; after this
+  // call they are made afresh, so what follows depends on the state only (the World calls it at the
   // start of every frame: a resumed run solves as the uninterrupted one did).
   void restart_preconditioner() {
     amg_rebuild = true;
+    amg_engaged = false;
     amg_cg = amg_solves = 0;
   }
 };

@@ -171,13 +171,6 @@ class StepPass {
 // implicit: backward Euler by Newton's method (implicit_step.hpp), steps of max_dt.
 enum class Integrator { ITF04, Implicit };
 
-// ImplicitSettings::preconditioner Auto: the multigrid for a solid of at least this many nodes, block
-// Jacobi for smaller solids and for every cloth. Measured (4 frames of buddha_cape, 1 thread): a
-// 2,183-tet Buddha ran 7.55 s with the multigrid against 6.17 s (the whole quick scene), a 7,567-tet
-// one 2.89 s against 3.74 s, a 34,929-tet one 11.7 s against 18 s and the 279,977-tet one about 3x
-// faster; the quick dress (15,656 cloth nodes) 48 s against 11.6 s: its CG needs few iterations
-// under block Jacobi already (mass-dominated cloth), and a V-cycle costs several of them.
-constexpr Eigen::Index kAutoAmgNodes = 1500;
 
 struct WorldSettings {
   double max_dt = 0.005;  // [s]
@@ -274,7 +267,9 @@ class World {
   void resynchronize(double time);
   // Pins and attachments of object k for a step of length dt from the current state.
   NodeConstraints constraints_of(std::size_t k, double dt) const;
-  // settings_.implicit with its preconditioner resolved for object o (kAutoAmgNodes).
+  // settings_.implicit for object o: ImplicitSettings::preconditioner Auto is block Jacobi for a
+  // cloth (the multigrid, with rigid motions as its near null space, does not help a shell: the
+  // quick dress took as many CG iterations with it, 48 s against 11.6 s) and stays Auto for a solid.
   ImplicitSettings implicit_settings(const SimObject& o) const;
   void apply_state(StateReader& in);
 

@@ -1,3 +1,4 @@
+// The node graph of a multigrid level and its aggregation (amg.hpp, amg_internal.hpp).
 #include "amg_internal.hpp"
 
 namespace invfem::amg {

@@ -25,7 +25,7 @@ void estimate_lambda_max(Level& level, int iterations) {
     v.resize(n);
     for (Eigen::Index i = 0; i < n; ++i) v[i] = 1.0 + static_cast<double>((i * 7919) % 101) / 101.0;
   }
-  Eigen::VectorXd Av;
+  Eigen::VectorXd& Av = level.t;  // V-cycle scratch, free between cycles
   double lambda = 0;
   for (int it = 0; it < iterations; ++it) {
     v /= v.norm();
@@ -47,8 +47,10 @@ constexpr double kEigenRatio = 30;
 constexpr double kSafety = 1.1;
 constexpr int kDegree = 2;
 
-// x += p(D^-1 A) D^-1 (b - A x), the degree-kDegree Chebyshev polynomial of Saad's "Iterative
-// methods for sparse linear systems", algorithm 12.1, preconditioned by D (x_zero: x is 0 on entry).
+// x += p(D^-1 A) D^-1 (b - A x) with p of degree kDegree - 1 such that the error's factor
+// 1 - p(l) l is the Chebyshev polynomial of degree kDegree scaled to 1 at l = 0 on [lower, upper]:
+// the three-term recurrence of Chebyshev acceleration (Saad, "Iterative Methods for Sparse Linear
+// Systems", chapter 12), preconditioned by D. x_zero: x is 0 on entry (saves a product).
 void chebyshev(const Level& L, const Eigen::VectorXd& b, Eigen::VectorXd& x, bool x_zero) {
   const double upper = kSafety * L.lambda_max, lower = upper / kEigenRatio;
   const double theta = 0.5 * (upper + lower), delta = 0.5 * (upper - lower), sigma = theta / delta;

@@ -291,8 +291,10 @@ void solve_newton_system(const NodeConstraints& fixed, const Points& x, bool fir
   iterations += res.iterations;
   stats.cg_iterations += iterations;
   stats.cg_converged = stats.cg_converged && res.converged;
-  ws.amg_cg += res.iterations;
-  ++ws.amg_solves;
+  if (multigrid) {  // prepare_multigrid's staleness figures
+    ws.amg_cg += res.iterations;
+    ++ws.amg_solves;
+  }
 }
 
 // Newton's method on E from the iterate x (the forces evaluated there) under the filter k.fixed.

@@ -171,7 +171,6 @@ class StepPass {
 // implicit: backward Euler by Newton's method (implicit_step.hpp), steps of max_dt.
 enum class Integrator { ITF04, Implicit };
 
-
 struct WorldSettings {
   double max_dt = 0.005;  // [s]
   CGSettings cg;          // the ITF04 step's damping solves

@@ -106,8 +106,8 @@ TEST(Amg, IterationsBarelyGrowWithTheResolution) {
     multigrid.push_back(pcg_iterations(sys.A, fixed, r, [&](const Points& q, Points& z) { amg.apply(q, z); }, d));
     RecordProperty("cells_" + std::to_string(cells), std::to_string(jacobi.back()) + " / " + std::to_string(multigrid.back()));
   }
-  // Two halvings of the cell size: Jacobi's count grows about 1.7x a step here, the multigrid's
-  // stays within 1.5x of its start.
+  // Two halvings of the cell size: Jacobi's count grows about 1.9x a step here (164, 311, 617),
+  // the multigrid's stays within 1.5x of its start (26, 27, 30).
   EXPECT_GT(jacobi[2], 2 * jacobi[0]);
   EXPECT_LT(multigrid[2], 1.5 * multigrid[0] + 2) << multigrid[0] << " " << multigrid[1] << " " << multigrid[2];
 }

@@ -15,12 +15,6 @@ namespace {
 using namespace invfem;
 using namespace invfem::test;
 
-NodeConstraint full(int node) { return full_constraint(node); }
-NodeConstraint normal(int node, const Vec3& n) { return normal_constraint(node, n); }
-Points cg_solve(const BlockSparseMatrix& A, const NodeConstraints& fixed, const Points& r) {
-  return reference_solve(A, fixed, r);
-}
-
 double relative_difference(const Points& a, const Points& b) {
   return (a - b).norm() / b.norm();
 }
@@ -31,8 +25,14 @@ TEST(SparseDirect, EqualsProjectedCGOnAFilteredSystem) {
   const Eigen::Index n = sys.A.rows();
   // Pins on three nodes, single normal constraints with oblique normals, and one node held along
   // two orthogonal normals (it may slide along the third axis only).
-  NodeConstraints fixed = {full(0), full(1), full(5), normal(10, Vec3(1, 2, 3)), normal(17, Vec3(0, 1, 0)),
-                           normal(23, Vec3(-1, 0.5, 0.2)), normal(30, Vec3(1, 1, 0)), normal(30, Vec3(1, -1, 0))};
+  NodeConstraints fixed = {full_constraint(0),
+                           full_constraint(1),
+                           full_constraint(5),
+                           normal_constraint(10, Vec3(1, 2, 3)),
+                           normal_constraint(17, Vec3(0, 1, 0)),
+                           normal_constraint(23, Vec3(-1, 0.5, 0.2)),
+                           normal_constraint(30, Vec3(1, 1, 0)),
+                           normal_constraint(30, Vec3(1, -1, 0))};
   const Points r = random_points(n, 1.0, rng);
 
   FilteredDirectSolver direct;
@@ -40,7 +40,7 @@ TEST(SparseDirect, EqualsProjectedCGOnAFilteredSystem) {
   ASSERT_TRUE(direct.factorize(sys.A, fixed));
   Points d;
   direct.solve(r, d);
-  const Points d_cg = cg_solve(sys.A, fixed, r);
+  const Points d_cg = reference_solve(sys.A, fixed, r);
   EXPECT_LT(relative_difference(d, d_cg), 1e-9);
 
   // The constrained components are zero, and the filtered residual S (r - A d) vanishes.
@@ -57,10 +57,10 @@ TEST(SparseDirect, EqualsProjectedCGOnAFilteredSystem) {
   EXPECT_LT(residual.norm(), 1e-12 * Sr.norm());
 
   // New constraints on the same pattern: factorize again without a new analysis.
-  const NodeConstraints fewer = {full(2), normal(12, Vec3(0, 0, 1))};
+  const NodeConstraints fewer = {full_constraint(2), normal_constraint(12, Vec3(0, 0, 1))};
   ASSERT_TRUE(direct.factorize(sys.A, fewer));
   direct.solve(r, d);
-  EXPECT_LT(relative_difference(d, cg_solve(sys.A, fewer, r)), 1e-9);
+  EXPECT_LT(relative_difference(d, reference_solve(sys.A, fewer, r)), 1e-9);
   // And no constraints at all: the plain solve A d = r.
   ASSERT_TRUE(direct.factorize(sys.A, {}));
   direct.solve(r, d);
@@ -75,11 +75,11 @@ TEST(SparseDirect, RefusesAMatrixThatIsNotDefinite) {
   direct.analyze(sys.A);
   // Flip one free node's diagonal block: the filtered matrix gets a negative pivot.
   sys.A.blocks()[static_cast<std::size_t>(sys.A.find(20, 20))] *= -1;
-  EXPECT_FALSE(direct.factorize(sys.A, {full(0)}));
+  EXPECT_FALSE(direct.factorize(sys.A, {full_constraint(0)}));
   Points d;
   EXPECT_THROW(direct.solve(Points::Ones(sys.A.rows(), 3), d), std::logic_error);
   // Pinning that node removes the bad block from the filtered system.
-  EXPECT_TRUE(direct.factorize(sys.A, {full(0), full(20)}));
+  EXPECT_TRUE(direct.factorize(sys.A, {full_constraint(0), full_constraint(20)}));
 }
 
 TEST(SparseDirect, FactorizeOnAnotherPatternIsAnError) {

@@ -1,8 +1,8 @@
 #pragma once
 // The large-step integrator beside the ITF04 step: backward Euler on positions, solved by
 // Newton's method with a backtracking line search on the incremental potential, its linear
-// systems by block-Jacobi preconditioned CG or by a sparse LDL^T factorization (ImplicitSettings::
-// linear; sparse_direct.hpp) (reference time-stepping sheet; Baraff-Witkin 1998 for the filtered
+// systems by CG preconditioned by block Jacobi or a multigrid (ImplicitSettings::preconditioner;
+// amg.hpp) or by a sparse LDL^T factorization (ImplicitSettings::linear; sparse_direct.hpp) (reference time-stepping sheet; Baraff-Witkin 1998 for the filtered
 // constraints; Teran et al. 2005 for the definite stiffness).
 //
 // With h the step, x^ = x(n) + h v~(n) the inertial target (v~(n): the velocity after collision
@@ -62,7 +62,7 @@
 
 namespace invfem {
 
-// How each Newton system is solved: block-Jacobi preconditioned CG (inexact, Eisenstat-Walker
+// How each Newton system is solved: preconditioned CG (inexact, Eisenstat-Walker
 // forcing), or the filtered system factorized by sparse LDL^T (FilteredDirectSolver).
 enum class LinearSolver { CG, Direct };
 

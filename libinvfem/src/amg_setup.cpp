@@ -141,6 +141,13 @@ bool coarsen(Level& fine, const std::vector<int>& node_start, const Eigen::Matri
   return true;
 }
 
+// The dense LDL^T of the last level, its exact solve in the V-cycle; when that level is not found
+// definite, direct stays false and the V-cycle smooths it instead.
+void factorize_coarsest(AmgPreconditioner::Hierarchy& h) {
+  h.coarsest.compute(Eigen::MatrixXd(h.levels.back().A));
+  h.direct = h.coarsest.info() == Eigen::Success && (h.coarsest.vectorD().array() > 0).all();
+}
+
 }  // namespace
 
 AmgPreconditioner::AmgPreconditioner() = default;
@@ -178,12 +185,8 @@ void AmgPreconditioner::setup(const BlockSparseMatrix& A, const NodeConstraints&
     node_start.swap(coarse_node_start);
     B.swap(coarse_B);
   }
-  const Level& last = h->levels.back();
   h->direct = false;
-  if (last.A.rows() <= kCoarsestDofs) {
-    h->coarsest.compute(Eigen::MatrixXd(last.A));
-    h->direct = h->coarsest.info() == Eigen::Success && (h->coarsest.vectorD().array() > 0).all();
-  }
+  if (h->levels.back().A.rows() <= kCoarsestDofs) factorize_coarsest(*h);
   h_ = std::move(h);
 }
 
@@ -198,10 +201,7 @@ void AmgPreconditioner::refresh(const BlockSparseMatrix& A, const NodeConstraint
   fill_level0(A, filter_, false, level0.A);
   set_inverse_diagonal(level0);
   amg::estimate_lambda_max(level0, kRefreshPowerIterations);
-  if (h_->levels.size() == 1 && h_->direct) {  // one level only: its dense factor is K's
-    h_->coarsest.compute(Eigen::MatrixXd(level0.A));
-    h_->direct = h_->coarsest.info() == Eigen::Success && (h_->coarsest.vectorD().array() > 0).all();
-  }
+  if (h_->levels.size() == 1 && h_->direct) factorize_coarsest(*h_);  // one level only: its factor is K's
 }
 
 std::vector<Eigen::Index> AmgPreconditioner::level_dofs() const {

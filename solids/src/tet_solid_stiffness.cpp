@@ -3,6 +3,7 @@
 // Elasticity: the element energy is V0 det(Fp) Psi(Fe) with Fe = Ds Dm^-1 Fp^-1 (plasticity.hpp), so
 // it is an element of rest volume V0 det(Fp) and rest inverse Dm^-1 Fp^-1, and
 //   K_e = V0 det(Fp) G^T dP/dF(Fe) G,  G: vec(Fe) = G x_e  (element_matrices.hpp),
+// formed from dP/dF's 21 diagonal-frame entries (diagonal_space_hessian.hpp: element_matrix),
 // with dP/dF from the diagonal space with its 3x3 block and 2x2 pair blocks clamped at 0
 // (elasticity.hpp, Teran et al. 2005): positive semidefinite for every F, inverted or flat.
 // The fiber term lives on the total F (the original rest shape) and its dP_f/dF is already
@@ -37,24 +38,18 @@ bool TetSolidForce::stiffness_matrices(ElementMatrices& out) const {
   std::visit(
       [&](const auto& mdl) {
         parallel_for_each(diag_.size(), kGrain, [&](std::size_t e) {
-          const Mat9 H = energy_hessian(mdl, diag_[e], /*project_psd=*/true);
+          const Diagonalization3& d = diag_[e];
+          const DiagonalSpaceHessian H = diagonal_space_hessian(mdl, d.sigma, /*project_psd=*/true);
           auto K = out.matrix<12>(static_cast<Eigen::Index>(e));
-          if (plastic_identity_) {
-            const auto beta = shape_gradients<3>(rest_.Dm_inv[e]);
-            if (!fiber) {
-              K = element_matrix_from_dPdF<3>(H, beta, rest_.volume[e]);
-            } else {
-              const Mat9 Hf = fiber_stress_derivative(*fiber, diag_[e], material_.fiber_directions[e], activation_);
-              K = element_matrix_from_dPdF<3>(Mat9(H + Hf), beta, rest_.volume[e]);
-            }
-            return;
-          }
           const Mat3& Fp_inv = plastic_.Fp_inv[e];
-          K = element_matrix_from_dPdF<3>(H, shape_gradients<3>(Mat3(rest_.Dm_inv[e] * Fp_inv)),
-                                          rest_.volume[e] * plastic_volume_factor(Fp_inv));
-          if (fiber) {  // on the total F = Fe Fp
-            const Diagonalization3& d = diag_[e];
-            const Mat3 F = d.U * d.sigma.asDiagonal() * d.V.transpose() * Fp_inv.inverse();
+          if (plastic_identity_)
+            K = element_matrix(H, d.U, d.V, shape_gradients<3>(rest_.Dm_inv[e]), rest_.volume[e]);
+          else
+            K = element_matrix(H, d.U, d.V, shape_gradients<3>(Mat3(rest_.Dm_inv[e] * Fp_inv)),
+                               rest_.volume[e] * plastic_volume_factor(Fp_inv));
+          if (fiber) {  // on the total F = Fe Fp and the original rest shape
+            const Mat3 F = plastic_identity_ ? Mat3(d.U * d.sigma.asDiagonal() * d.V.transpose())
+                                             : Mat3(d.U * d.sigma.asDiagonal() * d.V.transpose() * Fp_inv.inverse());
             const Mat9 Hf = fiber_stress_derivative(*fiber, F, material_.fiber_directions[e], activation_);
             K += element_matrix_from_dPdF<3>(Hf, shape_gradients<3>(rest_.Dm_inv[e]), rest_.volume[e]);
           }
@@ -73,14 +68,16 @@ bool TetSolidForce::damping_matrices(ElementMatrices& out) const {
   const IsotropicModel model = with_strength(material_.model, strength_);
   const auto [mu, lambda] = std::visit([](const auto& m) { return std::pair(m.mu, m.lambda); }, model);
   const RotatedDamping damping{material_.damping * lambda, material_.damping * mu};
+  const DiagonalSpaceHessian rotated = damping_diagonal_space_derivative(damping);
+  const bool spin_free = material_.damping_model == DampingModel::SpinFree;
   parallel_for_each(diag_.size(), kGrain, [&](std::size_t e) {
-    const Mat9 D = material_.damping_model == DampingModel::SpinFree ? spin_free_damping_derivative(damping, diag_[e])
-                                                                      : damping_stress_derivative(damping, diag_[e]);
+    const Diagonalization3& d = diag_[e];
+    const DiagonalSpaceHessian D = spin_free ? spin_free_damping_diagonal_space_derivative(damping, d.sigma) : rotated;
     const Mat3& Fp_inv = plastic_.Fp_inv[e];
     out.matrix<12>(static_cast<Eigen::Index>(e)) =
-        plastic_identity_ ? element_matrix_from_dPdF<3>(D, shape_gradients<3>(rest_.Dm_inv[e]), rest_.volume[e])
-                          : element_matrix_from_dPdF<3>(D, shape_gradients<3>(Mat3(rest_.Dm_inv[e] * Fp_inv)),
-                                                        rest_.volume[e] * plastic_volume_factor(Fp_inv));
+        plastic_identity_ ? element_matrix(D, d.U, d.V, shape_gradients<3>(rest_.Dm_inv[e]), rest_.volume[e])
+                          : element_matrix(D, d.U, d.V, shape_gradients<3>(Mat3(rest_.Dm_inv[e] * Fp_inv)),
+                                           rest_.volume[e] * plastic_volume_factor(Fp_inv));
   });
   return true;
 }

@@ -285,6 +285,12 @@ TEST(BlockSparseMatrix, AssembledProductEqualsDenseSum) {
   EXPECT_LT((flat(Ap) - expected * flat(p)).norm(), 1e-12 * expected.norm() * flat(p).norm());
   EXPECT_EQ(A.find(0, 0) >= 0, true);
   EXPECT_EQ(A.find(0, static_cast<int>(n) - 1), -1);  // the bar's far corner is not coupled to node 0
+  // The lower triangle is the transpose of the upper one, bit for bit.
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int s = A.row_start()[static_cast<std::size_t>(i)]; s < A.row_start()[static_cast<std::size_t>(i) + 1]; ++s) {
+      const int j = A.columns()[static_cast<std::size_t>(s)];
+      EXPECT_EQ(A.blocks()[static_cast<std::size_t>(s)], A.blocks()[static_cast<std::size_t>(A.find(j, static_cast<int>(i)))].transpose());
+    }
 }
 
 // A += w B with B a refilled copy of A's pattern (the implicit step adds h C this way), and a

@@ -48,8 +48,10 @@ class BlockSparseMatrix {
 };
 
 // Where each 3x3 block of a set of element matrices lands in a BlockSparseMatrix, ordered for a
-// gather: slot s of the matrix receives the element blocks source[first[s] .. first[s+1]) (each an
-// offset into ElementMatrices::values), in element order. Built once per pattern.
+// gather: slot s of the matrix's upper triangle or diagonal receives the element blocks
+// source[first[s] .. first[s+1]) (each an offset into ElementMatrices::values), in element order;
+// its lower partner receives the transpose of that sum (the element matrices being symmetric, their
+// lower blocks are never read). Built once per pattern.
 class ElementScatter {
  public:
   ElementScatter() = default;
@@ -60,6 +62,7 @@ class ElementScatter {
  private:
   std::vector<int> first_;    // block_count + 1
   std::vector<std::size_t> source_;  // offset of the element block's (0, 0) entry in values
+  std::vector<int> mirror_;          // per slot above the diagonal, its transpose's slot; else -1
   int stride_ = 0;                   // 3 arity: the column stride inside an element matrix
 };
 

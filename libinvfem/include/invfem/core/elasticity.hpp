@@ -27,6 +27,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "invfem/core/diagonal_space_hessian.hpp"
 #include "invfem/core/diagonalize.hpp"
 #include "invfem/core/materials/model.hpp"
 #include "invfem/core/types.hpp"
@@ -75,24 +76,38 @@ template <int D> double d_plus(const VecD<D>& s, const VecD<D>& p, int i, int j)
   return (p(i) + p(j)) / sum;
 }
 
+// The nearest positive semidefinite matrix to sym(H): its eigenvalues clamped at 0. A matrix
+// that Sylvester's criterion (all leading minors positive) shows positive definite is returned
+// as it is: the eigen-solve would give it back up to roundoff, and most elements (neither
+// inverted nor strongly compressed) are there, so the solve runs only where it changes something.
 inline Mat3 project_psd(const Mat3& H) {
-  Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (H + H.transpose()));
+  const Mat3 S = 0.5 * (H + H.transpose());
+  const double m2 = S(0, 0) * S(1, 1) - S(0, 1) * S(0, 1);
+  if (S(0, 0) > 0 && m2 > 0 && S.determinant() > 0) return S;
+  Eigen::SelfAdjointEigenSolver<Mat3> eig(S);
   return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
          eig.eigenvectors().transpose();
 }
 
-// Writes the pair block of (i, j) into the hat-space matrix K at the given vec indices.
-template <class K>
-void put_pair(K& k, int ij, int ji, double dm, double dp, bool psd) {
+// A pair block [[a, b], [b, a]] from its eigenvalues d_minus (along (1, -1)) and d_plus (along
+// (1, 1)), clamped at 0 when psd.
+inline Mat2 pair_block(double dm, double dp, bool psd) {
   if (psd) {
     dm = std::max(dm, 0.0);
     dp = std::max(dp, 0.0);
   }
   const double a = 0.5 * (dm + dp), b = 0.5 * (dm - dp);
-  k(ij, ij) = a;
-  k(ji, ji) = a;
-  k(ij, ji) = b;
-  k(ji, ij) = b;
+  return (Mat2() << a, b, b, a).finished();
+}
+
+// Writes the pair block of (i, j) into the hat-space matrix K at the given vec indices.
+template <class K>
+void put_pair(K& k, int ij, int ji, double dm, double dp, bool psd) {
+  const Mat2 P = pair_block(dm, dp, psd);
+  k(ij, ij) = P(0, 0);
+  k(ji, ji) = P(1, 1);
+  k(ij, ji) = P(0, 1);
+  k(ji, ij) = P(1, 0);
 }
 
 }  // namespace elasticity_detail
@@ -118,26 +133,23 @@ template <DiagonalModel M> double energy(const M& m, const Diagonalization3& d) 
 template <DiagonalModel M> Mat3 energy_gradient(const M& m, const Diagonalization3& d) {
   return d.U * m.template psi_gradient<3>(d.sigma).asDiagonal() * d.V.transpose();
 }
+// dP^/dF^, the diagonal-frame structure of dP/dF (diagonal_space_hessian.hpp), at singular values s.
+template <DiagonalModel M>
+DiagonalSpaceHessian diagonal_space_hessian(const M& m, const Vec3& s, bool project_psd = false) {
+  namespace ed = elasticity_detail;
+  const Vec3 p = m.template psi_gradient<3>(s);
+  const Mat3 H = m.template psi_hessian<3>(s);
+  DiagonalSpaceHessian h;
+  h.diagonal = project_psd ? ed::project_psd(H) : H;
+  for (int q = 0; q < 3; ++q) {
+    const int i = DiagonalSpaceHessian::kPair[q][0], j = DiagonalSpaceHessian::kPair[q][1];
+    h.pairs[q] = ed::pair_block(ed::d_minus<3>(m, s, p, H, i, j), ed::d_plus<3>(s, p, i, j), project_psd);
+  }
+  return h;
+}
 template <DiagonalModel M>
 Mat9 energy_hessian(const M& m, const Diagonalization3& d, bool project_psd = false) {
-  namespace ed = elasticity_detail;
-  const Vec3& s = d.sigma;
-  const Vec3 p = m.template psi_gradient<3>(s);
-  Mat3 H = m.template psi_hessian<3>(s);
-  Mat9 K = Mat9::Zero();  // dP^/dF^ on column-major vec(F^)
-  const Mat3 Hb = project_psd ? ed::project_psd(H) : H;
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) K(4 * i, 4 * k) = Hb(i, k);  // diagonal entry (i,i) is vec index 4 i
-  for (int i = 0; i < 3; ++i)
-    for (int j = i + 1; j < 3; ++j)
-      ed::put_pair(K, i + 3 * j, j + 3 * i, ed::d_minus<3>(m, s, p, H, i, j),
-                   ed::d_plus<3>(s, p, i, j), project_psd);
-  // vec(U X V^T) = W vec(X) with W = kron(V, U): W(r + 3c, a + 3b) = U(r, a) V(c, b).
-  Mat9 W;
-  for (int c = 0; c < 3; ++c)
-    for (int b = 0; b < 3; ++b) W.block<3, 3>(3 * c, 3 * b) = d.V(c, b) * d.U;
-  Mat9 out = W * K * W.transpose();
-  return 0.5 * (out + out.transpose());  // exact symmetry despite roundoff in the products
+  return full_space(diagonal_space_hessian(m, d.sigma, project_psd), d.U, d.V);
 }
 
 template <DiagonalModel M> double energy(const M& m, const Mat3& F) {

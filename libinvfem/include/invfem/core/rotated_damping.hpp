@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "invfem/core/diagonal_space_hessian.hpp"
 #include "invfem/core/diagonalize.hpp"
 #include "invfem/core/types.hpp"
 
@@ -52,24 +53,19 @@ inline Mat32 damping_stress(const RotatedDamping& k, const Diagonalization32& d,
   return d.U * Ph * d.V.transpose();
 }
 
+// dP^_d/dF^dot in the diagonal frame (diagonal_space_hessian.hpp): the 3x3 block
+// 2 beta Id + alpha 1 1^T, pair blocks [[beta, beta], [beta, beta]].
+inline DiagonalSpaceHessian damping_diagonal_space_derivative(const RotatedDamping& k) {
+  DiagonalSpaceHessian h;
+  h.diagonal = Mat3::Constant(k.alpha) + 2 * k.beta * Mat3::Identity();
+  for (Mat2& P : h.pairs) P = Mat2::Constant(k.beta);
+  return h;
+}
+
 // dP_d/dFdot as a 9x9 on column-major vec (vec(X)(r + 3 c) = X(r, c)); symmetric PSD for valid
 // coefficients. damping_stress(k, d, X) = reshape(damping_stress_derivative(k, d) vec(X)).
 inline Mat9 damping_stress_derivative(const RotatedDamping& k, const Diagonalization3& d) {
-  Mat9 K = Mat9::Zero();  // hat space: 3x3 block 2 beta Id + alpha 1 1^T, pair blocks a = b = beta
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) K(4 * i, 4 * j) = k.alpha;
-    K(4 * i, 4 * i) += 2 * k.beta;
-    for (int j = 0; j < 3; ++j)
-      if (j != i) {
-        K(i + 3 * j, i + 3 * j) = k.beta;
-        K(i + 3 * j, j + 3 * i) = k.beta;
-      }
-  }
-  Mat9 W;  // kron(V, U)
-  for (int c = 0; c < 3; ++c)
-    for (int b = 0; b < 3; ++b) W.block<3, 3>(3 * c, 3 * b) = d.V(c, b) * d.U;
-  const Mat9 out = W * K * W.transpose();
-  return 0.5 * (out + out.transpose());
+  return full_space(damping_diagonal_space_derivative(k), d.U, d.V);
 }
 
 }  // namespace invfem

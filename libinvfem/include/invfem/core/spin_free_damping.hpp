@@ -58,28 +58,22 @@ inline Mat3 spin_free_damping_stress(const RotatedDamping& k, const Diagonalizat
   return d.U * Ph * d.V.transpose();
 }
 
+// dP^_d/dF^dot in the diagonal frame (diagonal_space_hessian.hpp): the 3x3 block
+// 2 beta Id + alpha 1 1^T, pair blocks 2 beta (Id - m m^T).
+inline DiagonalSpaceHessian spin_free_damping_diagonal_space_derivative(const RotatedDamping& k, const Vec3& s) {
+  DiagonalSpaceHessian h;
+  h.diagonal = Mat3::Constant(k.alpha) + 2 * k.beta * Mat3::Identity();
+  for (int p = 0; p < 3; ++p) {
+    const Vec2 m = detail::spin_direction(s(DiagonalSpaceHessian::kPair[p][0]), s(DiagonalSpaceHessian::kPair[p][1]));
+    h.pairs[p] = 2 * k.beta * (Mat2::Identity() - m * m.transpose());
+  }
+  return h;
+}
+
 // dP_d/dFdot as a 9x9 on column-major vec (vec(X)(r + 3 c) = X(r, c)), symmetric PSD for valid
 // coefficients: spin_free_damping_stress(k, d, X) = reshape(spin_free_damping_derivative(k, d) vec(X)).
 inline Mat9 spin_free_damping_derivative(const RotatedDamping& k, const Diagonalization3& d) {
-  Mat9 K = Mat9::Zero();  // hat space: 3x3 block 2 beta Id + alpha 1 1^T, pair blocks 2 beta (Id - m m^T)
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) K(4 * i, 4 * j) = k.alpha;
-    K(4 * i, 4 * i) += 2 * k.beta;
-    for (int j = i + 1; j < 3; ++j) {
-      const Vec2 m = detail::spin_direction(d.sigma(i), d.sigma(j));
-      const Mat2 B = 2 * k.beta * (Mat2::Identity() - m * m.transpose());
-      const int a = i + 3 * j, b = j + 3 * i;  // vec indices of F^_ij and F^_ji
-      K(a, a) = B(0, 0);
-      K(a, b) = B(0, 1);
-      K(b, a) = B(1, 0);
-      K(b, b) = B(1, 1);
-    }
-  }
-  Mat9 W;  // kron(V, U): vec(U X V^T) = kron(V, U) vec(X)
-  for (int c = 0; c < 3; ++c)
-    for (int b = 0; b < 3; ++b) W.block<3, 3>(3 * c, 3 * b) = d.V(c, b) * d.U;
-  const Mat9 out = W * K * W.transpose();
-  return 0.5 * (out + out.transpose());
+  return full_space(spin_free_damping_diagonal_space_derivative(k, d.sigma), d.U, d.V);
 }
 
 }  // namespace invfem

@@ -1,0 +1,98 @@
+// The diagonal-frame dP/dF (core/diagonal_space_hessian.hpp): full_space is the map
+// dF -> U (K (U^T dF V)) V^T written out, element_matrix equals G^T (W K W^T) G formed the long way
+// (element_matrix_from_dPdF) for rotations and reflections, and project_psd's positive-definite
+// shortcut returns what the eigenvalue clamp returns.
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <random>
+
+#include "invfem/core/diagonal_space_hessian.hpp"
+#include "invfem/core/elasticity.hpp"
+#include "invfem/core/element_matrices.hpp"
+#include "random_matrices.hpp"
+
+namespace {
+
+using namespace invfem;
+
+using test::random_matrix;
+using test::random_rotation;
+
+// A symmetric structure with random entries (not PSD: the maps are linear and must not care).
+DiagonalSpaceHessian random_hessian(std::mt19937& rng) {
+  DiagonalSpaceHessian h;
+  const Mat3 A = random_matrix(rng);
+  h.diagonal = A + A.transpose();
+  std::normal_distribution<double> n;
+  for (Mat2& P : h.pairs) {
+    const double off = n(rng);
+    P << n(rng), off, off, n(rng);
+  }
+  return h;
+}
+
+// U, V: rotations (the ITF04 frame) or reflections (det -1: the plain SVD frame of plain_polar models).
+Mat3 random_orthogonal(std::mt19937& rng, bool reflect) {
+  Mat3 R = random_rotation(rng);
+  if (reflect) R.col(2) *= -1;
+  return R;
+}
+
+TEST(DiagonalSpaceHessian, FullSpaceIsTheRotatedHatMap) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 20; ++trial) {
+    const DiagonalSpaceHessian h = random_hessian(rng);
+    const Mat3 U = random_orthogonal(rng, trial % 3 == 1), V = random_orthogonal(rng, trial % 4 == 2);
+    const Mat9 K = full_space(h, U, V);
+    EXPECT_EQ(K, K.transpose());  // exactly symmetric
+    const Mat9 hat = h.hat();
+    for (int q = 0; q < 9; ++q) {  // column q: dF = unit matrix q
+      Mat3 dF = Mat3::Zero();
+      dF.data()[q] = 1;
+      const Mat3 dFh = U.transpose() * dF * V;
+      const Eigen::Matrix<double, 9, 1> dPh = hat * Eigen::Map<const Eigen::Matrix<double, 9, 1>>(dFh.data());
+      const Mat3 dP = U * Eigen::Map<const Mat3>(dPh.data()) * V.transpose();
+      EXPECT_LE((K.col(q) - Eigen::Map<const Eigen::Matrix<double, 9, 1>>(dP.data())).norm(), 1e-13 * (1 + hat.norm()))
+          << "trial " << trial << ", column " << q;
+    }
+  }
+}
+
+TEST(DiagonalSpaceHessian, ElementMatrixEqualsTheLongWay) {
+  std::mt19937 rng(8);
+  for (int trial = 0; trial < 30; ++trial) {
+    const DiagonalSpaceHessian h = random_hessian(rng);
+    const Mat3 U = random_orthogonal(rng, trial % 3 == 1), V = random_orthogonal(rng, trial % 4 == 2);
+    // A tet of random shape (some nearly flat: Dm^-1 large).
+    const Mat3 Dm = random_matrix(rng) + (trial % 5 == 0 ? 0.0 : 1.0) * Mat3::Identity();
+    const Eigen::Matrix<double, 3, 4> beta = shape_gradients<3>(Mat3(Dm.inverse()));
+    const double scale = 0.3 + trial;
+    const Mat12 fast = element_matrix(h, U, V, beta, scale);
+    const Mat12 slow = element_matrix_from_dPdF<3>(full_space(h, U, V), beta, scale);
+    EXPECT_EQ(fast, fast.transpose());
+    EXPECT_LE((fast - slow).norm(), 1e-12 * slow.norm()) << "trial " << trial;
+  }
+}
+
+TEST(DiagonalSpaceHessian, ProjectPsdShortcutAgreesWithTheEigenClamp) {
+  std::mt19937 rng(9);
+  auto clamp = [](const Mat3& H) {
+    Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (H + H.transpose()));
+    return Mat3(eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() * eig.eigenvectors().transpose());
+  };
+  int definite = 0, indefinite = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Mat3 A = random_matrix(rng);
+    // Shifts around the smallest eigenvalue give definite, indefinite and nearly singular matrices.
+    const Mat3 H = A * A.transpose() + (trial % 7 - 3) * 0.3 * Mat3::Identity();
+    const Mat3 P = elasticity_detail::project_psd(H);
+    EXPECT_LE((P - clamp(H)).norm(), 1e-12 * (1 + H.norm())) << "trial " << trial;
+    EXPECT_GE(Eigen::SelfAdjointEigenSolver<Mat3>(P).eigenvalues().minCoeff(), -1e-12 * (1 + H.norm()));
+    (Eigen::SelfAdjointEigenSolver<Mat3>(H).eigenvalues().minCoeff() > 0 ? definite : indefinite)++;
+  }
+  EXPECT_GT(definite, 20);  // both branches are exercised
+  EXPECT_GT(indefinite, 20);
+}
+
+}  // namespace

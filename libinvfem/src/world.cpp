@@ -1,6 +1,7 @@
 #include "invfem/core/world.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -163,6 +164,10 @@ void World::advance_to(double t_end, FrameReport& report) {
   std::vector<Points> x_start, kinematic_start, x_before_passes;
   long long taken = 0;
   for (ImplicitWorkspace& ws : implicit_) ws.restart_preconditioner();
+  report.object_seconds.resize(objects_.size(), 0.0);
+  auto since = [](std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
   // Land exactly on t_end: the steps of a frame are equal, each within every object's stable
   // step (ITF04's scheme takes a variable dt).
   while (time_ < t_end - 1e-12 * std::max(1.0, t_end)) {
@@ -185,13 +190,16 @@ void World::advance_to(double t_end, FrameReport& report) {
     // 2, 3. Solids, then cloths.
     for (ObjectKind kind : stage_order) {
       if (kind == ObjectKind::Cloth && collisions_) {  // 2b. the solids at t + dt, for the cloths
+        const auto t0 = std::chrono::steady_clock::now();
         for (auto& o : objects_)
           if (o.kind == ObjectKind::Solid) o.refresh_surface();
         collisions_->solids_stepped(objects_, time_ + dt, dt);
+        report.coupling_seconds += since(t0);
       }
       for (std::size_t k = 0; k < objects_.size(); ++k) {
         SimObject& o = objects_[k];
         if (o.kind != kind) continue;
+        const auto t0 = std::chrono::steady_clock::now();
         if (collisions_) collisions_->begin_object(o);
         const NodeConstraints held = constraints_of(k, dt);
         const StepStats s =
@@ -199,6 +207,7 @@ void World::advance_to(double t_end, FrameReport& report) {
                 ? newmark_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, settings_.cg)
                 : implicit_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, implicit_settings(o),
                                 implicit_[k]);
+        report.object_seconds[k] += since(t0);
         report.cg_iterations += s.cg_iterations;
         report.cg_all_converged = report.cg_all_converged && s.cg_converged;
         report.colliding_nodes += s.colliding_nodes;

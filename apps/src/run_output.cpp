@@ -156,7 +156,7 @@ void RunOutput::write_frame(int frame, const World& world, const FrameReport& r)
 
 void RunOutput::write_stats(int frame, const World& world, const FrameReport& r, const FrameTimings& t) {
   // Field order is fixed (frame first: a resumed run filters lines by it).
-  char line[1024];
+  char line[2048];
   std::snprintf(line, sizeof line,
                 "{\"frame\":%d,\"time\":%.6f,\"substeps\":%d,\"cg_iterations\":%d,\"cg_converged\":%s,"
                 "\"colliding_nodes\":%d,\"inverted\":%d,\"elements\":%d,\"min_det_F\":%.9g,"

@@ -278,13 +278,12 @@ void solve_newton_system(const NodeConstraints& fixed, const Points& x, bool fir
     probe.max_iterations = kAutoProbeIterations;
     const CGResult res = run_cg(fixed, false, probe, ws);
     iterations = res.iterations;
-    if (!res.converged) {  // on from ws.dir under the multigrid, within the same cap
-      ws.amg_engaged = multigrid = true;
-      cg.max_iterations -= res.iterations;
-    } else {
+    if (res.converged) {
       stats.cg_iterations += iterations;
       return;
     }
+    ws.amg_engaged = multigrid = true;  // on from ws.dir under the multigrid, within the same cap
+    cg.max_iterations -= res.iterations;
   }
   if (multigrid) prepare_multigrid(fixed, x, first_iteration, ws);
   const CGResult res = run_cg(fixed, multigrid, cg, ws);

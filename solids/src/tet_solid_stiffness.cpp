@@ -29,6 +29,18 @@ void set_nodes(const Tets& tets, ElementMatrices& out) {
   out.resize(tets.rows(), 4);
   out.nodes = tets;
 }
+
+// Element e's rest shape for Fe (header): the shape gradients of Dm^-1 Fp^-1 and the volume
+// V0 det(Fp); without plastic flow (every Fp^-1 the identity) those of Dm^-1 and V0 themselves.
+struct ElementRest {
+  Mat34 beta;
+  double volume;
+};
+ElementRest element_rest(const TetRest& rest, const PlasticState& plastic, bool identity, std::size_t e) {
+  if (identity) return {shape_gradients<3>(rest.Dm_inv[e]), rest.volume[e]};
+  const Mat3& Fp_inv = plastic.Fp_inv[e];
+  return {shape_gradients<3>(Mat3(rest.Dm_inv[e] * Fp_inv)), rest.volume[e] * plastic_volume_factor(Fp_inv)};
+}
 }  // namespace
 
 bool TetSolidForce::stiffness_matrices(ElementMatrices& out) const {
@@ -41,15 +53,11 @@ bool TetSolidForce::stiffness_matrices(ElementMatrices& out) const {
           const Diagonalization3& d = diag_[e];
           const DiagonalSpaceHessian H = diagonal_space_hessian(mdl, d.sigma, /*project_psd=*/true);
           auto K = out.matrix<12>(static_cast<Eigen::Index>(e));
-          const Mat3& Fp_inv = plastic_.Fp_inv[e];
-          if (plastic_identity_)
-            K = element_matrix(H, d.U, d.V, shape_gradients<3>(rest_.Dm_inv[e]), rest_.volume[e]);
-          else
-            K = element_matrix(H, d.U, d.V, shape_gradients<3>(Mat3(rest_.Dm_inv[e] * Fp_inv)),
-                               rest_.volume[e] * plastic_volume_factor(Fp_inv));
+          const ElementRest r = element_rest(rest_, plastic_, plastic_identity_, e);
+          K = element_matrix(H, d.U, d.V, r.beta, r.volume);
           if (fiber) {  // on the total F = Fe Fp and the original rest shape
-            const Mat3 F = plastic_identity_ ? Mat3(d.U * d.sigma.asDiagonal() * d.V.transpose())
-                                             : Mat3(d.U * d.sigma.asDiagonal() * d.V.transpose() * Fp_inv.inverse());
+            const Mat3 Fe = d.U * d.sigma.asDiagonal() * d.V.transpose();
+            const Mat3 F = plastic_identity_ ? Fe : Mat3(Fe * plastic_.Fp_inv[e].inverse());
             const Mat9 Hf = fiber_stress_derivative(*fiber, F, material_.fiber_directions[e], activation_);
             K += element_matrix_from_dPdF<3>(Hf, shape_gradients<3>(rest_.Dm_inv[e]), rest_.volume[e]);
           }
@@ -73,11 +81,8 @@ bool TetSolidForce::damping_matrices(ElementMatrices& out) const {
   parallel_for_each(diag_.size(), kGrain, [&](std::size_t e) {
     const Diagonalization3& d = diag_[e];
     const DiagonalSpaceHessian D = spin_free ? spin_free_damping_diagonal_space_derivative(damping, d.sigma) : rotated;
-    const Mat3& Fp_inv = plastic_.Fp_inv[e];
-    out.matrix<12>(static_cast<Eigen::Index>(e)) =
-        plastic_identity_ ? element_matrix(D, d.U, d.V, shape_gradients<3>(rest_.Dm_inv[e]), rest_.volume[e])
-                          : element_matrix(D, d.U, d.V, shape_gradients<3>(Mat3(rest_.Dm_inv[e] * Fp_inv)),
-                                           rest_.volume[e] * plastic_volume_factor(Fp_inv));
+    const ElementRest r = element_rest(rest_, plastic_, plastic_identity_, e);
+    out.matrix<12>(static_cast<Eigen::Index>(e)) = element_matrix(D, d.U, d.V, r.beta, r.volume);
   });
   return true;
 }

@@ -39,37 +39,39 @@ std::vector<CrackStart> find_crack_starts(const VirtualNodeMesh& mesh, const Tet
   if (c.max_elements > 0 && mesh.num_elements() >= c.max_elements) return starts;
   const bool plastic = std::isfinite(c.max_plastic_strain);
   static constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  auto edge_is_cut = [&](int a, int b) { return mesh.cuts.count({std::min(a, b), std::max(a, b)}) != 0; };
   for (int e = 0; e < mesh.num_elements(); ++e) {
-    if (mesh.pieces[static_cast<std::size_t>(mesh.element_root[static_cast<std::size_t>(e)])].size() > 1) continue;
+    const int r = mesh.element_root[static_cast<std::size_t>(e)];
+    // On the seed: the rest-space plane crosses the root tet and its centroid lies in the box.
+    // Such a tet is cut (again, if a neighbour's crack split it first) while one of its edges
+    // across the seed plane is uncut: once all of them are cut, the sides are apart everywhere
+    // the plane runs. Any other tet is cut once, while whole.
+    Vec3 centroid = Vec3::Zero();
+    for (int j = 0; j < 4; ++j) centroid += mesh.root.X.row(mesh.root.tets(r, j)).transpose() / 4;
+    bool seed = false;
+    if (c.seed_factor < 1 && (centroid.array() >= c.seed_min.array()).all() && (centroid.array() <= c.seed_max.array()).all()) {
+      double d[4];
+      for (int j = 0; j < 4; ++j) d[j] = c.seed_normal.dot(mesh.root.X.row(mesh.root.tets(r, j)).transpose() - c.seed_point);
+      for (const auto& ed : kEdges)
+        seed = seed || (d[ed[0]] * d[ed[1]] < 0 && !edge_is_cut(mesh.root.tets(r, ed[0]), mesh.root.tets(r, ed[1])));
+    }
+    if (!seed && mesh.pieces[static_cast<std::size_t>(r)].size() > 1) continue;
     const Vec3 p = force.principal_stresses(e);
     int k = 0;
     p.maxCoeff(&k);
     double load = p(k) > 0 ? p(k) / c.max_principal_stress : 0.0;
     if (plastic) load = std::max(load, plastic_strain(force.plastic_state().Fp_inv[static_cast<std::size_t>(e)]) / c.max_plastic_strain);
-    const int r = mesh.element_root[static_cast<std::size_t>(e)];
-    Vec3 centroid = Vec3::Zero();
-    for (int j = 0; j < 4; ++j) centroid += mesh.root.X.row(mesh.root.tets(r, j)).transpose() / 4;
     Vec3 point = centroid, normal = force.diagonalization(e).V.col(k).normalized();
-    if (c.seed_factor < 1 && (centroid.array() >= c.seed_min.array()).all() &&
-        (centroid.array() <= c.seed_max.array()).all()) {
-      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      for (int j = 0; j < 4; ++j) {
-        const double d = c.seed_normal.dot(mesh.root.X.row(mesh.root.tets(r, j)).transpose() - c.seed_point);
-        lo = std::min(lo, d), hi = std::max(hi, d);
-      }
-      if (lo < 0 && hi > 0) {
-        load /= c.seed_factor;
-        point = centroid - c.seed_normal.dot(centroid - c.seed_point) * c.seed_normal;
-        normal = c.seed_normal;
-      }
+    if (seed) {
+      load /= c.seed_factor;
+      point = centroid - c.seed_normal.dot(centroid - c.seed_point) * c.seed_normal;
+      normal = c.seed_normal;
     }
     if (!(load >= c.front_fraction)) continue;
     bool front = false;
-    for (const auto& ed : kEdges)
-      front = front || mesh.cuts.count({std::min(mesh.root.tets(r, ed[0]), mesh.root.tets(r, ed[1])),
-                                        std::max(mesh.root.tets(r, ed[0]), mesh.root.tets(r, ed[1]))}) != 0;
+    for (const auto& ed : kEdges) front = front || edge_is_cut(mesh.root.tets(r, ed[0]), mesh.root.tets(r, ed[1]));
     if (!front && !(load >= 1)) continue;
-    starts.push_back({e, load, front, normal, point});
+    starts.push_back({e, load, front, seed, normal, point});
   }
   std::sort(starts.begin(), starts.end(), [](const CrackStart& a, const CrackStart& b) {
     if (a.front != b.front) return a.front;
@@ -84,6 +86,10 @@ int apply_crack_starts(VirtualNodeMesh& mesh, const std::vector<CrackStart>& sta
   int added = 0;
   for (const CrackStart& s : starts) {
     const int r = mesh.element_root[static_cast<std::size_t>(s.element)];
+    if (s.seed) {  // the seed plane itself: every tet cuts its edges across it where they cross it
+      added += cut_tet_by_plane(mesh, r, s.point, s.normal);
+      continue;
+    }
     Vec3 sum = Vec3::Zero();
     int count = 0;
     for (const auto& e : kEdges) {

@@ -302,6 +302,74 @@ TEST(VirtualNodeCut, SeedPlaneStartsTheCrackThereAndCutsAlongIt) {
   EXPECT_THROW(bad.validate("test"), std::invalid_argument);
 }
 
+// A seed tet split first by a neighbour's crack (here a plane across the seed's, which cuts none
+// of its edges across the seed plane) is cut again along the seed: afterwards no edge of it
+// crosses the seed plane uncut, and its new cut points lie on the seed plane.
+TEST(VirtualNodeCut, SeedCutsATetAgainThatAnotherCrackSplitFirst) {
+  VirtualNodeMesh m = unit_cube();
+  const Vec3 seed_point(0, 0.6, 0), seed_normal(0, 1, 0);
+  auto across_seed = [&](int a, int b) {
+    return seed_normal.dot(m.root.X.row(a).transpose() - seed_point) * seed_normal.dot(m.root.X.row(b).transpose() - seed_point) < 0;
+  };
+  // A root tet the seed plane crosses, with an edge across x = 0.4 (the other crack's plane).
+  int r = -1;
+  for (int t = 0; t < static_cast<int>(m.root.tets.rows()) && r < 0; ++t) {
+    bool seed = false, other = false;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        const int a = m.root.tets(t, i), b = m.root.tets(t, j);
+        seed = seed || across_seed(a, b);
+        other = other || (m.root.X(a, 0) - 0.4) * (m.root.X(b, 0) - 0.4) < 0;
+      }
+    if (seed && other) r = t;
+  }
+  ASSERT_GE(r, 0);
+  ASSERT_GT(cut_tet_by_plane(m, r, Vec3(0.4, 0, 0), Vec3(1, 0, 0)), 0);
+  update_topology(m);
+  const auto cut_before = m.cuts;
+  ASSERT_GT(m.pieces[static_cast<std::size_t>(r)].size(), 1u);
+  // The seed's box holds only r's centroid: no neighbour cuts r's edges for it.
+  Vec3 centroid = Vec3::Zero();
+  for (int k = 0; k < 4; ++k) centroid += m.root.X.row(m.root.tets(r, k)).transpose() / 4;
+  FractureCriterion c;
+  c.max_principal_stress = 1e9;
+  c.max_cuts_per_step = 100;
+  c.seed_factor = 1e-9;  // any tension passes on the seed
+  c.seed_point = seed_point;
+  c.seed_normal = seed_normal;
+  c.seed_min = centroid - Vec3::Constant(1e-9);
+  c.seed_max = centroid + Vec3::Constant(1e-9);
+  c.validate("test");
+  TetSolidForce force(weighted_tet_rest(m), TetMaterial{NeoHookean{1e4, 1e4}});
+  Points x = rest_positions(m);
+  x.col(1) *= 1.2;
+  force.update_positions(x, 0);
+  const std::vector<CrackStart> starts = find_crack_starts(m, force, c);
+  ASSERT_FALSE(starts.empty());
+  for (const CrackStart& s : starts) EXPECT_TRUE(s.seed);
+  EXPECT_GT(apply_crack_starts(m, starts), 0);
+  update_topology(m);
+  int fresh = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) {
+      const int a = m.root.tets(r, i), b = m.root.tets(r, j);
+      if (!across_seed(a, b)) continue;
+      Vec3 p;
+      ASSERT_TRUE(cut_point(m, a, b, p)) << "edge (" << a << ", " << b << ") crosses the seed plane uncut";
+      if (cut_before.count({std::min(a, b), std::max(a, b)})) continue;  // the other crack's point, kept (snapping)
+      ++fresh;
+      EXPECT_NEAR(seed_normal.dot(p - seed_point), 0, 1e-12);  // 0.6 is 40% of a 0.25 cell: no clamp
+    }
+  EXPECT_GT(fresh, 0);
+  // Nothing more to cut there.
+  TetSolidForce after(weighted_tet_rest(m), TetMaterial{NeoHookean{1e4, 1e4}});
+  Points y = rest_positions(m);
+  y.col(1) *= 1.2;
+  after.update_positions(y, 0);
+  EXPECT_TRUE(find_crack_starts(m, after, c).empty());
+  EXPECT_NEAR(total_weighted_volume(m), 1.0, 1e-12);
+}
+
 TEST(VirtualNodeCut, RejectsBadCuts) {
   VirtualNodeMesh m = unit_cube();
   EXPECT_THROW(add_cut(m, 0, 0, 0.5), std::invalid_argument);

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "invfem/solids/boundary.hpp"
+#include "invfem/solids/crack_crossings.hpp"
 #include "invfem/solids/embedded_crack_surface.hpp"
 
 namespace invfem {
@@ -26,6 +27,26 @@ TetMaterial material_for(const FractureBase& base, const VirtualNodeMesh& m) {
   remap(mat.fiber_directions);
   remap(mat.plastic_goal_log);
   return mat;
+}
+
+// Starts applied to a copy of a solid's cut mesh, and whether the result may be kept: its new
+// surface, with the particles where x has them, is born crossing nothing (crack_crossings.hpp).
+struct TrialCut {
+  VirtualNodeMesh mesh;
+  TopologyChange change;
+  int added = 0;       // cut points added (0: nothing to keep)
+  bool clean = true;   // no crossing pair born (nothing added is clean)
+};
+
+TrialCut trial_cut(const VirtualNodeMesh& mesh, const std::vector<CrackStart>& starts, const Points& x) {
+  TrialCut t{mesh, {}, 0, true};
+  t.added = apply_crack_starts(t.mesh, starts);
+  if (t.added == 0) return t;
+  t.change = update_topology(t.mesh);
+  std::vector<int> roots;
+  for (const CrackStart& c : starts) roots.push_back(mesh.element_root[static_cast<std::size_t>(c.element)]);
+  t.clean = !t.change.changed() || crossings_made(t.mesh, t.change, x, roots) == 0;
+  return t;
 }
 
 }  // namespace
@@ -117,10 +138,27 @@ void FracturePass::after_step(std::vector<SimObject>& objects, const StepPassInp
   for (Solid& s : solids_) {
     SimObject& o = objects[static_cast<std::size_t>(s.object)];
     const std::vector<CrackStart> starts = find_crack_starts(s.mesh, *tet_force(o), s.spec.criterion);
-    if (starts.empty() || apply_crack_starts(s.mesh, starts) == 0) continue;
-    const TopologyChange change = update_topology(s.mesh);
-    if (!change.changed()) continue;
-    rebuild_fractured_solid(o, s.mesh, s.base, &change);
+    if (starts.empty()) continue;
+    // A cut whose surface would be born crossing itself is not made (crack_crossings.hpp): all the
+    // starts together, else each alone and then those that passed alone together (their faces
+    // may meet each other), else none this step.
+    TrialCut t = trial_cut(s.mesh, starts, o.body.x);
+    if (t.added > 0 && !t.clean) {
+      std::vector<CrackStart> kept;
+      for (const CrackStart& c : starts)
+        if (trial_cut(s.mesh, {c}, o.body.x).clean) kept.push_back(c);
+      refused_ += static_cast<int>(starts.size() - kept.size());
+      if (kept.empty()) continue;
+      t = trial_cut(s.mesh, kept, o.body.x);
+      if (!t.clean) {
+        refused_ += static_cast<int>(kept.size());
+        continue;
+      }
+    }
+    if (t.added == 0) continue;
+    s.mesh = std::move(t.mesh);
+    if (!t.change.changed()) continue;
+    rebuild_fractured_solid(o, s.mesh, s.base, &t.change);
     ++events_;
   }
 }

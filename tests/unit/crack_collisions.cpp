@@ -8,7 +8,9 @@
 #include <memory>
 
 #include "invfem/collisions/certificate/intersection_count.hpp"
+#include "invfem/collisions/broad_phase/broad_phase.hpp"
 #include "invfem/collisions/collision_mesh.hpp"
+#include "invfem/collisions/response/repulsion.hpp"
 #include "invfem/collisions/response/impact_zones.hpp"
 #include "invfem/collisions/response/pair_impulse.hpp"
 #include "invfem/collisions/self_collision_pass.hpp"
@@ -288,6 +290,44 @@ TEST(CrackCollisions, VerticesAreJoinedByTheNodesTheyWereMadeOn) {
   CollisionMesh all;
   collisions::append_surface(all, "pinched", t, x, v, inv_mass, false, {}, &e);
   EXPECT_TRUE(collisions::joined(all, 0, 3));
+}
+
+// Two faces joined only through embedded vertices made on a common node (collision_mesh.hpp
+// linked_only): the CCD sees the vertex that is not the triangle's, the repulsion does not.
+TEST(CrackCollisions, FacesLinkedAtACrackFrontAreACandidateForTheCcdOnly) {
+  CollisionMesh m;
+  Tris t(2, 3);
+  t << 0, 1, 2,  3, 4, 5;
+  // Nodes 6..11: triangle A's three at z = 0; vertex 3 is made on node 6 (A's vertex 0) and sits
+  // halfway to node 9, above A's interior, coming down through it.
+  Points x(12, 3);
+  x << 0, 0, 0,  0, 0, 0,  0, 0, 0,  0, 0, 0,  0, 0, 0,  0, 0, 0,
+       0, 0, 0,  1, 0, 0,  0, 1, 0,  0.5, 0.5, 0.0008,  2, 0, 1,  2, 1, 1;
+  SurfaceEmbedding e;
+  e.num_embedded = 6;
+  e.offsets = {0, 1, 2, 3, 5, 6, 7};
+  e.nodes = {6, 7, 8, 6, 9, 10, 11};
+  e.weights = {1, 1, 1, 0.5, 0.5, 1, 1};
+  e.on = {1, 1, 1, 1, 0, 1, 1};
+  Points v = Points::Zero(12, 3);
+  v(9, 2) = -0.2;  // node 9 down at 0.2 m/s: vertex 3 at 0.1 m/s, from 0.4 mm above A to 0.6 mm below in 10 ms
+  Eigen::VectorXd inv_mass = Eigen::VectorXd::Ones(12);
+  collisions::embedded_state(e, x, v, inv_mass);
+  collisions::append_surface(m, "front", t, x, v, inv_mass, false, {}, &e);
+  ASSERT_TRUE(collisions::joined(m, 3, 0));
+  EXPECT_TRUE(collisions::linked_only(m, &m.tris(1, 0), 1, &m.tris(0, 0), 3));  // vertex 3, triangle A
+  const int shared[2] = {0, 3};
+  EXPECT_FALSE(collisions::linked_only(m, shared, 1, &m.tris(0, 0), 3));  // vertex 0 is A's own
+  collisions::BroadPhase broad;
+  collisions::Candidates c;
+  broad.find(m, 0.01, 1e-3, c);
+  EXPECT_NE(std::find(c.vf.begin(), c.vf.end(), collisions::VertexFaceCandidate{3, 0}), c.vf.end());
+  // Within the thickness at the start (0.4 mm < 1 mm), yet no repulsion on it.
+  Points v_after = m.v;
+  collisions::Candidates only;
+  only.vf.push_back({3, 0});
+  EXPECT_EQ(collisions::apply_repulsion(m, only, 0.01, collisions::RepulsionSettings{}, v_after), 0);
+  EXPECT_EQ(v_after, m.v);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "fd_check.hpp"
 #include "force_checks.hpp"
+#include "invfem/solids/crack_crossings.hpp"
 #include "invfem/solids/fracture_criterion.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 #include "invfem/solids/virtual_node_cut.hpp"
@@ -368,6 +369,38 @@ TEST(VirtualNodeCut, SeedCutsATetAgainThatAnotherCrackSplitFirst) {
   after.update_positions(y, 0);
   EXPECT_TRUE(find_crack_starts(m, after, c).empty());
   EXPECT_NEAR(total_weighted_volume(m), 1.0, 1e-12);
+}
+
+TEST(VirtualNodeCut, TrianglesCrossOnlyThroughAnInterior) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  EXPECT_TRUE(triangles_cross(a, b, c, Vec3(0.2, 0.2, -1), Vec3(0.2, 0.2, 1), Vec3(2, 2, 0.5)));   // through
+  EXPECT_FALSE(triangles_cross(a, b, c, Vec3(2, 2, -1), Vec3(2, 2, 1), Vec3(3, 3, 0)));           // beside
+  EXPECT_FALSE(triangles_cross(a, b, c, Vec3(0.2, 0.2, 0.1), Vec3(0.3, 0.2, 1), Vec3(0.2, 0.3, 1)));  // above
+  EXPECT_FALSE(triangles_cross(a, b, c, Vec3(0.1, 0.1, 0), Vec3(0.5, 0.1, 0), Vec3(0.1, 0.5, 0)));    // coplanar
+}
+
+// A cut whose new faces would start through other parts of the surface (material folded over
+// the crack) is seen by crossings_made; at rest the same cut makes none.
+TEST(VirtualNodeCut, CrossingsMadeSeesFacesBornThroughFoldedMaterial) {
+  VirtualNodeMesh m = unit_cube();
+  const Points rest = rest_positions(m);
+  std::vector<int> roots;
+  for (int r = 0; r < static_cast<int>(m.root.tets.rows()); ++r)
+    if (cut_tet_by_plane(m, r, Vec3(0.4, 0, 0), Vec3(1, 0, 0)) > 0 || m.pieces[static_cast<std::size_t>(r)].size() > 1)
+      roots.push_back(r);
+  const TopologyChange change = update_topology(m);
+  ASSERT_TRUE(change.changed());
+  EXPECT_EQ(crossings_made(m, change, rest, roots, 1000), 0);
+  // Fold the part beyond x = 0.5 back over the crack: a quarter turn about the line x = 0.5,
+  // y = 0.5 (along z) carries its bottom face (y = 0) up through the crack's faces at x = 0.4.
+  Points folded = rest;
+  for (Eigen::Index i = 0; i < folded.rows(); ++i) {
+    if (!(rest(i, 0) > 0.5 + 1e-12)) continue;
+    const double dx = rest(i, 0) - 0.5, dy = rest(i, 1) - 0.5;
+    folded(i, 0) = 0.5 - 0.8 * dy - 0.15;  // turned and pushed 0.15 toward the crack
+    folded(i, 1) = 0.5 + dx;
+  }
+  EXPECT_GT(crossings_made(m, change, folded, roots, 1000), 0);
 }
 
 TEST(VirtualNodeCut, RejectsBadCuts) {

@@ -18,6 +18,7 @@ struct Proximity {
 };
 
 std::optional<Proximity> vertex_face_proximity(const CollisionMesh& m, const VertexFaceCandidate& c, double h) {
+  if (linked_only(m, &c.vertex, 1, &m.tris(c.face, 0), 3)) return std::nullopt;  // a pair for the CCD alone
   const auto p = point_triangle_proximity(m.start(c.vertex), m.start(m.tris(c.face, 0)), m.start(m.tris(c.face, 1)),
                                           m.start(m.tris(c.face, 2)));
   if (!(p.distance < h)) return std::nullopt;
@@ -25,6 +26,7 @@ std::optional<Proximity> vertex_face_proximity(const CollisionMesh& m, const Ver
 }
 
 std::optional<Proximity> edge_edge_proximity_of(const CollisionMesh& m, const EdgeEdgeCandidate& c, double h) {
+  if (linked_only(m, &m.edges(c.edge_a, 0), 2, &m.edges(c.edge_b, 0), 2)) return std::nullopt;  // for the CCD alone
   const auto p = edge_edge_proximity(m.start(m.edges(c.edge_a, 0)), m.start(m.edges(c.edge_a, 1)),
                                      m.start(m.edges(c.edge_b, 0)), m.start(m.edges(c.edge_b, 1)));
   if (!(p.distance < h)) return std::nullopt;

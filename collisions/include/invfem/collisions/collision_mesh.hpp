@@ -69,9 +69,12 @@
 //                        (EmbeddedVertex::on: a corner's node, a cut point's edge's two ends, not
 //                        the nodes a point set slightly off them leans toward: a vertex set apart
 //                        from another that it would coincide with, solids/embedded_crack_surface.hpp).
-//                        Two embedded vertices made on a common node are joined (never a pair,
-//                        like one vertex): they are points of the edges of one particle, within an
-//                        element of each other in the material and moved by the same node. The two
+//                        Two embedded vertices made on a common node are joined (no repulsion
+//                        between them, like one vertex): they are points of the edges of one
+//                        particle, within an element of each other in the material and moved by
+//                        the same node. A pair of primitives joined only so (linked_only below) is
+//                        still a CCD candidate: the vertices are distinct, and in crushed material
+//                        the faces would cross. The two
 //                        faces of a crack share particles only near its front, where the material
 //                        still holds them together (virtual_node_cut.hpp: a particle is glued across
 //                        faces where the material is continuous around its node); across an open
@@ -252,6 +255,26 @@ inline bool joined(const CollisionMesh& m, int a, int b) {
   if (m.has_embedding() && m.is_embedded(a) && m.is_embedded(b) && embedded_linked(m, a, b)) return true;
   return !m.recovering.empty() &&
          std::binary_search(m.recovering.begin(), m.recovering.end(), std::pair<int, int>(std::minmax(a, b)));
+}
+
+// True when two primitives (vertex lists: a vertex and a triangle, or two edges) are joined only
+// through embedded vertices made on a common node (embedded_linked; no vertex shared, welded or of
+// a recovering tet): the two faces of a crack beside its front, a crack face's gap
+// (solids/embedded_crack_surface.hpp kCrackFaceGap) apart by construction. The repulsion leaves
+// such a pair alone (it would push apart what the material holds together), but the CCD keeps
+// them from passing through each other, as for any pair that shares no vertex: where the material
+// is crushed the faces would otherwise cross (the full buddha_fracture's slumping lower piece).
+inline bool linked_only(const CollisionMesh& m, const int* a, int na, const int* b, int nb) {
+  bool linked = false;
+  for (int i = 0; i < na; ++i)
+    for (int j = 0; j < nb; ++j) {
+      const int p = a[i], q = b[j];
+      if (p == q || listed(m.weld_offsets, m.weld_partners, p, q) ||
+          (!m.recovering.empty() && std::binary_search(m.recovering.begin(), m.recovering.end(), std::pair<int, int>(std::minmax(p, q)))))
+        return false;
+      linked = linked || (m.has_embedding() && m.is_embedded(p) && m.is_embedded(q) && embedded_linked(m, p, q));
+    }
+  return linked;
 }
 
 // True when the two primitives (vertex lists) are adjacent: some vertex of one is joined to

@@ -1,8 +1,9 @@
 #pragma once
 // Ductile fracture during a run (ITF04 Figure 9; meshing-and-fracture.md Part 2): an after-step
 // pass of the World (world.hpp stage 4) that checks each fracturing solid's criterion
-// (fracture_criterion.hpp) at the step's end, cuts the loaded element copies and, when the
-// topology changed, rebuilds the solid on the enlarged mesh (rebuild_fractured_solid):
+// (fracture_criterion.hpp) at the step's end, cuts the loaded element copies (not those whose new
+// surface would be born crossing the body's: crack_crossings.hpp) and, when the topology changed,
+// rebuilds the solid on the enlarged mesh (rebuild_fractured_solid):
 //  - nodes: positions and velocities carried from their parents (a virtual node starts where its
 //    original is, with its velocity); masses from the weighted lumped masses, so each old node's
 //    mass is split among its copies and mass and momentum are conserved across the split;
@@ -63,6 +64,9 @@ class FracturePass final : public StepPass {
 
   const VirtualNodeMesh& mesh(std::size_t k) const { return solids_[k].mesh; }
   int events() const { return events_; }  // topology changes so far (not saved: a run's figure)
+  // Starts not cut because their surface would have been born crossing (crack_crossings.hpp);
+  // not saved: a run's figure. A refused start may pass at a later step.
+  int refused() const { return refused_; }
 
  private:
   struct Solid {
@@ -75,6 +79,7 @@ class FracturePass final : public StepPass {
 
   std::vector<Solid> solids_;
   int events_ = 0;
+  int refused_ = 0;
 };
 
 }  // namespace invfem

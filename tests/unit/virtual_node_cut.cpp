@@ -303,9 +303,9 @@ TEST(VirtualNodeCut, SeedPlaneStartsTheCrackThereAndCutsAlongIt) {
   EXPECT_THROW(bad.validate("test"), std::invalid_argument);
 }
 
-// A seed tet split first by a neighbour's crack (here a plane across the seed's, which cuts none
-// of its edges across the seed plane) is cut again along the seed: afterwards no edge of it
-// crosses the seed plane uncut, and its new cut points lie on the seed plane.
+// A seed tet split first by another crack (here the plane x = 0.4, across the seed's) is cut
+// again along the seed: afterwards no edge of it crosses the seed plane uncut, and its new cut
+// points lie on the seed plane (an edge that crosses both planes keeps the first crack's point).
 TEST(VirtualNodeCut, SeedCutsATetAgainThatAnotherCrackSplitFirst) {
   VirtualNodeMesh m = unit_cube();
   const Vec3 seed_point(0, 0.6, 0), seed_normal(0, 1, 0);

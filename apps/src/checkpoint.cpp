@@ -36,9 +36,19 @@ std::uint64_t fnv1a64(std::string_view bytes) {
   return h;
 }
 
+namespace {
+// The scene as run without its length: the frames up to a checkpoint do not depend on how many
+// follow it, so a longer `frames` resumes the shot from its checkpoints (extends it).
+nlohmann::json state_defining(const Scene& scene) {
+  nlohmann::json j = to_json(scene);
+  j.erase("frames");
+  return j;
+}
+}  // namespace
+
 std::uint64_t scene_hash(const Scene& scene) {
-  // Over the scene as run: stable across runs of the same build.
-  return fnv1a64(to_json(scene).dump());
+  // Over the scene as run but its length: stable across runs of the same build.
+  return fnv1a64(state_defining(scene).dump());
 }
 
 std::string describe_scene_difference(const Scene& scene, const std::filesystem::path& out_dir) {
@@ -53,7 +63,8 @@ std::string describe_scene_difference(const Scene& scene, const std::filesystem:
   } catch (const std::exception&) {
     return "";
   }
-  const nlohmann::json now = to_json(scene);
+  old.erase("frames");
+  const nlohmann::json now = state_defining(scene);
   if (old == now) return "";
   auto bounded = [](const nlohmann::json& v) {
     std::string s = v.dump();

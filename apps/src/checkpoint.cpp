@@ -51,6 +51,28 @@ std::uint64_t scene_hash(const Scene& scene) {
   return fnv1a64(state_defining(scene).dump());
 }
 
+namespace {
+// Checkpoints written before the length was left out hashed the whole scene: they are still taken
+// for this scene at its own length, or at the length of the run that wrote them (its scene.json
+// in out_dir, read before this run replaces it), so an older run can be extended too.
+bool written_for(const Scene& scene, std::uint64_t stored, const std::filesystem::path& out_dir) {
+  if (stored == scene_hash(scene)) return true;
+  nlohmann::json j = to_json(scene);
+  if (stored == fnv1a64(j.dump())) return true;
+  try {
+    const auto file = out_dir / "scene.json";
+    if (!input_file_problem(file).empty()) return false;
+    std::ifstream in(file);
+    const nlohmann::json old = nlohmann::json::parse(in);
+    if (!old.contains("frames")) return false;
+    j["frames"] = old["frames"];
+    return stored == fnv1a64(j.dump());
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+}  // namespace
+
 std::string describe_scene_difference(const Scene& scene, const std::filesystem::path& out_dir) {
   // The run folder's scene.json is the scene the checkpoints were written by (RunOutput writes it
   // at every start, so it is read before this run's RunOutput replaces it).
@@ -147,7 +169,7 @@ CheckpointInfo load_checkpoint(const std::filesystem::path& file, const Scene& s
       throw fail("is damaged (truncated, or bad trailer)");
     if (stored != fnv1a64(std::string_view(bytes).substr(0, body)))
       throw fail("is damaged (its checksum does not match its content)");
-    if (r.pod<std::uint64_t>("the scene hash") != scene_hash(scene)) {
+    if (!written_for(scene, r.pod<std::uint64_t>("the scene hash"), file.parent_path().parent_path())) {
       // The checkpoints' run folder holds the scene they were written by: say what differs.
       const std::string diff = describe_scene_difference(scene, file.parent_path().parent_path());
       throw fail("was written by a different scene (or other --set/--quick options)" +

@@ -44,6 +44,20 @@ nlohmann::json state_defining(const Scene& scene) {
   j.erase("frames");
   return j;
 }
+
+// The run folder's scene.json: the scene its checkpoints were written by (RunOutput writes it at
+// every start, so it is read before this run's RunOutput replaces it). Null when missing or
+// unreadable.
+nlohmann::json run_scene(const std::filesystem::path& out_dir) {
+  const auto file = out_dir / "scene.json";
+  try {
+    if (!input_file_problem(file).empty()) return nullptr;
+    std::ifstream in(file);
+    return nlohmann::json::parse(in);
+  } catch (const std::exception&) {
+    return nullptr;
+  }
+}
 }  // namespace
 
 std::uint64_t scene_hash(const Scene& scene) {
@@ -53,38 +67,22 @@ std::uint64_t scene_hash(const Scene& scene) {
 
 namespace {
 // Checkpoints written before the length was left out hashed the whole scene: they are still taken
-// for this scene at its own length, or at the length of the run that wrote them (its scene.json
-// in out_dir, read before this run replaces it), so an older run can be extended too.
+// for this scene at its own length, or at the length of the run that wrote them, so an older run
+// can be extended too.
 bool written_for(const Scene& scene, std::uint64_t stored, const std::filesystem::path& out_dir) {
   if (stored == scene_hash(scene)) return true;
   nlohmann::json j = to_json(scene);
   if (stored == fnv1a64(j.dump())) return true;
-  try {
-    const auto file = out_dir / "scene.json";
-    if (!input_file_problem(file).empty()) return false;
-    std::ifstream in(file);
-    const nlohmann::json old = nlohmann::json::parse(in);
-    if (!old.contains("frames")) return false;
-    j["frames"] = old["frames"];
-    return stored == fnv1a64(j.dump());
-  } catch (const std::exception&) {
-    return false;
-  }
+  const nlohmann::json old = run_scene(out_dir);
+  if (!old.is_object() || !old.contains("frames")) return false;
+  j["frames"] = old["frames"];
+  return stored == fnv1a64(j.dump());
 }
 }  // namespace
 
 std::string describe_scene_difference(const Scene& scene, const std::filesystem::path& out_dir) {
-  // The run folder's scene.json is the scene the checkpoints were written by (RunOutput writes it
-  // at every start, so it is read before this run's RunOutput replaces it).
-  const auto file = out_dir / "scene.json";
-  nlohmann::json old;
-  try {
-    if (!input_file_problem(file).empty()) return "";
-    std::ifstream in(file);
-    old = nlohmann::json::parse(in);
-  } catch (const std::exception&) {
-    return "";
-  }
+  nlohmann::json old = run_scene(out_dir);
+  if (!old.is_object()) return "";
   old.erase("frames");
   const nlohmann::json now = state_defining(scene);
   if (old == now) return "";

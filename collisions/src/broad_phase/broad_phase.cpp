@@ -217,7 +217,7 @@ bool keep_vf(const CollisionMesh& m, const std::vector<Box>& vertex_boxes, const
   const int* tri = &m.tris(f, 0);
   if (!m.movable(i) && !m.movable(tri[0]) && !m.movable(tri[1]) && !m.movable(tri[2])) return false;
   if (m.is_node_only(i)) return false;  // a node under an embedded surface: not on it
-  if (adjacent(m, &i, 1, tri, 3) && !linked_only(m, &i, 1, tri, 3)) return false;  // linked_only: for the CCD
+  if (adjacent_as_one(m, &i, 1, tri, 3)) return false;  // a linked_only pair stays, for the CCD
   if (m.is_exempt(VertexFaceCandidate{i, f})) return false;
   if (m.released_pair(&i, 1, tri, 3)) return false;
   return vertex_boxes[static_cast<std::size_t>(i)].overlaps(triangle_boxes[static_cast<std::size_t>(f)]);
@@ -226,7 +226,7 @@ bool keep_ee(const CollisionMesh& m, const std::vector<Box>& edge_boxes, int a, 
   const int* ea = &m.edges(a, 0);
   const int* eb = &m.edges(b, 0);
   if (!m.movable(ea[0]) && !m.movable(ea[1]) && !m.movable(eb[0]) && !m.movable(eb[1])) return false;
-  if (adjacent(m, ea, 2, eb, 2) && !linked_only(m, ea, 2, eb, 2)) return false;  // also drops (a, a)
+  if (adjacent_as_one(m, ea, 2, eb, 2)) return false;  // also drops (a, a); a linked_only pair stays
   if (m.is_exempt(EdgeEdgeCandidate{std::min(a, b), std::max(a, b)})) return false;
   if (m.released_pair(ea, 2, eb, 2)) return false;
   return edge_boxes[static_cast<std::size_t>(a)].overlaps(edge_boxes[static_cast<std::size_t>(b)]);

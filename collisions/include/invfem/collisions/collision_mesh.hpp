@@ -73,7 +73,7 @@
 //                        between them, like one vertex): they are points of the edges of one
 //                        particle, within an element of each other in the material and moved by
 //                        the same node. A pair of primitives joined only so (linked_only below) is
-//                        still a CCD candidate: the vertices are distinct, and in crushed material
+//                        still a CCD candidate (the broad phase filters by adjacent_as_one): the vertices are distinct, and in crushed material
 //                        the faces would cross. The two
 //                        faces of a crack share particles only near its front, where the material
 //                        still holds them together (virtual_node_cut.hpp: a particle is glued across
@@ -248,42 +248,53 @@ inline bool embedded_linked(const CollisionMesh& m, int a, int b) {
   return false;
 }
 
-// True when vertices a and b are one vertex, welded, embedded vertices on a common node, or
-// nodes of a recovering tet (CollisionMesh::recovering).
-inline bool joined(const CollisionMesh& m, int a, int b) {
+// True when vertices a and b are one vertex, welded, or nodes of a recovering tet
+// (CollisionMesh::recovering): joined for the CCD as for the repulsion.
+inline bool joined_as_one(const CollisionMesh& m, int a, int b) {
   if (a == b || listed(m.weld_offsets, m.weld_partners, a, b)) return true;
-  if (m.has_embedding() && m.is_embedded(a) && m.is_embedded(b) && embedded_linked(m, a, b)) return true;
   return !m.recovering.empty() &&
          std::binary_search(m.recovering.begin(), m.recovering.end(), std::pair<int, int>(std::minmax(a, b)));
 }
 
-// True when two primitives (vertex lists: a vertex and a triangle, or two edges) are joined only
-// through embedded vertices made on a common node (embedded_linked; no vertex shared, welded or of
-// a recovering tet): the two faces of a crack beside its front, a crack face's gap
-// (solids/embedded_crack_surface.hpp kCrackFaceGap) apart by construction. The repulsion leaves
-// such a pair alone (it would push apart what the material holds together), but the CCD keeps
-// them from passing through each other, as for any pair that shares no vertex: where the material
-// is crushed the faces would otherwise cross (the full buddha_fracture's slumping lower piece).
-inline bool linked_only(const CollisionMesh& m, const int* a, int na, const int* b, int nb) {
-  bool linked = false;
+// True when a and b are embedded vertices made on a common node (embedded_linked).
+inline bool linked(const CollisionMesh& m, int a, int b) {
+  return m.has_embedding() && m.is_embedded(a) && m.is_embedded(b) && embedded_linked(m, a, b);
+}
+
+// True when vertices a and b are joined as one (above) or linked.
+inline bool joined(const CollisionMesh& m, int a, int b) { return joined_as_one(m, a, b) || linked(m, a, b); }
+
+// True when some vertex of one primitive (a vertex list) and some vertex of the other satisfy
+// `rule` (one of the three above).
+template <class Rule>
+bool any_pair(const int* a, int na, const int* b, int nb, Rule rule) {
   for (int i = 0; i < na; ++i)
-    for (int j = 0; j < nb; ++j) {
-      const int p = a[i], q = b[j];
-      if (p == q || listed(m.weld_offsets, m.weld_partners, p, q) ||
-          (!m.recovering.empty() && std::binary_search(m.recovering.begin(), m.recovering.end(), std::pair<int, int>(std::minmax(p, q)))))
-        return false;
-      linked = linked || (m.has_embedding() && m.is_embedded(p) && m.is_embedded(q) && embedded_linked(m, p, q));
-    }
-  return linked;
+    for (int j = 0; j < nb; ++j)
+      if (rule(a[i], b[j])) return true;
+  return false;
 }
 
 // True when the two primitives (vertex lists) are adjacent: some vertex of one is joined to
 // some vertex of the other.
 inline bool adjacent(const CollisionMesh& m, const int* a, int na, const int* b, int nb) {
-  for (int i = 0; i < na; ++i)
-    for (int j = 0; j < nb; ++j)
-      if (joined(m, a[i], b[j])) return true;
-  return false;
+  return any_pair(a, na, b, nb, [&](int p, int q) { return joined(m, p, q); });
+}
+
+// True when the two primitives are adjacent through vertices joined as one: never a candidate,
+// for the CCD or the repulsion (the broad phase's filter).
+inline bool adjacent_as_one(const CollisionMesh& m, const int* a, int na, const int* b, int nb) {
+  return any_pair(a, na, b, nb, [&](int p, int q) { return joined_as_one(m, p, q); });
+}
+
+// True when two primitives (a vertex and a triangle, or two edges) are adjacent only through
+// linked vertices: the two faces of a crack beside its front, a crack face's gap
+// (solids/embedded_crack_surface.hpp kCrackFaceGap) apart by construction. The repulsion leaves
+// such a pair alone (it would push apart what the material holds together), but the CCD keeps
+// them from passing through each other, as for any pair that shares no vertex: where the material
+// is crushed the faces would otherwise cross (the full buddha_fracture's slumping lower piece).
+inline bool linked_only(const CollisionMesh& m, const int* a, int na, const int* b, int nb) {
+  return m.has_embedding() && !adjacent_as_one(m, a, na, b, nb) &&
+         any_pair(a, na, b, nb, [&](int p, int q) { return linked(m, p, q); });
 }
 
 }  // namespace invfem::collisions

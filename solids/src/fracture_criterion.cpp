@@ -39,7 +39,6 @@ std::vector<CrackStart> find_crack_starts(const VirtualNodeMesh& mesh, const Tet
   if (c.max_elements > 0 && mesh.num_elements() >= c.max_elements) return starts;
   const bool plastic = std::isfinite(c.max_plastic_strain);
   static constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-  auto edge_is_cut = [&](int a, int b) { return mesh.cuts.count({std::min(a, b), std::max(a, b)}) != 0; };
   for (int e = 0; e < mesh.num_elements(); ++e) {
     const int r = mesh.element_root[static_cast<std::size_t>(e)];
     // On the seed: the rest-space plane crosses the root tet and its centroid lies in the box.
@@ -53,7 +52,7 @@ std::vector<CrackStart> find_crack_starts(const VirtualNodeMesh& mesh, const Tet
       double d[4];
       for (int j = 0; j < 4; ++j) d[j] = c.seed_normal.dot(mesh.root.X.row(mesh.root.tets(r, j)).transpose() - c.seed_point);
       for (const auto& ed : kEdges)
-        seed = seed || (d[ed[0]] * d[ed[1]] < 0 && !edge_is_cut(mesh.root.tets(r, ed[0]), mesh.root.tets(r, ed[1])));
+        seed = seed || (d[ed[0]] * d[ed[1]] < 0 && !edge_is_cut(mesh, mesh.root.tets(r, ed[0]), mesh.root.tets(r, ed[1])));
     }
     if (!seed && mesh.pieces[static_cast<std::size_t>(r)].size() > 1) continue;
     const Vec3 p = force.principal_stresses(e);
@@ -69,7 +68,7 @@ std::vector<CrackStart> find_crack_starts(const VirtualNodeMesh& mesh, const Tet
     }
     if (!(load >= c.front_fraction)) continue;
     bool front = false;
-    for (const auto& ed : kEdges) front = front || edge_is_cut(mesh.root.tets(r, ed[0]), mesh.root.tets(r, ed[1]));
+    for (const auto& ed : kEdges) front = front || edge_is_cut(mesh, mesh.root.tets(r, ed[0]), mesh.root.tets(r, ed[1]));
     if (!front && !(load >= 1)) continue;
     starts.push_back({e, load, front, seed, normal, point});
   }

@@ -26,8 +26,6 @@ void unite(std::vector<int>& parent, int a, int b) {
 
 std::pair<int, int> edge_key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
 
-bool edge_is_cut(const VirtualNodeMesh& m, int a, int b) { return m.cuts.count(edge_key(a, b)) != 0; }
-
 // Components of root tet r's 4 slots joined by uncut edges, as masks ordered by their lowest slot.
 std::vector<std::uint8_t> tet_components(const VirtualNodeMesh& m, int r) {
   std::vector<int> parent = {0, 1, 2, 3};
@@ -118,6 +116,8 @@ bool add_cut(VirtualNodeMesh& m, int a, int b, double fraction) {
   if (a > b) s = 1 - s;  // stored from the smaller node
   return m.cuts.try_emplace(edge_key(a, b), s).second;
 }
+
+bool edge_is_cut(const VirtualNodeMesh& m, int a, int b) { return m.cuts.count(edge_key(a, b)) != 0; }
 
 bool cut_point(const VirtualNodeMesh& m, int a, int b, Vec3& point) {
   const auto it = m.cuts.find(edge_key(a, b));

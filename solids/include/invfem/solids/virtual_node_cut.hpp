@@ -80,6 +80,9 @@ VirtualNodeMesh make_virtual_node_mesh(const TetMesh& mesh);
 // mesh, a == b, or a non-finite fraction.
 bool add_cut(VirtualNodeMesh& mesh, int a, int b, double fraction);
 
+// True when root edge (a, b) (either order) carries a cut point.
+bool edge_is_cut(const VirtualNodeMesh& mesh, int a, int b);
+
 // The rest-space position of the cut point on root edge (a, b), if it is cut.
 bool cut_point(const VirtualNodeMesh& mesh, int a, int b, Vec3& point);
 

@@ -79,12 +79,19 @@ void BlockSparseMatrix::add_scaled(const BlockSparseMatrix& B, double w) {
   parallel_for_each(blocks_.size(), 16 * kRowGrain, [&](std::size_t s) { blocks_[s] += w * B.blocks_[s]; });
 }
 
-ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatrix& A) : stride_(em.size()) {
+ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatrix& A)
+    : stride_(em.size()), form_(em.form) {
   const std::size_t nb = A.block_count();
   // Only element blocks (a, b) with nodes(a) <= nodes(b) are gathered: the upper triangle and the
   // diagonal of A. Block (b, a) of a symmetric element matrix is the transpose of (a, b), so the
   // lower triangle is written as the transpose of its partner's sum (mirror_), which also makes A
   // exactly symmetric.
+  // Where element block (a, b) of element e starts in values, in either form (element_matrices.hpp).
+  const auto offset = [&em](Eigen::Index e, int a, int b) -> std::size_t {
+    const auto base = static_cast<std::size_t>(e) * static_cast<std::size_t>(em.stride());
+    if (em.form == ElementMatrices::Form::Outer) return base;  // a and b go to pairs_
+    return base + static_cast<std::size_t>(3 * b * em.size() + 3 * a);
+  };
   std::vector<int> slot(static_cast<std::size_t>(em.count()) * static_cast<std::size_t>(em.arity * em.arity), -1);
   first_.assign(nb + 1, 0);
   std::size_t q = 0;
@@ -101,15 +108,17 @@ ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatri
       }
   for (std::size_t s = 0; s < nb; ++s) first_[s + 1] += first_[s];
   source_.resize(static_cast<std::size_t>(first_.back()));
+  if (form_ == ElementMatrices::Form::Outer) pairs_.resize(source_.size());
   std::vector<int> fill(first_.begin(), first_.end() - 1);
-  const std::size_t n2 = static_cast<std::size_t>(stride_) * static_cast<std::size_t>(stride_);
   q = 0;
   for (Eigen::Index e = 0; e < em.count(); ++e)
     for (int b = 0; b < em.arity; ++b)
       for (int a = 0; a < em.arity; ++a, ++q)  // block (a, b) starts at row 3a, column 3b
-        if (slot[q] >= 0)
-          source_[static_cast<std::size_t>(fill[static_cast<std::size_t>(slot[q])]++)] =
-              static_cast<std::size_t>(e) * n2 + static_cast<std::size_t>(3 * b * stride_ + 3 * a);
+        if (slot[q] >= 0) {
+          const auto k = static_cast<std::size_t>(fill[static_cast<std::size_t>(slot[q])]++);
+          source_[k] = offset(e, a, b);
+          if (form_ == ElementMatrices::Form::Outer) pairs_[k] = {static_cast<std::uint8_t>(3 * a), static_cast<std::uint8_t>(3 * b)};
+        }
   mirror_.assign(nb, -1);
   const std::vector<int>& rows = A.row_start();
   const std::vector<int>& cols = A.columns();
@@ -119,24 +128,36 @@ ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatri
 }
 
 void ElementScatter::add(const ElementMatrices& em, double w, BlockSparseMatrix& A) const {
+  if (em.form != form_ || em.size() != stride_)
+    throw std::logic_error("element scatter: the element matrices changed form or arity since the scatter was built");
   std::vector<Mat3>& blocks = A.blocks();
   const double* v = em.values.data();
   const Eigen::Index stride = stride_;
+  const bool outer = form_ == ElementMatrices::Form::Outer;
   parallel_for_each(blocks.size(), 16 * kRowGrain, [&](std::size_t s) {
     const int begin = first_[s], end = first_[s + 1];
     if (begin == end) return;  // a lower-triangle slot (written by its partner) or one no element touches
     Mat3 sum = Mat3::Zero();
     for (int k = begin; k < end; ++k) {
-      // The element blocks lie scattered over values (the gather is latency bound): fetch the three
-      // columns of the block kPrefetch ahead. Slots are visited in order, so look past this slot's end.
-      if (const std::size_t ahead = static_cast<std::size_t>(k) + kPrefetch; ahead < source_.size()) {
+      const auto kk = static_cast<std::size_t>(k);
+      // The element blocks lie scattered over values (the gather is latency bound): fetch the block
+      // kPrefetch ahead (a dense block's three columns; an outer one's u and s). Slots are visited
+      // in order, so look past this slot's end.
+      if (const std::size_t ahead = kk + kPrefetch; ahead < source_.size()) {
         const double* p = v + source_[ahead];
         __builtin_prefetch(p);
         __builtin_prefetch(p + stride);
-        __builtin_prefetch(p + 2 * stride);
+        if (!outer) __builtin_prefetch(p + 2 * stride);
       }
-      sum += Eigen::Map<const Mat3, 0, Eigen::OuterStride<>>(v + source_[static_cast<std::size_t>(k)],
-                                                              Eigen::OuterStride<>(stride));
+      const double* e = v + source_[kk];
+      if (outer) {  // s u_a u_b^T, entry (r, c) = (s u_a(r)) u_b(c): the dense form's bits
+        const Pair ab = pairs_[kk];
+        const Vec3 su = e[stride] * Eigen::Map<const Vec3>(e + ab.a);
+        const Mat3 block = su * Eigen::Map<const Vec3>(e + ab.b).transpose();
+        sum += block;
+      } else {
+        sum += Eigen::Map<const Mat3, 0, Eigen::OuterStride<>>(e, Eigen::OuterStride<>(stride));
+      }
     }
     sum *= w;
     blocks[s] += sum;

@@ -6,7 +6,8 @@
 //     alone; the terms from d u/dx and d c/dx are left out, which keeps K_h positive
 //     semidefinite (cos(theta/2) >= 0 for |theta| <= pi) and exact at theta = theta0;
 //   damping (exact):           C_h = k_d |E| u u^T.
-// A degenerate hinge (exerting no force) gets zero matrices.
+// Both are s u u^T: written in ElementMatrices' outer form (u and s, 13 numbers a hinge instead of
+// 144). A degenerate hinge (exerting no force) gets zero matrices (s = 0).
 #include <algorithm>
 #include <cmath>
 
@@ -28,8 +29,8 @@ Vec12 stacked(const HingeGeometry& g) {
 
 void set_nodes(const std::vector<Hinge>& hinges, ElementMatrices& out) {
   const auto m = static_cast<Eigen::Index>(hinges.size());
-  if (out.arity == 4 && out.count() == m) return;
-  out.resize(m, 4);
+  if (out.arity == 4 && out.form == ElementMatrices::Form::Outer && out.count() == m) return;
+  out.resize(m, 4, ElementMatrices::Form::Outer);
   for (Eigen::Index h = 0; h < m; ++h)
     for (int k = 0; k < 4; ++k) out.nodes(h, k) = hinges[static_cast<std::size_t>(h)][k];
 }
@@ -43,14 +44,14 @@ bool BendingForce::stiffness_matrices(ElementMatrices& out) const {
   set_nodes(hinges_, out);
   parallel_for_each(hinges_.size(), kGrain, [&](std::size_t h) {
     const HingeGeometry& g = geom_[h];
-    auto K = out.matrix<12>(static_cast<Eigen::Index>(h));
+    const auto e = static_cast<Eigen::Index>(h);
+    out.outer_vector<12>(e) = stacked(g);  // zero for a degenerate hinge
     if (!g.valid) {
-      K.setZero();
+      out.outer_scale(e) = 0;
       return;
     }
     const double cos_half = std::sqrt(std::max(0.0, 1 - g.sin_half * g.sin_half));
-    const Vec12 u = stacked(g);
-    K = (0.5 * params_.stiffness * g.scale * cos_half) * u * u.transpose();
+    out.outer_scale(e) = 0.5 * params_.stiffness * g.scale * cos_half;
   });
   return true;
 }
@@ -63,8 +64,9 @@ bool BendingForce::damping_matrices(ElementMatrices& out) const {
   set_nodes(hinges_, out);
   parallel_for_each(hinges_.size(), kGrain, [&](std::size_t h) {
     const HingeGeometry& g = geom_[h];
-    const Vec12 u = stacked(g);  // zero for a degenerate hinge
-    out.matrix<12>(static_cast<Eigen::Index>(h)) = (params_.damping * g.edge_length) * u * u.transpose();
+    const auto e = static_cast<Eigen::Index>(h);
+    out.outer_vector<12>(e) = stacked(g);  // zero for a degenerate hinge
+    out.outer_scale(e) = params_.damping * g.edge_length;
   });
   return true;
 }

@@ -10,6 +10,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
+#include <numeric>
 #include <random>
 #include <stdexcept>
 
@@ -34,9 +36,8 @@ using namespace invfem::test;
 // The dense (3n x 3n) sum of a force's element matrices.
 Eigen::MatrixXd dense(const ElementMatrices& em, Eigen::Index n) {
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  const int N = em.size();
   for (Eigen::Index e = 0; e < em.count(); ++e) {
-    const Eigen::Map<const Eigen::MatrixXd> Ke(em.values.data() + e * N * N, N, N);
+    const Eigen::MatrixXd Ke = em.dense(e);
     for (int a = 0; a < em.arity; ++a)
       for (int b = 0; b < em.arity; ++b)
         K.block<3, 3>(3 * em.nodes(e, a), 3 * em.nodes(e, b)) += Ke.block<3, 3>(3 * a, 3 * b);
@@ -65,9 +66,8 @@ void expect_stiffness_is_minus_force_jacobian(Force& f, const Points& x, double 
 
 // Every element matrix is symmetric positive semidefinite (to roundoff).
 void expect_element_matrices_psd(const ElementMatrices& em) {
-  const int N = em.size();
   for (Eigen::Index e = 0; e < em.count(); ++e) {
-    const Eigen::Map<const Eigen::MatrixXd> Ke(em.values.data() + e * N * N, N, N);
+    const Eigen::MatrixXd Ke = em.dense(e);
     const double scale = std::max(Ke.norm(), 1e-300);
     EXPECT_LT((Ke - Ke.transpose()).norm(), 1e-12 * scale) << "element " << e;
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Ke);
@@ -291,6 +291,35 @@ TEST(BlockSparseMatrix, AssembledProductEqualsDenseSum) {
       const int j = A.columns()[static_cast<std::size_t>(s)];
       EXPECT_EQ(A.blocks()[static_cast<std::size_t>(s)], A.blocks()[static_cast<std::size_t>(A.find(j, static_cast<int>(i)))].transpose());
     }
+}
+
+// The outer form (s u u^T stored as u and s, the hinges' form) assembles to the same bits as the
+// same matrices stored dense, and a scatter refuses element matrices of another form.
+TEST(BlockSparseMatrix, OuterFormAssemblesToTheBitsOfTheDenseForm) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-1, 1), s(0, 2);
+  const Eigen::Index n = 9, m = 20;
+  ElementMatrices outer, dense_form;
+  outer.resize(m, 4, ElementMatrices::Form::Outer);
+  dense_form.resize(m, 4);
+  for (Eigen::Index e = 0; e < m; ++e) {
+    std::vector<int> all(static_cast<std::size_t>(n));
+    std::iota(all.begin(), all.end(), 0);
+    std::shuffle(all.begin(), all.end(), rng);
+    for (int a = 0; a < 4; ++a) outer.nodes(e, a) = dense_form.nodes(e, a) = all[static_cast<std::size_t>(a)];
+    const Eigen::Matrix<double, 12, 1> v = Eigen::Matrix<double, 12, 1>::NullaryExpr([&] { return u(rng); });
+    const double scale = e == 3 ? 0.0 : s(rng);  // one zero matrix, as a degenerate hinge writes
+    outer.outer_vector<12>(e) = v;
+    outer.outer_scale(e) = scale;
+    dense_form.matrix<12>(e) = scale * v * v.transpose();
+    EXPECT_EQ(outer.dense(e), dense_form.matrix<12>(e)) << "element " << e;
+  }
+  BlockSparseMatrix A(n, {&outer}), B(n, {&dense_form});
+  ElementScatter(outer, A).add(outer, 0.7, A);
+  ElementScatter(dense_form, B).add(dense_form, 0.7, B);
+  ASSERT_EQ(A.block_count(), B.block_count());
+  for (std::size_t k = 0; k < A.block_count(); ++k) EXPECT_EQ(A.blocks()[k], B.blocks()[k]) << "block " << k;
+  EXPECT_THROW(ElementScatter(outer, A).add(dense_form, 1.0, A), std::logic_error);
 }
 
 // A += w B with B a refilled copy of A's pattern (the implicit step adds h C this way), and a

@@ -6,6 +6,7 @@
 // Determinism: every loop runs over block rows, each row summed in its own fixed order (column
 // order for products, element order for assembly), so the result has the same bits whatever
 // the thread count.
+#include <cstdint>
 #include <vector>
 
 #include "invfem/core/element_matrices.hpp"
@@ -60,10 +61,17 @@ class ElementScatter {
   void add(const ElementMatrices& elements, double w, BlockSparseMatrix& A) const;
 
  private:
+  struct Pair {
+    std::uint8_t a = 0, b = 0;  // 3 a and 3 b of block (a, b): offsets of u_a and u_b in u
+  };
   std::vector<int> first_;    // block_count + 1
-  std::vector<std::size_t> source_;  // offset of the element block's (0, 0) entry in values
+  // Dense form: offset of the element block's (0, 0) entry in values. Outer form: offset of the
+  // element's u (its s follows u), with the block's node pair in pairs_.
+  std::vector<std::size_t> source_;
+  std::vector<Pair> pairs_;          // Outer form only, per source_ entry
   std::vector<int> mirror_;          // per slot above the diagonal, its transpose's slot; else -1
-  int stride_ = 0;                   // 3 arity: the column stride inside an element matrix
+  int stride_ = 0;                   // 3 arity: the rows of an element matrix (the dense column stride)
+  ElementMatrices::Form form_ = ElementMatrices::Form::Dense;
 };
 
 }  // namespace invfem

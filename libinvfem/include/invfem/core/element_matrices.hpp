@@ -3,8 +3,14 @@
 // (implicit_step.hpp): a force writes one dense (3a x 3a) block per element, a nodes; the
 // integrator scatters them into its BlockSparseMatrix with one helper (block_sparse.hpp).
 //
-// Layout: element e's matrix is values[e * (3a)^2 ...], column-major, row/column 3 k + r is
-// coordinate r of the element's k-th node nodes(e, k). Every matrix is symmetric.
+// Two forms, one per set (row/column 3 k + r is coordinate r of the element's k-th node
+// nodes(e, k); every matrix is symmetric):
+//  - Dense: element e's matrix is values[e * (3a)^2 ...], column-major (tets, triangles, springs);
+//  - Outer: element e's matrix is s u u^T, stored as values[e * (3a + 1) ...] = (u (3a), s) with
+//    s >= 0: a bending hinge's Gauss-Newton stiffness and its damping. 3a + 1 numbers instead of
+//    (3a)^2 (13 against 144 for a hinge): the hinges are most of a cloth's element data, and the
+//    assembly's cost is reading it. Entry (i, j) is (s u_i) u_j, the same products, in the same
+//    order, as the dense s * u * u^T of Eigen, so both forms assemble to the same bits.
 #include <vector>
 
 #include <Eigen/Core>
@@ -14,19 +20,39 @@
 namespace invfem {
 
 struct ElementMatrices {
+  enum class Form { Dense, Outer };
   int arity = 0;  // nodes per element: 4 for tets and hinges, 3 for triangles and stitches, 2 for edge springs
+  Form form = Form::Dense;
   Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> nodes;  // m x arity
-  std::vector<double> values;                                                 // m (3 arity)^2
+  std::vector<double> values;  // m (3 arity)^2 (Dense) or m (3 arity + 1) (Outer)
 
   Eigen::Index count() const { return nodes.rows(); }
   int size() const { return 3 * arity; }  // rows of one element matrix
-  // Sizes the arrays for m elements of `a` nodes (keeping the allocation when it fits).
-  void resize(Eigen::Index m, int a) {
+  // Numbers stored per element.
+  int stride() const { return form == Form::Dense ? size() * size() : size() + 1; }
+  // Sizes the arrays for m elements of `a` nodes in the given form (keeping the allocation when
+  // it fits).
+  void resize(Eigen::Index m, int a, Form f = Form::Dense) {
     arity = a;
+    form = f;
     nodes.resize(m, a);
-    values.resize(static_cast<std::size_t>(m) * static_cast<std::size_t>(9 * a * a));
+    values.resize(static_cast<std::size_t>(m) * static_cast<std::size_t>(stride()));
   }
-  // Element e's matrix as a fixed-size map, N = 3 arity.
+  // Outer form: element e's u (N = 3 arity) and s.
+  template <int N> Eigen::Map<Eigen::Matrix<double, N, 1>> outer_vector(Eigen::Index e) {
+    return Eigen::Map<Eigen::Matrix<double, N, 1>>(values.data() + e * (N + 1));
+  }
+  double& outer_scale(Eigen::Index e) { return values[static_cast<std::size_t>(e * stride() + size())]; }
+  // Element e's whole matrix in either form (tests and checks; the assembly reads the blocks
+  // in place).
+  Eigen::MatrixXd dense(Eigen::Index e) const {
+    const int n = size();
+    const double* v = values.data() + e * stride();
+    if (form == Form::Dense) return Eigen::Map<const Eigen::MatrixXd>(v, n, n);
+    const Eigen::Map<const Eigen::VectorXd> u(v, n);
+    return (v[n] * u) * u.transpose();
+  }
+  // Dense form: element e's matrix as a fixed-size map, N = 3 arity.
   template <int N> Eigen::Map<Eigen::Matrix<double, N, N>> matrix(Eigen::Index e) {
     return Eigen::Map<Eigen::Matrix<double, N, N>>(values.data() + e * N * N);
   }

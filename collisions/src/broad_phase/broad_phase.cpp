@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
@@ -160,13 +161,19 @@ BroadPhase::BroadPhase() : embree_(std::make_unique<Embree>()) {}
 BroadPhase::~BroadPhase() = default;
 
 namespace {
+// Which reported pairs (mesh indices) become candidates: keep_vf or keep_ee below; empty: all.
+using PairFilter = std::function<bool(int, int)>;
+
 // rtcCollide calls back on several threads: each keeps its own list (no lock), merged after.
-// Pairs come back as set-local indices; `ids0` and `ids1` map them to mesh indices.
+// Pairs come back as set-local indices; `ids0` and `ids1` map them to mesh indices. The filter
+// runs in the callback, on the callback's thread: of cloth moving fast, millions of pairs a step
+// are reported, and filtered there they are filtered in parallel and never stored.
 struct Collected {
   const std::vector<int>* ids0 = nullptr;
   const std::vector<int>* ids1 = nullptr;
   bool same_scene = false;  // a scene against itself reports (a, b) and (b, a): keep a < b
   bool ordered = false;     // store (min, max) of the mesh indices (edge-edge across two sets)
+  const PairFilter* keep = nullptr;
   tbb::enumerable_thread_specific<std::vector<std::pair<int, int>>> local;
 };
 void collect(void* user, RTCCollision* c, unsigned n) {
@@ -174,24 +181,25 @@ void collect(void* user, RTCCollision* c, unsigned n) {
   auto& pairs = out->local.local();
   for (unsigned i = 0; i < n; ++i) {
     if (out->same_scene && c[i].primID0 >= c[i].primID1) continue;
-    const int a = (*out->ids0)[c[i].primID0], b = (*out->ids1)[c[i].primID1];
-    if (out->ordered && b < a)
-      pairs.emplace_back(b, a);
-    else
-      pairs.emplace_back(a, b);
+    int a = (*out->ids0)[c[i].primID0], b = (*out->ids1)[c[i].primID1];
+    if (out->ordered && b < a) std::swap(a, b);
+    if (*out->keep && !(*out->keep)(a, b)) continue;
+    pairs.emplace_back(a, b);
   }
 }
 
-// Appends to `pairs` the overlapping pairs of sets s0 and s1 (mesh indices through ids0, ids1).
-// Empty sets are never built, so they are skipped.
+// Appends to `pairs` the overlapping pairs of sets s0 and s1 (mesh indices through ids0, ids1)
+// that `keep` keeps, in no particular order. Empty sets are never built, so they are skipped.
 void collide(RTCDevice device, const BoxSet& s0, const std::vector<int>& ids0, const BoxSet& s1,
-             const std::vector<int>& ids1, bool ordered, const char* what, std::vector<std::pair<int, int>>& pairs) {
+             const std::vector<int>& ids1, bool ordered, const PairFilter& keep, const char* what,
+             std::vector<std::pair<int, int>>& pairs) {
   if (ids0.empty() || ids1.empty()) return;
   Collected c;
   c.ids0 = &ids0;
   c.ids1 = &ids1;
   c.same_scene = &s0 == &s1;
   c.ordered = ordered;
+  c.keep = &keep;
   rtcCollide(s0.scene, s1.scene, collect, &c);
   check(device, what);
   for (auto& l : c.local) pairs.insert(pairs.end(), l.begin(), l.end());
@@ -232,10 +240,22 @@ bool keep_ee(const CollisionMesh& m, const std::vector<Box>& edge_boxes, int a, 
   return edge_boxes[static_cast<std::size_t>(a)].overlaps(edge_boxes[static_cast<std::size_t>(b)]);
 }
 
+// Sorted and without repeats: the candidates' order, whatever the threads reported first (a
+// parallel sort: its result, the sorted set, is the same for any thread count).
 template <class T>
 void sort_unique(std::vector<T>& list) {
-  std::sort(list.begin(), list.end());
+  tbb::parallel_sort(list.begin(), list.end());
   list.erase(std::unique(list.begin(), list.end()), list.end());
+}
+
+// The pairs as candidates.
+void append_vf(const std::vector<std::pair<int, int>>& pairs, std::vector<VertexFaceCandidate>& out) {
+  out.reserve(out.size() + pairs.size());
+  for (const auto& [i, f] : pairs) out.push_back({i, f});
+}
+void append_ee(const std::vector<std::pair<int, int>>& pairs, std::vector<EdgeEdgeCandidate>& out) {
+  out.reserve(out.size() + pairs.size());
+  for (const auto& [a, b] : pairs) out.push_back({a, b});
 }
 }  // namespace
 
@@ -278,20 +298,20 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
       if (!s->boxes.empty()) builds_ += e.commit(*s, rebuild_growth) ? 1 : 0;
 
   // Vertex-face: movable vertices against every triangle, fixed vertices against movable ones.
+  const PairFilter vf_keep = [&](int i, int f) { return keep_vf(m, e.vertex_boxes, e.triangle_boxes, i, f); };
+  const PairFilter ee_keep = [&](int a, int b) { return keep_ee(m, e.edge_boxes, a, b); };
   std::vector<std::pair<int, int>> pairs;
   const char* vf_what = "rtcCollide (vertices, triangles)";
-  collide(e.device, e.vertices[0], e.vertex_ids[0], e.triangles[0], e.triangle_ids[0], false, vf_what, pairs);
-  collide(e.device, e.vertices[0], e.vertex_ids[0], e.triangles[1], e.triangle_ids[1], false, vf_what, pairs);
-  collide(e.device, e.vertices[1], e.vertex_ids[1], e.triangles[0], e.triangle_ids[0], false, vf_what, pairs);
-  for (const auto& [i, f] : pairs)
-    if (keep_vf(m, e.vertex_boxes, e.triangle_boxes, i, f)) out.vf.push_back({i, f});
+  collide(e.device, e.vertices[0], e.vertex_ids[0], e.triangles[0], e.triangle_ids[0], false, vf_keep, vf_what, pairs);
+  collide(e.device, e.vertices[0], e.vertex_ids[0], e.triangles[1], e.triangle_ids[1], false, vf_keep, vf_what, pairs);
+  collide(e.device, e.vertices[1], e.vertex_ids[1], e.triangles[0], e.triangle_ids[0], false, vf_keep, vf_what, pairs);
+  append_vf(pairs, out.vf);
   // Edge-edge: movable edges among themselves (a < b) and against fixed ones (stored as (min, max)).
   pairs.clear();
   const char* ee_what = "rtcCollide (edges, edges)";
-  collide(e.device, e.edges[0], e.edge_ids[0], e.edges[0], e.edge_ids[0], false, ee_what, pairs);
-  collide(e.device, e.edges[0], e.edge_ids[0], e.edges[1], e.edge_ids[1], true, ee_what, pairs);
-  for (const auto& [a, b] : pairs)
-    if (keep_ee(m, e.edge_boxes, a, b)) out.ee.push_back({a, b});
+  collide(e.device, e.edges[0], e.edge_ids[0], e.edges[0], e.edge_ids[0], false, ee_keep, ee_what, pairs);
+  collide(e.device, e.edges[0], e.edge_ids[0], e.edges[1], e.edge_ids[1], true, ee_keep, ee_what, pairs);
+  append_ee(pairs, out.ee);
   sort_unique(out.vf);
   sort_unique(out.ee);
   found_ = out;
@@ -362,28 +382,30 @@ void BroadPhase::refind(const CollisionMesh& m, const Points& v, double dt, doub
       fresh.ee.push_back(p);
   const std::size_t kept_vf = fresh.vf.size(), kept_ee = fresh.ee.size();
 
+  const PairFilter vf_keep = [&](int i, int f) { return keep_vf(m, e.vertex_boxes, e.triangle_boxes, i, f); };
+  const PairFilter ee_keep = [&](int a, int b) { return keep_ee(m, e.edge_boxes, a, b); };
   std::vector<std::pair<int, int>> pairs;
   const char* vf_what = "rtcCollide (moved vertices, triangles)";
   for (int g = 0; g < 2; ++g) {
-    collide(e.device, e.moved_vertices, e.moved_vertex_ids, e.triangles[g], e.triangle_ids[g], false, vf_what, pairs);
-    collide(e.device, e.vertices[g], e.vertex_ids[g], e.moved_triangles, e.moved_triangle_ids, false, vf_what, pairs);
+    collide(e.device, e.moved_vertices, e.moved_vertex_ids, e.triangles[g], e.triangle_ids[g], false, vf_keep, vf_what,
+            pairs);
+    collide(e.device, e.vertices[g], e.vertex_ids[g], e.moved_triangles, e.moved_triangle_ids, false, vf_keep, vf_what,
+            pairs);
   }
-  collide(e.device, e.moved_vertices, e.moved_vertex_ids, e.moved_triangles, e.moved_triangle_ids, false, vf_what,
-          pairs);
-  for (const auto& [i, f] : pairs)
-    if (keep_vf(m, e.vertex_boxes, e.triangle_boxes, i, f)) fresh.vf.push_back({i, f});
+  collide(e.device, e.moved_vertices, e.moved_vertex_ids, e.moved_triangles, e.moved_triangle_ids, false, vf_keep,
+          vf_what, pairs);
+  append_vf(pairs, fresh.vf);
   pairs.clear();
   const char* ee_what = "rtcCollide (moved edges, edges)";
   for (int g = 0; g < 2; ++g)
-    collide(e.device, e.moved_edges, e.moved_edge_ids, e.edges[g], e.edge_ids[g], true, ee_what, pairs);
-  collide(e.device, e.moved_edges, e.moved_edge_ids, e.moved_edges, e.moved_edge_ids, false, ee_what, pairs);
-  for (const auto& [a, b] : pairs)
-    if (keep_ee(m, e.edge_boxes, a, b)) fresh.ee.push_back({a, b});
+    collide(e.device, e.moved_edges, e.moved_edge_ids, e.edges[g], e.edge_ids[g], true, ee_keep, ee_what, pairs);
+  collide(e.device, e.moved_edges, e.moved_edge_ids, e.moved_edges, e.moved_edge_ids, false, ee_keep, ee_what, pairs);
+  append_ee(pairs, fresh.ee);
   // The kept pairs are sorted; the new ones (each with a moved primitive, so none of them kept)
   // are sorted and merged in.
   auto merge = [](auto& list, std::size_t kept) {
     const auto middle = list.begin() + static_cast<std::ptrdiff_t>(kept);
-    std::sort(middle, list.end());
+    tbb::parallel_sort(middle, list.end());
     list.erase(std::unique(middle, list.end()), list.end());
     std::inplace_merge(list.begin(), list.begin() + static_cast<std::ptrdiff_t>(kept), list.end());
   };
@@ -399,9 +421,10 @@ void BroadPhase::edge_triangle_pairs(const CollisionMesh& m, std::vector<std::pa
       e.triangle_boxes.size() != static_cast<std::size_t>(m.tris.rows()))
     return;  // no find() on this mesh yet
   const char* what = "rtcCollide (edges, triangles)";
-  collide(e.device, e.edges[0], e.edge_ids[0], e.triangles[0], e.triangle_ids[0], false, what, out);
-  collide(e.device, e.edges[0], e.edge_ids[0], e.triangles[1], e.triangle_ids[1], false, what, out);
-  collide(e.device, e.edges[1], e.edge_ids[1], e.triangles[0], e.triangle_ids[0], false, what, out);
+  const PairFilter all;
+  collide(e.device, e.edges[0], e.edge_ids[0], e.triangles[0], e.triangle_ids[0], false, all, what, out);
+  collide(e.device, e.edges[0], e.edge_ids[0], e.triangles[1], e.triangle_ids[1], false, all, what, out);
+  collide(e.device, e.edges[1], e.edge_ids[1], e.triangles[0], e.triangle_ids[0], false, all, what, out);
   // Pairs for a test at x0: the boxes at x0 alone, not swept nor grown, must overlap (most of the
   // swept, grown pairs are neighbours that only come within the margin). Not sorted: thousands of
   // pairs for a handful of crossings; the consumer sorts what it keeps.

@@ -46,14 +46,27 @@ bool repel(const CollisionMesh& m, const Proximity& p, double dt, double mu, Poi
 
 long long apply_repulsion(const CollisionMesh& m, const Candidates& c, double dt, const RepulsionSettings& s,
                           Points& v) {
-  std::vector<std::optional<Proximity>> vf(c.vf.size()), ee(c.ee.size());
-  parallel_for_each(vf.size(), 1024, [&](std::size_t k) { vf[k] = vertex_face_proximity(m, c.vf[k], s.thickness); });
-  parallel_for_each(ee.size(), 1024, [&](std::size_t k) { ee[k] = edge_edge_proximity_of(m, c.ee[k], s.thickness); });
+  // Which candidates start closer than the thickness: in parallel, one byte each (the candidates of
+  // cloth moving fast number millions a step, their stencils ~100 bytes); the box gap, a lower
+  // bound of the distance, settles most of them. Then the impulses, in candidate order, on those
+  // few, whose proximity is taken again (positions at the step's start: the same result).
+  const double h = s.thickness;
+  std::vector<char> vf_near(c.vf.size(), 0), ee_near(c.ee.size(), 0);
+  parallel_for_each(vf_near.size(), 1024, [&](std::size_t k) {
+    const VertexFaceCandidate& q = c.vf[k];
+    const int* f = &m.tris(q.face, 0);
+    vf_near[k] = start_box_gap(m, {q.vertex}, {f[0], f[1], f[2]}) < h && vertex_face_proximity(m, q, h) ? 1 : 0;
+  });
+  parallel_for_each(ee_near.size(), 1024, [&](std::size_t k) {
+    const EdgeEdgeCandidate& q = c.ee[k];
+    const int *a = &m.edges(q.edge_a, 0), *b = &m.edges(q.edge_b, 0);
+    ee_near[k] = start_box_gap(m, {a[0], a[1]}, {b[0], b[1]}) < h && edge_edge_proximity_of(m, q, h) ? 1 : 0;
+  });
   long long count = 0;
-  for (const auto& p : vf)
-    if (p && repel(m, *p, dt, s.friction, v)) ++count;
-  for (const auto& p : ee)
-    if (p && repel(m, *p, dt, s.friction, v)) ++count;
+  for (std::size_t k = 0; k < vf_near.size(); ++k)
+    if (vf_near[k] && repel(m, *vertex_face_proximity(m, c.vf[k], h), dt, s.friction, v)) ++count;
+  for (std::size_t k = 0; k < ee_near.size(); ++k)
+    if (ee_near[k] && repel(m, *edge_edge_proximity_of(m, c.ee[k], h), dt, s.friction, v)) ++count;
   return count;
 }
 

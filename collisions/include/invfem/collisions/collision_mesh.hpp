@@ -90,6 +90,7 @@
 //                        can come undone (the ITF04 collision processing has moved it out of the
 //                        body); its pairs with other cloth stay, so it cannot cross the cloth
 #include <algorithm>
+#include <initializer_list>
 #include <string>
 #include <utility>
 #include <vector>
@@ -295,6 +296,25 @@ inline bool adjacent_as_one(const CollisionMesh& m, const int* a, int na, const 
 inline bool linked_only(const CollisionMesh& m, const int* a, int na, const int* b, int nb) {
   return m.has_embedding() && !adjacent_as_one(m, a, na, b, nb) &&
          any_pair(a, na, b, nb, [&](int p, int q) { return linked(m, p, q); });
+}
+
+// A lower bound of the distance between two primitives (their vertex lists) at the step's start:
+// the gap between their bounding boxes, 0 where the boxes overlap. A few comparisons, where the
+// exact proximity queries (distance/) cost a closest-point solve: the CCD and the repulsion test
+// it first on each of their candidates, most of which it settles.
+inline double start_box_gap(const CollisionMesh& m, std::initializer_list<int> a, std::initializer_list<int> b) {
+  Vec3 lo_a = m.start(*a.begin()), hi_a = lo_a, lo_b = m.start(*b.begin()), hi_b = lo_b;
+  for (int i : a) {
+    lo_a = lo_a.cwiseMin(m.start(i));
+    hi_a = hi_a.cwiseMax(m.start(i));
+  }
+  for (int i : b) {
+    lo_b = lo_b.cwiseMin(m.start(i));
+    hi_b = hi_b.cwiseMax(m.start(i));
+  }
+  // Per axis the gap between the intervals (0 when they overlap).
+  const Vec3 gap = (lo_a - hi_b).cwiseMax(lo_b - hi_a).cwiseMax(0.0);
+  return gap.norm();
 }
 
 }  // namespace invfem::collisions

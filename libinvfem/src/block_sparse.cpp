@@ -89,8 +89,13 @@ ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatri
   // Where element block (a, b) of element e starts in values, in either form (element_matrices.hpp).
   const auto offset = [&em](Eigen::Index e, int a, int b) -> std::size_t {
     const auto base = static_cast<std::size_t>(e) * static_cast<std::size_t>(em.stride());
-    if (em.form == ElementMatrices::Form::Outer) return base;  // a and b go to pairs_
-    return base + static_cast<std::size_t>(3 * b * em.size() + 3 * a);
+    switch (em.form) {
+      case ElementMatrices::Form::Dense: return base + static_cast<std::size_t>(3 * b * em.size() + 3 * a);
+      case ElementMatrices::Form::Upper:  // block (a, b), or for a > b its transpose's (b, a): pairs_
+        return base + static_cast<std::size_t>(9 * em.upper_block(std::min(a, b), std::max(a, b)));
+      case ElementMatrices::Form::Outer: break;  // a and b go to pairs_
+    }
+    return base;
   };
   std::vector<int> slot(static_cast<std::size_t>(em.count()) * static_cast<std::size_t>(em.arity * em.arity), -1);
   first_.assign(nb + 1, 0);
@@ -108,7 +113,7 @@ ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatri
       }
   for (std::size_t s = 0; s < nb; ++s) first_[s + 1] += first_[s];
   source_.resize(static_cast<std::size_t>(first_.back()));
-  if (form_ == ElementMatrices::Form::Outer) pairs_.resize(source_.size());
+  if (form_ != ElementMatrices::Form::Dense) pairs_.resize(source_.size());
   std::vector<int> fill(first_.begin(), first_.end() - 1);
   q = 0;
   for (Eigen::Index e = 0; e < em.count(); ++e)
@@ -117,7 +122,7 @@ ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatri
         if (slot[q] >= 0) {
           const auto k = static_cast<std::size_t>(fill[static_cast<std::size_t>(slot[q])]++);
           source_[k] = offset(e, a, b);
-          if (form_ == ElementMatrices::Form::Outer) pairs_[k] = {static_cast<std::uint8_t>(3 * a), static_cast<std::uint8_t>(3 * b)};
+          if (form_ != ElementMatrices::Form::Dense) pairs_[k] = {static_cast<std::uint8_t>(3 * a), static_cast<std::uint8_t>(3 * b)};
         }
   mirror_.assign(nb, -1);
   const std::vector<int>& rows = A.row_start();
@@ -133,7 +138,8 @@ void ElementScatter::add(const ElementMatrices& em, double w, BlockSparseMatrix&
   std::vector<Mat3>& blocks = A.blocks();
   const double* v = em.values.data();
   const Eigen::Index stride = stride_;
-  const bool outer = form_ == ElementMatrices::Form::Outer;
+  const bool outer = form_ == ElementMatrices::Form::Outer, upper = form_ == ElementMatrices::Form::Upper;
+  const Eigen::Index column = upper ? 3 : stride;  // column stride of a block in values
   parallel_for_each(blocks.size(), 16 * kRowGrain, [&](std::size_t s) {
     const int begin = first_[s], end = first_[s + 1];
     if (begin == end) return;  // a lower-triangle slot (written by its partner) or one no element touches
@@ -146,8 +152,8 @@ void ElementScatter::add(const ElementMatrices& em, double w, BlockSparseMatrix&
       if (const std::size_t ahead = kk + kPrefetch; ahead < source_.size()) {
         const double* p = v + source_[ahead];
         __builtin_prefetch(p);
-        __builtin_prefetch(p + stride);
-        if (!outer) __builtin_prefetch(p + 2 * stride);
+        __builtin_prefetch(p + (upper ? 8 : stride));  // an upper block's 72 bytes span two lines
+        if (!outer && !upper) __builtin_prefetch(p + 2 * stride);
       }
       const double* e = v + source_[kk];
       if (outer) {  // s u_a u_b^T, entry (r, c) = (s u_a(r)) u_b(c): the dense form's bits
@@ -156,7 +162,12 @@ void ElementScatter::add(const ElementMatrices& em, double w, BlockSparseMatrix&
         const Mat3 block = su * Eigen::Map<const Vec3>(e + ab.b).transpose();
         sum += block;
       } else {
-        sum += Eigen::Map<const Mat3, 0, Eigen::OuterStride<>>(e, Eigen::OuterStride<>(stride));
+        const Eigen::Map<const Mat3, 0, Eigen::OuterStride<>> block(e, Eigen::OuterStride<>(column));
+        if (upper && pairs_[kk].a > pairs_[kk].b) {  // stored as block (b, a): its exact transpose
+          sum += block.transpose();
+        } else {
+          sum += block;
+        }
       }
     }
     sum *= w;

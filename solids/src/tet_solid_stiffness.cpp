@@ -24,10 +24,18 @@ namespace invfem {
 namespace {
 constexpr std::size_t kGrain = 256;  // a tet's 12x12 matrix costs a few microseconds
 
-void set_nodes(const Tets& tets, ElementMatrices& out) {
-  if (out.arity == 4 && out.count() == tets.rows()) return;
-  out.resize(tets.rows(), 4);
+// The element matrices in the given form: Upper (element_blocks' exactly symmetric blocks, 90
+// numbers a tet), or Dense where a fiber term is added (its blocks are not exact transposes).
+void set_nodes(const Tets& tets, ElementMatrices::Form form, ElementMatrices& out) {
+  if (out.arity == 4 && out.form == form && out.count() == tets.rows()) return;
+  out.resize(tets.rows(), 4, form);
   out.nodes = tets;
+}
+
+// Writes element e's blocks into `out` (Upper form).
+void write_upper(const DiagonalSpaceHessian& h, const Diagonalization3& d, const Mat34& beta, double scale,
+                 Eigen::Index e, ElementMatrices& out) {
+  element_blocks(h, d.U, d.V, beta, scale, [&](int k, int l, const Mat3& block) { out.block(e, k, l) = block; });
 }
 
 // Element e's rest shape for Fe (header): the shape gradients of Dm^-1 Fp^-1 and the volume
@@ -44,18 +52,22 @@ ElementRest element_rest(const TetRest& rest, const PlasticState& plastic, bool 
 }  // namespace
 
 bool TetSolidForce::stiffness_matrices(ElementMatrices& out) const {
-  set_nodes(rest_.tets, out);
-  const IsotropicModel model = with_strength(material_.model, strength_);
   const FiberMaterial* fiber = material_.fiber ? &*material_.fiber : nullptr;
+  set_nodes(rest_.tets, fiber ? ElementMatrices::Form::Dense : ElementMatrices::Form::Upper, out);
+  const IsotropicModel model = with_strength(material_.model, strength_);
   std::visit(
       [&](const auto& mdl) {
         parallel_for_each(diag_.size(), kGrain, [&](std::size_t e) {
           const Diagonalization3& d = diag_[e];
           const DiagonalSpaceHessian H = diagonal_space_hessian(mdl, d.sigma, /*project_psd=*/true);
-          auto K = out.matrix<12>(static_cast<Eigen::Index>(e));
           const ElementRest r = element_rest(rest_, plastic_, plastic_identity_, e);
+          if (!fiber) {
+            write_upper(H, d, r.beta, r.volume, static_cast<Eigen::Index>(e), out);
+            return;
+          }
+          auto K = out.matrix<12>(static_cast<Eigen::Index>(e));
           K = element_matrix(H, d.U, d.V, r.beta, r.volume);
-          if (fiber) {  // on the total F = Fe Fp and the original rest shape
+          {  // the fiber term, on the total F = Fe Fp and the original rest shape
             const Mat3 Fe = d.U * d.sigma.asDiagonal() * d.V.transpose();
             const Mat3 F = plastic_identity_ ? Fe : Mat3(Fe * plastic_.Fp_inv[e].inverse());
             const Mat9 Hf = fiber_stress_derivative(*fiber, F, material_.fiber_directions[e], activation_);
@@ -72,7 +84,7 @@ bool TetSolidForce::damping_matrices(ElementMatrices& out) const {
     out.resize(0, 4);
     return true;
   }
-  set_nodes(rest_.tets, out);
+  set_nodes(rest_.tets, ElementMatrices::Form::Upper, out);
   const IsotropicModel model = with_strength(material_.model, strength_);
   const auto [mu, lambda] = std::visit([](const auto& m) { return std::pair(m.mu, m.lambda); }, model);
   const RotatedDamping damping{material_.damping * lambda, material_.damping * mu};
@@ -82,7 +94,7 @@ bool TetSolidForce::damping_matrices(ElementMatrices& out) const {
     const Diagonalization3& d = diag_[e];
     const DiagonalSpaceHessian D = spin_free ? spin_free_damping_diagonal_space_derivative(damping, d.sigma) : rotated;
     const ElementRest r = element_rest(rest_, plastic_, plastic_identity_, e);
-    out.matrix<12>(static_cast<Eigen::Index>(e)) = element_matrix(D, d.U, d.V, r.beta, r.volume);
+    write_upper(D, d, r.beta, r.volume, static_cast<Eigen::Index>(e), out);
   });
   return true;
 }

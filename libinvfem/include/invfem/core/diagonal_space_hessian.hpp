@@ -59,10 +59,12 @@ inline Mat9 full_space(const DiagonalSpaceHessian& h, const Mat3& U, const Mat3&
 
 // scale G^T dP/dF G for a tet whose F = sum_k x_k beta_k^T: beta is 3x4 (column k = node k's shape
 // gradient, shape_gradients<3>), U and V the frame of h. Row/column 3 k + r is coordinate r of node k.
-inline Mat12 element_matrix(const DiagonalSpaceHessian& h, const Mat3& U, const Mat3& V, const Mat34& beta,
-                            double scale) {
+// emit(k, l, block) receives the blocks k <= l; block (l, k) is block (k, l)^T exactly, and the
+// diagonal blocks are made exactly symmetric (U Q U^T with a symmetric Q is, up to roundoff).
+template <class Emit>
+void element_blocks(const DiagonalSpaceHessian& h, const Mat3& U, const Mat3& V, const Mat34& beta, double scale,
+                    Emit&& emit) {
   const Mat34 b = V.transpose() * beta;  // beta'_k = V^T beta_k
-  Mat12 out;
   for (int k = 0; k < 4; ++k)
     for (int l = k; l < 4; ++l) {
       Mat3 Q;
@@ -77,14 +79,22 @@ inline Mat12 element_matrix(const DiagonalSpaceHessian& h, const Mat3& U, const 
         Q(j, j) += b(i, k) * P(1, 1) * b(i, l);
       }
       const Mat3 block = scale * (U.lazyProduct(Q).lazyProduct(U.transpose()));
-      out.block<3, 3>(3 * k, 3 * l) = block;
-      if (l != k) out.block<3, 3>(3 * l, 3 * k) = block.transpose();
+      if (l != k) {
+        emit(k, l, block);
+      } else {
+        emit(k, k, Mat3(0.5 * (block + block.transpose())));
+      }
     }
-  // The diagonal blocks: U Q U^T with a symmetric Q is symmetric up to roundoff; make it exact.
-  for (int k = 0; k < 4; ++k) {
-    const Mat3 d = out.block<3, 3>(3 * k, 3 * k);
-    out.block<3, 3>(3 * k, 3 * k) = 0.5 * (d + d.transpose());
-  }
+}
+
+// The whole 12x12 of element_blocks.
+inline Mat12 element_matrix(const DiagonalSpaceHessian& h, const Mat3& U, const Mat3& V, const Mat34& beta,
+                            double scale) {
+  Mat12 out;
+  element_blocks(h, U, V, beta, scale, [&out](int k, int l, const Mat3& block) {
+    out.block<3, 3>(3 * k, 3 * l) = block;
+    if (l != k) out.block<3, 3>(3 * l, 3 * k) = block.transpose();
+  });
   return out;
 }
 

@@ -3,9 +3,12 @@
 // (implicit_step.hpp): a force writes one dense (3a x 3a) block per element, a nodes; the
 // integrator scatters them into its BlockSparseMatrix with one helper (block_sparse.hpp).
 //
-// Two forms, one per set (row/column 3 k + r is coordinate r of the element's k-th node
+// Three forms, one per set (row/column 3 k + r is coordinate r of the element's k-th node
 // nodes(e, k); every matrix is symmetric):
-//  - Dense: element e's matrix is values[e * (3a)^2 ...], column-major (tets, triangles, springs);
+//  - Dense: element e's matrix is values[e * (3a)^2 ...], column-major (triangles, springs);
+//  - Upper: the blocks (k, l), k <= l, of an exactly symmetric matrix (block (l, k) is block
+//    (k, l)^T to the bit), each 3x3 column-major, packed in the order (0,0), (0,1), ..., (0,a-1),
+//    (1,1), ...: 9 a (a + 1) / 2 numbers (90 for a tet against 144), the tets' form;
 //  - Outer: element e's matrix is s u u^T, stored as values[e * (3a + 1) ...] = (u (3a), s) with
 //    s >= 0: a bending hinge's Gauss-Newton stiffness and its damping. 3a + 1 numbers instead of
 //    (3a)^2 (13 against 144 for a hinge): the hinges are most of a cloth's element data, and the
@@ -20,7 +23,7 @@
 namespace invfem {
 
 struct ElementMatrices {
-  enum class Form { Dense, Outer };
+  enum class Form { Dense, Upper, Outer };
   int arity = 0;  // nodes per element: 4 for tets and hinges, 3 for triangles and stitches, 2 for edge springs
   Form form = Form::Dense;
   Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> nodes;  // m x arity
@@ -29,7 +32,20 @@ struct ElementMatrices {
   Eigen::Index count() const { return nodes.rows(); }
   int size() const { return 3 * arity; }  // rows of one element matrix
   // Numbers stored per element.
-  int stride() const { return form == Form::Dense ? size() * size() : size() + 1; }
+  int stride() const {
+    switch (form) {
+      case Form::Dense: return size() * size();
+      case Form::Upper: return 9 * arity * (arity + 1) / 2;
+      case Form::Outer: break;
+    }
+    return size() + 1;
+  }
+  // Upper form: the index of block (k, l), k <= l, in the packed order.
+  int upper_block(int k, int l) const { return k * arity - k * (k - 1) / 2 + (l - k); }
+  // Upper form: block (k, l), k <= l, of element e.
+  Eigen::Map<Mat3> block(Eigen::Index e, int k, int l) {
+    return Eigen::Map<Mat3>(values.data() + e * stride() + 9 * upper_block(k, l));
+  }
   // Sizes the arrays for m elements of `a` nodes in the given form (keeping the allocation when
   // it fits).
   void resize(Eigen::Index m, int a, Form f = Form::Dense) {
@@ -49,6 +65,16 @@ struct ElementMatrices {
     const int n = size();
     const double* v = values.data() + e * stride();
     if (form == Form::Dense) return Eigen::Map<const Eigen::MatrixXd>(v, n, n);
+    if (form == Form::Upper) {
+      Eigen::MatrixXd K(n, n);
+      for (int k = 0; k < arity; ++k)
+        for (int l = k; l < arity; ++l) {
+          const Eigen::Map<const Mat3> b(v + 9 * upper_block(k, l));
+          K.block<3, 3>(3 * k, 3 * l) = b;
+          K.block<3, 3>(3 * l, 3 * k) = b.transpose();
+        }
+      return K;
+    }
     const Eigen::Map<const Eigen::VectorXd> u(v, n);
     return (v[n] * u) * u.transpose();
   }

@@ -322,6 +322,31 @@ TEST(BlockSparseMatrix, OuterFormAssemblesToTheBitsOfTheDenseForm) {
   EXPECT_THROW(ElementScatter(outer, A).add(dense_form, 1.0, A), std::logic_error);
 }
 
+// The tets' Upper form (their ten upper blocks, packed) assembles to the same bits as the whole
+// matrices stored dense: the gather reads a block that is lower in the element's node order but
+// upper in the matrix as its stored transpose.
+TEST(BlockSparseMatrix, TetUpperFormAssemblesToTheBitsOfTheDenseForm) {
+  std::mt19937 rng(17);
+  const BarMatrices bm(rng);
+  const ElementMatrices& K = bm.K;
+  ASSERT_EQ(K.form, ElementMatrices::Form::Upper);
+  EXPECT_EQ(K.values.size(), static_cast<std::size_t>(90 * K.count()));
+  ElementMatrices dense_form;
+  dense_form.resize(K.count(), 4);
+  dense_form.nodes = K.nodes;
+  int reversed = 0;  // elements with a node pair out of order: their transposed reads
+  for (Eigen::Index e = 0; e < K.count(); ++e) {
+    dense_form.matrix<12>(e) = K.dense(e);
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) reversed += K.nodes(e, a) > K.nodes(e, b);
+  }
+  EXPECT_GT(reversed, 0);
+  BlockSparseMatrix A(bm.n, {&K}), B(bm.n, {&dense_form});
+  ElementScatter(K, A).add(K, 0.3, A);
+  ElementScatter(dense_form, B).add(dense_form, 0.3, B);
+  for (std::size_t k = 0; k < A.block_count(); ++k) EXPECT_EQ(A.blocks()[k], B.blocks()[k]) << "block " << k;
+}
+
 // A += w B with B a refilled copy of A's pattern (the implicit step adds h C this way), and a
 // matrix of another pattern is refused.
 TEST(BlockSparseMatrix, AddScaledCopyOfThePatternEqualsDenseSum) {

@@ -91,7 +91,7 @@ ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatri
     const auto base = static_cast<std::size_t>(e) * static_cast<std::size_t>(em.stride());
     switch (em.form) {
       case ElementMatrices::Form::Dense: return base + static_cast<std::size_t>(3 * b * em.size() + 3 * a);
-      case ElementMatrices::Form::Upper:  // block (a, b), or for a > b its transpose's (b, a): pairs_
+      case ElementMatrices::Form::Upper:  // the pair's block: (a, b) itself, nodes(a) <= nodes(b) here
         return base + static_cast<std::size_t>(9 * em.upper_block(std::min(a, b), std::max(a, b)));
       case ElementMatrices::Form::Outer: break;  // a and b go to pairs_
     }
@@ -104,6 +104,9 @@ ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatri
     for (int b = 0; b < em.arity; ++b)
       for (int a = 0; a < em.arity; ++a, ++q) {
         const int i = em.nodes(e, a), j = em.nodes(e, b);
+        if (a != b && i == j && em.form == ElementMatrices::Form::Upper)
+          throw std::logic_error("element scatter: element " + std::to_string(e) +
+                                 " repeats a node, which the packed (Upper) form cannot hold");
         const int s = A.find(i, j);
         if (s < 0 || A.find(j, i) < 0)
           throw std::logic_error("element scatter: an element block lies outside the matrix pattern");
@@ -113,7 +116,7 @@ ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatri
       }
   for (std::size_t s = 0; s < nb; ++s) first_[s + 1] += first_[s];
   source_.resize(static_cast<std::size_t>(first_.back()));
-  if (form_ != ElementMatrices::Form::Dense) pairs_.resize(source_.size());
+  if (form_ == ElementMatrices::Form::Outer) pairs_.resize(source_.size());
   std::vector<int> fill(first_.begin(), first_.end() - 1);
   q = 0;
   for (Eigen::Index e = 0; e < em.count(); ++e)
@@ -122,7 +125,7 @@ ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatri
         if (slot[q] >= 0) {
           const auto k = static_cast<std::size_t>(fill[static_cast<std::size_t>(slot[q])]++);
           source_[k] = offset(e, a, b);
-          if (form_ != ElementMatrices::Form::Dense) pairs_[k] = {static_cast<std::uint8_t>(3 * a), static_cast<std::uint8_t>(3 * b)};
+          if (form_ == ElementMatrices::Form::Outer) pairs_[k] = {static_cast<std::uint8_t>(3 * a), static_cast<std::uint8_t>(3 * b)};
         }
   mirror_.assign(nb, -1);
   const std::vector<int>& rows = A.row_start();
@@ -162,12 +165,7 @@ void ElementScatter::add(const ElementMatrices& em, double w, BlockSparseMatrix&
         const Mat3 block = su * Eigen::Map<const Vec3>(e + ab.b).transpose();
         sum += block;
       } else {
-        const Eigen::Map<const Mat3, 0, Eigen::OuterStride<>> block(e, Eigen::OuterStride<>(column));
-        if (upper && pairs_[kk].a > pairs_[kk].b) {  // stored as block (b, a): its exact transpose
-          sum += block.transpose();
-        } else {
-          sum += block;
-        }
+        sum += Eigen::Map<const Mat3, 0, Eigen::OuterStride<>>(e, Eigen::OuterStride<>(column));
       }
     }
     sum *= w;

@@ -18,9 +18,10 @@ namespace invfem {
 namespace {
 constexpr std::size_t kGrain = 512;
 
+// In the Upper form (element_matrices.hpp): the 6 blocks the assembly reads, 54 numbers a triangle.
 void set_nodes(const Tris& tris, ElementMatrices& out) {
-  if (out.arity == 3 && out.count() == tris.rows()) return;
-  out.resize(tris.rows(), 3);
+  if (out.arity == 3 && out.form == ElementMatrices::Form::Upper && out.count() == tris.rows()) return;
+  out.resize(tris.rows(), 3, ElementMatrices::Form::Upper);
   out.nodes = tris;
 }
 }  // namespace
@@ -34,9 +35,10 @@ bool MembraneForce::stiffness_matrices(ElementMatrices& out) const {
           const Mat6x6 H = energy_hessian(model, diag_[e], /*project_psd=*/true);
           const Mat2& Fp_inv = plastic_.Fp_inv[e];
           const bool plain = plastic_identity_;
-          out.matrix<9>(static_cast<Eigen::Index>(e)) = element_matrix_from_dPdF<2>(
-              H, shape_gradients<2>(plain ? rest_.Dm_inv[e] : Mat2(rest_.Dm_inv[e] * Fp_inv)),
-              rest_.area[e] * h * (plain ? 1.0 : plastic_volume_factor(Fp_inv)));
+          out.set_upper<9>(static_cast<Eigen::Index>(e),
+                           element_matrix_from_dPdF<2>(
+                               H, shape_gradients<2>(plain ? rest_.Dm_inv[e] : Mat2(rest_.Dm_inv[e] * Fp_inv)),
+                               rest_.area[e] * h * (plain ? 1.0 : plastic_volume_factor(Fp_inv))));
         });
       },
       model_);
@@ -64,10 +66,11 @@ bool MembraneForce::damping_matrices(ElementMatrices& out) const {
     }
     const Mat2& Fp_inv = plastic_.Fp_inv[e];
     const bool plain = plastic_identity_;
-    out.matrix<9>(static_cast<Eigen::Index>(e)) = element_matrix_from_dPdF<2>(
-        Mat6x6(0.5 * (D + D.transpose())),
-        shape_gradients<2>(plain ? rest_.Dm_inv[e] : Mat2(rest_.Dm_inv[e] * Fp_inv)),
-        rest_.area[e] * thickness_ * (plain ? 1.0 : plastic_volume_factor(Fp_inv)));
+    out.set_upper<9>(static_cast<Eigen::Index>(e),
+                     element_matrix_from_dPdF<2>(
+                         Mat6x6(0.5 * (D + D.transpose())),
+                         shape_gradients<2>(plain ? rest_.Dm_inv[e] : Mat2(rest_.Dm_inv[e] * Fp_inv)),
+                         rest_.area[e] * thickness_ * (plain ? 1.0 : plastic_volume_factor(Fp_inv))));
   });
   return true;
 }

@@ -24,18 +24,19 @@ namespace invfem {
 namespace {
 constexpr std::size_t kGrain = 256;  // a tet's 12x12 matrix costs a few microseconds
 
-// The element matrices in the given form: Upper (element_blocks' exactly symmetric blocks, 90
-// numbers a tet), or Dense where a fiber term is added (its blocks are not exact transposes).
+// The element matrices in the given form: Upper (element_blocks' blocks, 90 numbers a tet), or
+// Dense where a fiber term is added to the whole matrix.
 void set_nodes(const Tets& tets, ElementMatrices::Form form, ElementMatrices& out) {
   if (out.arity == 4 && out.form == form && out.count() == tets.rows()) return;
   out.resize(tets.rows(), 4, form);
   out.nodes = tets;
 }
 
-// Writes element e's blocks into `out` (Upper form).
+// Writes element e's blocks into `out` (Upper form; block (l, k) is block (k, l)^T exactly).
 void write_upper(const DiagonalSpaceHessian& h, const Diagonalization3& d, const Mat34& beta, double scale,
                  Eigen::Index e, ElementMatrices& out) {
-  element_blocks(h, d.U, d.V, beta, scale, [&](int k, int l, const Mat3& block) { out.block(e, k, l) = block; });
+  element_blocks(h, d.U, d.V, beta, scale,
+                 [&](int k, int l, const Mat3& block) { out.set_block(e, k, l, block, block.transpose()); });
 }
 
 // Element e's rest shape for Fe (header): the shape gradients of Dm^-1 Fp^-1 and the volume

@@ -1,9 +1,9 @@
 // The implicit step's sparse kernels on a cloth's pattern: BlockSparseMatrix::multiply and
 // ElementScatter::add (with set_zero, as each Newton iteration runs them). The pattern is
 // an N x N grid of cells, two triangles each (arity 3) plus a hinge (arity 4) per interior edge,
-// what a cloth sheet's membrane and bending forces give the assembly; the hinges in the outer
-// form the bending force writes (BM_scatter_add) or dense (BM_scatter_add_dense_hinges: the
-// baseline, as they were stored before the outer form). Argument: N.
+// what a cloth sheet's membrane and bending forces give the assembly: in the forms the forces
+// write (BM_scatter_add: triangles as packed upper blocks, hinges as u and s) or all dense
+// (BM_scatter_add_dense: the baseline, as they were stored before those forms). Argument: N.
 // Run with --benchmark_repetitions=5 --benchmark_report_aggregates_only=true for medians.
 #include <benchmark/benchmark.h>
 
@@ -21,16 +21,16 @@ using invfem::ElementMatrices;
 using invfem::ElementScatter;
 using invfem::Points;
 
-// Random element matrices over the grid's triangles (dense R R^T) and hinges (dense R R^T, or
-// random u and s in the outer form), node (r, c) = r (N + 1) + c.
+// Random element matrices over the grid's triangles (R R^T, dense or its upper blocks) and hinges
+// (dense R R^T, or random u and s in the outer form), node (r, c) = r (N + 1) + c.
 struct Grid {
   ElementMatrices triangles, hinges;
   Eigen::Index nodes = 0;
 
-  Grid(int n, ElementMatrices::Form hinge_form) {
+  Grid(int n, bool dense) {
     nodes = static_cast<Eigen::Index>(n + 1) * (n + 1);
     const auto id = [n](int r, int c) { return r * (n + 1) + c; };
-    triangles.resize(2 * n * n, 3);
+    triangles.resize(2 * n * n, 3, dense ? ElementMatrices::Form::Dense : ElementMatrices::Form::Upper);
     int t = 0;
     for (int r = 0; r < n; ++r)
       for (int c = 0; c < n; ++c) {
@@ -45,12 +45,12 @@ struct Grid {
         if (c + 1 < n) h.push_back({id(r, c + 1), id(r + 1, c + 1), id(r, c), id(r + 1, c + 2)});
         if (r + 1 < n) h.push_back({id(r + 1, c), id(r + 1, c + 1), id(r, c), id(r + 2, c + 1)});
       }
-    hinges.resize(static_cast<Eigen::Index>(h.size()), 4, hinge_form);
+    hinges.resize(static_cast<Eigen::Index>(h.size()), 4, dense ? ElementMatrices::Form::Dense : ElementMatrices::Form::Outer);
     for (std::size_t k = 0; k < h.size(); ++k)
       for (int a = 0; a < 4; ++a) hinges.nodes(static_cast<Eigen::Index>(k), a) = h[k][static_cast<std::size_t>(a)];
     std::mt19937_64 rng(7);
     fill<9>(triangles, rng);
-    if (hinge_form == ElementMatrices::Form::Dense) {
+    if (dense) {
       fill<12>(hinges, rng);
     } else {
       std::uniform_real_distribution<double> u(-1, 1);
@@ -62,7 +62,11 @@ struct Grid {
     std::uniform_real_distribution<double> u(-1, 1);
     for (Eigen::Index e = 0; e < em.count(); ++e) {
       const Eigen::Matrix<double, M, M> R = Eigen::Matrix<double, M, M>::NullaryExpr([&] { return u(rng); });
-      em.matrix<M>(e) = R * R.transpose();
+      if (em.form == ElementMatrices::Form::Dense) {
+        em.matrix<M>(e) = R * R.transpose();
+      } else {
+        em.set_upper<M>(e, R * R.transpose());
+      }
     }
   }
 };
@@ -73,8 +77,8 @@ struct Assembled {
   ElementScatter triangles, hinges;
   Points x;
 
-  explicit Assembled(int n, ElementMatrices::Form hinge_form = ElementMatrices::Form::Outer)
-      : grid(n, hinge_form), A(grid.nodes, {&grid.triangles, &grid.hinges}) {
+  explicit Assembled(int n, bool dense = false)
+      : grid(n, dense), A(grid.nodes, {&grid.triangles, &grid.hinges}) {
     triangles = ElementScatter(grid.triangles, A);
     hinges = ElementScatter(grid.hinges, A);
     A.add_to_diagonal(Eigen::VectorXd::Constant(grid.nodes, 1.0));
@@ -100,8 +104,8 @@ void BM_multiply(benchmark::State& state) {
   set_label(state, s);
 }
 
-void scatter_add(benchmark::State& state, ElementMatrices::Form hinge_form) {
-  Assembled s(static_cast<int>(state.range(0)), hinge_form);
+void scatter_add(benchmark::State& state, bool dense) {
+  Assembled s(static_cast<int>(state.range(0)), dense);
   for (auto _ : state) {
     s.A.set_zero();
     s.triangles.add(s.grid.triangles, 1.0, s.A);
@@ -111,12 +115,12 @@ void scatter_add(benchmark::State& state, ElementMatrices::Form hinge_form) {
   set_label(state, s);
 }
 
-void BM_scatter_add(benchmark::State& state) { scatter_add(state, ElementMatrices::Form::Outer); }
-void BM_scatter_add_dense_hinges(benchmark::State& state) { scatter_add(state, ElementMatrices::Form::Dense); }
+void BM_scatter_add(benchmark::State& state) { scatter_add(state, false); }
+void BM_scatter_add_dense(benchmark::State& state) { scatter_add(state, true); }
 
 BENCHMARK(BM_multiply)->Arg(50)->Arg(100)->Arg(200)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_scatter_add)->Arg(50)->Arg(100)->Arg(200)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_scatter_add_dense_hinges)->Arg(50)->Arg(100)->Arg(200)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_scatter_add_dense)->Arg(50)->Arg(100)->Arg(200)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

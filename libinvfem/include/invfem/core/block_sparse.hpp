@@ -66,10 +66,10 @@ class ElementScatter {
   };
   std::vector<int> first_;    // block_count + 1
   // Dense form: offset of the element block's (0, 0) entry in values. Upper form: offset of the
-  // packed block (min(a, b), max(a, b)), read transposed when a > b (pairs_). Outer form: offset
-  // of the element's u (its s follows u), with the block's node pair in pairs_.
+  // node pair's packed block. Outer form: offset of the element's u (its s follows u), with the
+  // block's node pair in pairs_.
   std::vector<std::size_t> source_;
-  std::vector<Pair> pairs_;          // Upper and Outer forms, per source_ entry
+  std::vector<Pair> pairs_;          // Outer form only, per source_ entry
   std::vector<int> mirror_;          // per slot above the diagonal, its transpose's slot; else -1
   int stride_ = 0;                   // 3 arity: the rows of an element matrix (the dense column stride)
   ElementMatrices::Form form_ = ElementMatrices::Form::Dense;

@@ -6,9 +6,14 @@
 // Three forms, one per set (row/column 3 k + r is coordinate r of the element's k-th node
 // nodes(e, k); every matrix is symmetric):
 //  - Dense: element e's matrix is values[e * (3a)^2 ...], column-major (triangles, springs);
-//  - Upper: the blocks (k, l), k <= l, of an exactly symmetric matrix (block (l, k) is block
-//    (k, l)^T to the bit), each 3x3 column-major, packed in the order (0,0), (0,1), ..., (0,a-1),
-//    (1,1), ...: 9 a (a + 1) / 2 numbers (90 for a tet against 144), the tets' form;
+//  - Upper: per node pair k <= l of the element (distinct nodes), one 3x3 block, column-major,
+//    packed in the order (0,0), (0,1), ..., (0,a-1), (1,1), ...: 9 a (a + 1) / 2 numbers (90 for
+//    a tet against 144, 54 for a triangle against 81). The pair's block is the one whose rows
+//    belong to the node with the smaller index, (k, l) if nodes(e, k) < nodes(e, l), else (l, k):
+//    exactly the block the assembly reads (it gathers the matrix's upper triangle, by node
+//    index), so a matrix that is not symmetric to the bit (a sum of products in another order
+//    for (l, k)) assembles to the same bits as in the dense form. The other block of the pair is
+//    taken as its transpose. Tets and membrane triangles;
 //  - Outer: element e's matrix is s u u^T, stored as values[e * (3a + 1) ...] = (u (3a), s) with
 //    s >= 0: a bending hinge's Gauss-Newton stiffness and its damping. 3a + 1 numbers instead of
 //    (3a)^2 (13 against 144 for a hinge): the hinges are most of a cloth's element data, and the
@@ -40,11 +45,19 @@ struct ElementMatrices {
     }
     return size() + 1;
   }
-  // Upper form: the index of block (k, l), k <= l, in the packed order.
+  // Upper form: the index of node pair (k, l), k <= l, in the packed order.
   int upper_block(int k, int l) const { return k * arity - k * (k - 1) / 2 + (l - k); }
-  // Upper form: block (k, l), k <= l, of element e.
-  Eigen::Map<Mat3> block(Eigen::Index e, int k, int l) {
-    return Eigen::Map<Mat3>(values.data() + e * stride() + 9 * upper_block(k, l));
+  // Upper form: stores block (k, l), k <= l, of element e's matrix, given with the block (l, k)
+  // that is its counterpart (the same matrix transposed when the element matrix is exactly
+  // symmetric): the one the pair keeps is chosen by node index (above).
+  void set_block(Eigen::Index e, int k, int l, const Mat3& kl, const Mat3& lk) {
+    Eigen::Map<Mat3>(values.data() + e * stride() + 9 * upper_block(k, l)) = nodes(e, k) < nodes(e, l) ? kl : lk;
+  }
+  // Upper form: element e's blocks from its whole N x N matrix (N = 3 arity).
+  template <int N> void set_upper(Eigen::Index e, const Eigen::Matrix<double, N, N>& K) {
+    for (int k = 0; k < arity; ++k)
+      for (int l = k; l < arity; ++l)
+        set_block(e, k, l, K.template block<3, 3>(3 * k, 3 * l), K.template block<3, 3>(3 * l, 3 * k));
   }
   // Sizes the arrays for m elements of `a` nodes in the given form (keeping the allocation when
   // it fits).
@@ -70,8 +83,9 @@ struct ElementMatrices {
       for (int k = 0; k < arity; ++k)
         for (int l = k; l < arity; ++l) {
           const Eigen::Map<const Mat3> b(v + 9 * upper_block(k, l));
-          K.block<3, 3>(3 * k, 3 * l) = b;
-          K.block<3, 3>(3 * l, 3 * k) = b.transpose();
+          const bool kept_kl = nodes(e, k) < nodes(e, l);
+          K.block<3, 3>(3 * k, 3 * l) = kept_kl ? Mat3(b) : Mat3(b.transpose());
+          K.block<3, 3>(3 * l, 3 * k) = kept_kl ? Mat3(b.transpose()) : Mat3(b);
         }
       return K;
     }

@@ -10,6 +10,7 @@
 #include <array>
 #include <random>
 #include <set>
+#include <string>
 
 #include "invfem/collisions/broad_phase/broad_phase.hpp"
 #include "invfem/collisions/candidates/tangles.hpp"
@@ -198,35 +199,35 @@ TEST(CandidateCcd, DropsNoPairThatComesCloseWhateverTheCommonVelocity) {
   };
   int dropped = 0, close = 0, hits = 0;
   double toi = 0;
+  // d: the pair's sampled distance over the step, d0 at its start. A drop is safe when the pair
+  // keeps its separation (min_distance, or half its distance at the start when it starts closer:
+  // candidate_ccd's rule).
+  auto check = [&](const auto& pair, double d, double d0, const std::string& what) {
+    const double separation = std::min(s.min_distance, 0.5 * d0);
+    const bool hit = candidate_ccd(m, pair, v, dt, s, toi);
+    hits += hit;
+    close += d < separation;
+    if (!hit) {
+      ++dropped;
+      EXPECT_GE(d, separation * (1 - 1e-9)) << what;
+    }
+  };
+  auto x = [&](int i, double tau) { return m.position(i, v, tau, dt); };
   for (const auto& p : c.vf) {
     const int* t = &m.tris(p.face, 0);
-    auto x = [&](int i, double tau) { return m.position(i, v, tau, dt); };
     const double d = sampled([&](double tau) {
       return point_triangle_proximity(x(p.vertex, tau), x(t[0], tau), x(t[1], tau), x(t[2], tau)).distance;
     });
-    const double d0 = point_triangle_proximity(m.start(p.vertex), m.start(t[0]), m.start(t[1]), m.start(t[2])).distance;
-    const bool hit = candidate_ccd(m, p, v, dt, s, toi);
-    hits += hit;
-    // A drop is safe when the pair keeps its separation (min_distance, or half its distance at
-    // the start when it starts closer: candidate_ccd's rule).
-    close += d < std::min(s.min_distance, 0.5 * d0);
-    if (!hit) {
-      ++dropped;
-      EXPECT_GE(d, std::min(s.min_distance, 0.5 * d0) * (1 - 1e-9)) << "vertex " << p.vertex << ", face " << p.face;
-    }
+    check(p, d, point_triangle_proximity(m.start(p.vertex), m.start(t[0]), m.start(t[1]), m.start(t[2])).distance,
+          "vertex " + std::to_string(p.vertex) + ", face " + std::to_string(p.face));
   }
   for (const auto& p : c.ee) {
     const int *a = &m.edges(p.edge_a, 0), *b = &m.edges(p.edge_b, 0);
-    auto x = [&](int i, double tau) { return m.position(i, v, tau, dt); };
-    const double d = sampled([&](double tau) { return edge_edge_proximity(x(a[0], tau), x(a[1], tau), x(b[0], tau), x(b[1], tau)).distance; });
-    const double d0 = edge_edge_proximity(m.start(a[0]), m.start(a[1]), m.start(b[0]), m.start(b[1])).distance;
-    const bool hit = candidate_ccd(m, p, v, dt, s, toi);
-    hits += hit;
-    close += d < std::min(s.min_distance, 0.5 * d0);
-    if (!hit) {
-      ++dropped;
-      EXPECT_GE(d, std::min(s.min_distance, 0.5 * d0) * (1 - 1e-9)) << "edges " << p.edge_a << ", " << p.edge_b;
-    }
+    const double d = sampled([&](double tau) {
+      return edge_edge_proximity(x(a[0], tau), x(a[1], tau), x(b[0], tau), x(b[1], tau)).distance;
+    });
+    check(p, d, edge_edge_proximity(m.start(a[0]), m.start(a[1]), m.start(b[0]), m.start(b[1])).distance,
+          "edges " + std::to_string(p.edge_a) + ", " + std::to_string(p.edge_b));
   }
   EXPECT_GT(c.vf.size() + c.ee.size(), 10000u) << "the common motion sweeps every box across the soup";
   EXPECT_GT(dropped, 10000);

@@ -1,7 +1,8 @@
 #pragma once
 // Per-element matrices, the currency between a force and the implicit integrator's assembly
-// (implicit_step.hpp): a force writes one dense (3a x 3a) block per element, a nodes; the
-// integrator scatters them into its BlockSparseMatrix with one helper (block_sparse.hpp).
+// (implicit_step.hpp): a force writes one (3a x 3a) matrix per element of a nodes, in one of the
+// forms below; the integrator scatters them into its BlockSparseMatrix with one helper
+// (block_sparse.hpp).
 //
 // Three forms, one per set (row/column 3 k + r is coordinate r of the element's k-th node
 // nodes(e, k); every matrix is symmetric):
@@ -32,7 +33,7 @@ struct ElementMatrices {
   int arity = 0;  // nodes per element: 4 for tets and hinges, 3 for triangles and stitches, 2 for edge springs
   Form form = Form::Dense;
   Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> nodes;  // m x arity
-  std::vector<double> values;  // m (3 arity)^2 (Dense) or m (3 arity + 1) (Outer)
+  std::vector<double> values;  // m stride(): (3 arity)^2, 9 arity (arity + 1) / 2 or 3 arity + 1
 
   Eigen::Index count() const { return nodes.rows(); }
   int size() const { return 3 * arity; }  // rows of one element matrix
@@ -72,8 +73,8 @@ struct ElementMatrices {
     return Eigen::Map<Eigen::Matrix<double, N, 1>>(values.data() + e * (N + 1));
   }
   double& outer_scale(Eigen::Index e) { return values[static_cast<std::size_t>(e * stride() + size())]; }
-  // Element e's whole matrix in either form (tests and checks; the assembly reads the blocks
-  // in place).
+  // Element e's whole matrix, any form (tests and checks; the assembly reads the blocks in
+  // place).
   Eigen::MatrixXd dense(Eigen::Index e) const {
     const int n = size();
     const double* v = values.data() + e * stride();

@@ -87,13 +87,19 @@ void append_grid(CollisionMesh& m, const std::string& name, int n, double width,
   append_surface(m, name, t, x, v, Eigen::VectorXd::Ones(x.rows()), kinematic);
 }
 
-// Every candidate pair of the mesh that the CCD says may come within `distance` in the step.
-int colliding_pairs(const CollisionMesh& m, const Points& v, double dt, double distance) {
+// The broad phase's candidates of the mesh moving with velocities v over the step dt.
+Candidates candidates_under(const CollisionMesh& m, const Points& v, double dt) {
   BroadPhase bp;
   CollisionMesh moved = m;
   moved.v = v;
   Candidates c;
   bp.find(moved, dt, 1e-9, c);
+  return c;
+}
+
+// Every candidate pair of the mesh that the CCD says may come within `distance` in the step.
+int colliding_pairs(const CollisionMesh& m, const Points& v, double dt, double distance) {
+  const Candidates c = candidates_under(m, v, dt);
   CcdSettings s;
   s.min_distance = distance;
   int count = 0;
@@ -185,11 +191,7 @@ TEST(CandidateCcd, DropsNoPairThatComesCloseWhateverTheCommonVelocity) {
   const Vec3 common(20, -12, 8);
   Points v = m.v;
   v.rowwise() += common.transpose();
-  BroadPhase bp;
-  CollisionMesh moved = m;
-  moved.v = v;
-  Candidates c;
-  bp.find(moved, dt, 1e-9, c);
+  const Candidates c = candidates_under(m, v, dt);
   CcdSettings s;
   s.min_distance = 0.01;
   auto sampled = [&](auto distance_at) {

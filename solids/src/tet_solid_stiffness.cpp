@@ -66,14 +66,14 @@ bool TetSolidForce::stiffness_matrices(ElementMatrices& out) const {
             write_upper(H, d, r.beta, r.volume, static_cast<Eigen::Index>(e), out);
             return;
           }
+          // With a fiber: the whole matrix, plus the fiber term on the total F = Fe Fp and the
+          // original rest shape.
           auto K = out.matrix<12>(static_cast<Eigen::Index>(e));
           K = element_matrix(H, d.U, d.V, r.beta, r.volume);
-          {  // the fiber term, on the total F = Fe Fp and the original rest shape
-            const Mat3 Fe = d.U * d.sigma.asDiagonal() * d.V.transpose();
-            const Mat3 F = plastic_identity_ ? Fe : Mat3(Fe * plastic_.Fp_inv[e].inverse());
-            const Mat9 Hf = fiber_stress_derivative(*fiber, F, material_.fiber_directions[e], activation_);
-            K += element_matrix_from_dPdF<3>(Hf, shape_gradients<3>(rest_.Dm_inv[e]), rest_.volume[e]);
-          }
+          const Mat3 Fe = d.U * d.sigma.asDiagonal() * d.V.transpose();
+          const Mat3 F = plastic_identity_ ? Fe : Mat3(Fe * plastic_.Fp_inv[e].inverse());
+          const Mat9 Hf = fiber_stress_derivative(*fiber, F, material_.fiber_directions[e], activation_);
+          K += element_matrix_from_dPdF<3>(Hf, shape_gradients<3>(rest_.Dm_inv[e]), rest_.volume[e]);
         });
       },
       model);

@@ -250,12 +250,9 @@ void sort_unique(std::vector<T>& list) {
   list.erase(std::unique(list.begin(), list.end()), list.end());
 }
 
-// The pairs as candidates.
-void append_vf(const std::vector<std::pair<int, int>>& pairs, std::vector<VertexFaceCandidate>& out) {
-  out.reserve(out.size() + pairs.size());
-  for (const auto& [i, f] : pairs) out.push_back({i, f});
-}
-void append_ee(const std::vector<std::pair<int, int>>& pairs, std::vector<EdgeEdgeCandidate>& out) {
+// The pairs as candidates (VertexFaceCandidate {vertex, face} or EdgeEdgeCandidate {edge_a, edge_b}).
+template <class Candidate>
+void append(const std::vector<std::pair<int, int>>& pairs, std::vector<Candidate>& out) {
   out.reserve(out.size() + pairs.size());
   for (const auto& [a, b] : pairs) out.push_back({a, b});
 }
@@ -307,13 +304,13 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
   collide(e.device, e.vertices[0], e.vertex_ids[0], e.triangles[0], e.triangle_ids[0], false, vf_keep, vf_what, pairs);
   collide(e.device, e.vertices[0], e.vertex_ids[0], e.triangles[1], e.triangle_ids[1], false, vf_keep, vf_what, pairs);
   collide(e.device, e.vertices[1], e.vertex_ids[1], e.triangles[0], e.triangle_ids[0], false, vf_keep, vf_what, pairs);
-  append_vf(pairs, out.vf);
+  append(pairs, out.vf);
   // Edge-edge: movable edges among themselves (a < b) and against fixed ones (stored as (min, max)).
   pairs.clear();
   const char* ee_what = "rtcCollide (edges, edges)";
   collide(e.device, e.edges[0], e.edge_ids[0], e.edges[0], e.edge_ids[0], false, ee_keep, ee_what, pairs);
   collide(e.device, e.edges[0], e.edge_ids[0], e.edges[1], e.edge_ids[1], true, ee_keep, ee_what, pairs);
-  append_ee(pairs, out.ee);
+  append(pairs, out.ee);
   sort_unique(out.vf);
   sort_unique(out.ee);
   found_ = out;
@@ -396,13 +393,13 @@ void BroadPhase::refind(const CollisionMesh& m, const Points& v, double dt, doub
   }
   collide(e.device, e.moved_vertices, e.moved_vertex_ids, e.moved_triangles, e.moved_triangle_ids, false, vf_keep,
           vf_what, pairs);
-  append_vf(pairs, fresh.vf);
+  append(pairs, fresh.vf);
   pairs.clear();
   const char* ee_what = "rtcCollide (moved edges, edges)";
   for (int g = 0; g < 2; ++g)
     collide(e.device, e.moved_edges, e.moved_edge_ids, e.edges[g], e.edge_ids[g], true, ee_keep, ee_what, pairs);
   collide(e.device, e.moved_edges, e.moved_edge_ids, e.moved_edges, e.moved_edge_ids, false, ee_keep, ee_what, pairs);
-  append_ee(pairs, fresh.ee);
+  append(pairs, fresh.ee);
   // The kept pairs are sorted; the new ones (each with a moved primitive, so none of them kept)
   // are sorted and merged in.
   auto merge = [](auto& list, std::size_t kept) {

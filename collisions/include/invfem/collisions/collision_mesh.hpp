@@ -73,9 +73,9 @@
 //                        between them, like one vertex): they are points of the edges of one
 //                        particle, within an element of each other in the material and moved by
 //                        the same node. A pair of primitives joined only so (linked_only below) is
-//                        still a CCD candidate (the broad phase filters by adjacent_as_one): the vertices are distinct, and in crushed material
-//                        the faces would cross. The two
-//                        faces of a crack share particles only near its front, where the material
+//                        still a CCD candidate (the broad phase filters by adjacent_as_one): the
+//                        vertices are distinct, and in crushed material the faces would cross. The
+//                        two faces of a crack share particles only near its front, where the material
 //                        still holds them together (virtual_node_cut.hpp: a particle is glued across
 //                        faces where the material is continuous around its node); across an open
 //                        crack their particles differ and they collide. A wider rule (nodes that

@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <utility>
+
+#include "svd_block.hpp"
 
 // Branch-free batched 3x3 SVD with the ITF04 sign rule, after McAdams, Selle, Tamstorf, Teran and
 // Sifakis 2011 (reference/svd3x3.md section B): Jacobi eigen-analysis of F^T F by a fixed number
@@ -25,32 +24,16 @@
 // pair ends orthogonal relative to its own norms and the reconstruction error stays ~eps ||F||.
 // B = F V is then a by-product of the sweeps.
 //
-// SIMD: GCC vector extensions (a Pack holds kLanes doubles: the target's register width), one
-// lane per matrix, each quantity of the algorithm one Pack; selects are `mask ? a : b` on whole
-// Packs, so there is no branch to vectorize away and no reliance on the auto-vectorizer. Two
-// Packs of matrices are interleaved step by step: each Jacobi rotation is a chain of square
-// root, multiplication, square root, division whose latency (~90 cycles) dwarfs its throughput
-// cost, and the second, independent chain fills it. The disassembly shows vsqrtpd/vdivpd on zmm
+// SIMD: GCC vector extensions (simd_pack.hpp; a Pack holds kLanes doubles: the target's register
+// width), one lane per matrix, each quantity of the algorithm one Pack. Two Packs of matrices
+// (kStreams, svd_block.hpp) are interleaved step by step: each Jacobi rotation is a chain of
+// square root, multiplication, square root, division whose latency (~90 cycles) dwarfs its
+// throughput cost, and the second, independent chain fills it. The disassembly shows vsqrtpd/vdivpd on zmm
 // registers with AVX-512 (objdump -d ... | grep 'vsqrtpd.*zmm').
 
 namespace invfem {
+namespace simd {
 namespace {
-
-// Doubles per vector: the target's widest (AVX-512: 8, AVX: 4, else 2). A vector wider than
-// the registers would be split by the compiler into several, but spilled and square-rooted lane
-// by lane, slower than the scalar diagonalize.
-#if defined(__AVX512F__)
-constexpr int kLanes = 8;
-#elif defined(__AVX__)
-constexpr int kLanes = 4;
-#else
-constexpr int kLanes = 2;
-#endif
-constexpr int kStreams = 2;  // independent vectors interleaved
-constexpr int kBlock = kLanes * kStreams;
-
-using Pack = double __attribute__((vector_size(kLanes * sizeof(double))));
-using Mask = std::int64_t __attribute__((vector_size(kLanes * sizeof(double))));  // -1 true, 0 false
 
 // Cyclic sweeps of the three pairs. Measured on random and adversarial F (rotations times
 // clustered, repeated, tiny and signed singular values; hill-climbing on the error): after 2
@@ -70,22 +53,6 @@ constexpr double kTinyPair = 1e-140;
 // c = a1 / rho, s = a2 / rho are exact to an ulp. Below it a2 is left in R, an error under
 // 1e-150 ||F||.
 constexpr double kTinyQr = 1e-150;
-
-inline Pack splat(double x) { return Pack{} + x; }
-inline Pack vsqrt(Pack x) {
-  // kLanes scalar square roots that the compiler merges into one vsqrtpd (with -fno-math-errno,
-  // set for this file in CMake); GCC has no generic vector square root builtin.
-  Pack r;
-  for (int i = 0; i < kLanes; ++i) r[i] = __builtin_sqrt(x[i]);
-  return r;
-}
-constexpr std::int64_t kSignBit = std::numeric_limits<std::int64_t>::min();
-inline Pack vabs(Pack x) { return (Pack)((Mask)x & ~kSignBit); }
-inline Pack vcopysign(Pack magnitude, Pack sign) {
-  return (Pack)(((Mask)magnitude & ~kSignBit) | ((Mask)sign & kSignBit));
-}
-inline Pack vmax(Pack a, Pack b) { return a < b ? b : a; }
-inline Pack vmin(Pack a, Pack b) { return b < a ? b : a; }
 
 // A column of a 3x3 matrix, kLanes matrices wide.
 struct Col {
@@ -175,23 +142,6 @@ template <int I, int J> inline void qr_step(Col& pivot_col, Col& b1, Col& b2, Co
   uj = {c * uj.x - s * Ui.x, c * uj.y - s * Ui.y, c * uj.z - s * Ui.z};
 }
 
-// SoA blocks: entry k of column-major F (k = row + 3 col) of matrix j of the block is f[k][j].
-struct InBlock {
-  alignas(64) double f[9][kBlock];
-};
-struct OutBlock {
-  alignas(64) double u[9][kBlock];
-  alignas(64) double s[3][kBlock];
-  alignas(64) double v[9][kBlock];
-};
-
-inline Pack load_pack(const double* p) {
-  Pack x;
-  std::memcpy(&x, p, sizeof x);
-  return x;
-}
-inline void store_pack(double* p, Pack x) { std::memcpy(p, &x, sizeof x); }
-
 // One vector of matrices in the kernel: B = F V (rescaled), V and U by columns, and the scale.
 struct Lanes {
   Col b0, b1, b2, v0, v1, v2, u0, u1, u2;
@@ -203,7 +153,7 @@ struct Lanes {
 // is m with its mantissa bits cleared; a subnormal m (no exponent to read) is lifted by 2^200
 // first, exactly. 1 / p is exact (a power of two; 2^-1023 is a subnormal, still exact), so the
 // largest entry is scaled exactly; entries below 2^-1022 of it may round (< 1e-300 ||F||).
-inline void load(Lanes& x, const InBlock& in, int j0) {
+inline void load(Lanes& x, const SvdIn& in, int j0) {
   Pack f[9];
   for (int k = 0; k < 9; ++k) f[k] = load_pack(&in.f[k][j0]);
   x.m = vabs(f[0]);
@@ -234,7 +184,7 @@ inline void sort_columns(Lanes& x) {
 // sigma = diag(R), back to F's scale (times p, then the lift back: a subnormal result is rounded
 // once). Round-off can leave the values an ulp out of order where they repeat: clamp, keeping the
 // sign of s3. F = 0 gives U = V = Id, sigma = 0 exactly (ITF04 section 5's collapsed element).
-inline void store(const Lanes& x, OutBlock& out, int j0) {
+inline void store(const Lanes& x, SvdOut& out, int j0) {
   const Pack unlift = 1 / x.lift;  // exact
   const Pack s1 = x.b0.x;
   const Pack s2 = vmin(x.b1.y, s1);
@@ -276,7 +226,9 @@ template <class... X> void diagonalize_lanes(X&... x) {
   each([](Lanes& y) { qr_step<1, 2>(y.b1, y.b0, y.b2, y.u1, y.u2); }, x...);
 }
 
-void diagonalize_block(const InBlock& in, OutBlock& out) {
+}  // namespace
+
+void diagonalize_block(const SvdIn& in, SvdOut& out) {
   Lanes a, b;
   load(a, in, 0);
   load(b, in, kLanes);
@@ -285,49 +237,52 @@ void diagonalize_block(const InBlock& in, OutBlock& out) {
   store(b, out, kLanes);
 }
 
-[[noreturn]] void throw_not_finite(const Mat3& F, std::size_t element) {
-  for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i)
-      if (!std::isfinite(F(i, j)))
-        throw std::invalid_argument("diagonalize_batch: element " + std::to_string(element) + ": F(" +
-                                    std::to_string(i) + "," + std::to_string(j) + ") is not finite (" +
-                                    std::to_string(F(i, j)) + ")");
-  throw std::logic_error("diagonalize_batch: non-finite entry not found");  // unreachable
+void check_finite(const SvdIn& in, int count, std::size_t first, const char* who) {
+  // One test for the block: x * 0 is 0 for finite x, NaN otherwise (padding lanes are finite).
+  Pack probe = splat(0.0);
+  for (int k = 0; k < 9; ++k)
+    for (int j0 = 0; j0 < kSvdBlock; j0 += kLanes) probe += load_pack(&in.f[k][j0]) * 0.0;
+  bool finite = true;
+  for (int l = 0; l < kLanes; ++l) finite = finite && probe[l] == 0;
+  if (finite) return;
+  for (int j = 0; j < count; ++j)
+    for (int k = 0; k < 9; ++k)
+      if (!std::isfinite(in.f[k][j]))
+        throw std::invalid_argument(std::string(who) + ": element " + std::to_string(first + j) + ": F(" +
+                                    std::to_string(k % 3) + "," + std::to_string(k / 3) + ") is not finite (" +
+                                    std::to_string(in.f[k][j]) + ")");
 }
 
-}  // namespace
+void store_results(const SvdOut& res, int count, Diagonalization3* out, std::size_t first, const char* who) {
+  for (int j = 0; j < count; ++j) {
+    if (!(res.s[0][j] <= std::numeric_limits<double>::max()))
+      throw std::invalid_argument(std::string(who) + ": element " + std::to_string(first + j) +
+                                  ": the largest singular value of F overflows a double");
+    Diagonalization3& d = out[j];
+    for (int k = 0; k < 9; ++k) {
+      d.U.data()[k] = res.u[k][j];
+      d.V.data()[k] = res.v[k][j];
+    }
+    d.sigma = Vec3(res.s[0][j], res.s[1][j], res.s[2][j]);
+  }
+}
+
+}  // namespace simd
 
 void diagonalize_batch(const Mat3* F, std::size_t n, Diagonalization3* out, std::size_t first_index) {
-  InBlock in;
-  OutBlock res;
-  for (std::size_t i0 = 0; i0 < n; i0 += kBlock) {
-    const int count = static_cast<int>(std::min<std::size_t>(kBlock, n - i0));
+  using namespace simd;
+  SvdIn in;
+  SvdOut res;
+  for (std::size_t i0 = 0; i0 < n; i0 += kSvdBlock) {
+    const int count = static_cast<int>(std::min<std::size_t>(kSvdBlock, n - i0));
     // The block as structure of arrays; padding matrices are F = 0 (results dropped).
-    for (int j = 0; j < kBlock; ++j) {
+    for (int j = 0; j < kSvdBlock; ++j) {
       const double* f = F[i0 + (j < count ? j : 0)].data();
       for (int k = 0; k < 9; ++k) in.f[k][j] = j < count ? f[k] : 0.0;
     }
-    // Finiteness up front, one test for the block: x * 0 is 0 for finite x, NaN otherwise.
-    double probe = 0;
-    for (int k = 0; k < 9; ++k)
-      for (int j = 0; j < kBlock; ++j) probe += in.f[k][j] * 0.0;
-    if (!(probe == 0))
-      for (int j = 0; j < count; ++j)
-        if (!F[i0 + j].allFinite()) throw_not_finite(F[i0 + j], first_index + i0 + j);
-
+    check_finite(in, count, first_index + i0, "diagonalize_batch");
     diagonalize_block(in, res);
-
-    for (int j = 0; j < count; ++j) {
-      if (!(res.s[0][j] <= std::numeric_limits<double>::max()))
-        throw std::invalid_argument("diagonalize_batch: element " + std::to_string(first_index + i0 + j) +
-                                    ": the largest singular value of F overflows a double");
-      Diagonalization3& d = out[i0 + j];
-      for (int k = 0; k < 9; ++k) {
-        d.U.data()[k] = res.u[k][j];
-        d.V.data()[k] = res.v[k][j];
-      }
-      d.sigma = Vec3(res.s[0][j], res.s[1][j], res.s[2][j]);
-    }
+    store_results(res, count, out + i0, first_index + i0, "diagonalize_batch");
   }
 }
 

@@ -10,7 +10,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "invfem/core/diagonalize_batch.hpp"
 #include "invfem/core/elasticity.hpp"
 #include "invfem/core/parallel.hpp"
 #include "invfem/core/plasticity_control.hpp"
@@ -22,10 +21,11 @@ namespace invfem {
 namespace {
 // Element loops below ~2K elements are not worth a TBB task.
 constexpr std::size_t kGrain = 512;
-// The plain path diagonalizes kChunk elements per diagonalize_batch call: their F go to a buffer
-// on the stack (4.6 KB, in L1; nothing allocated per step), then one call, then the stresses.
-// 64 is four of the batch kernel's 16-matrix blocks with AVX-512. Each element's result depends
-// on its own F only, so the chunking (and the thread count) does not change any bit.
+// The plain path takes kChunk elements at a time through the SIMD kernel's two halves
+// (tet_kernel.hpp: F and its diagonalization, then G from P^) with the model's P^ between them in
+// a buffer on the stack (1.5 KB, in L1; nothing allocated per step). 64 is four of the kernel's
+// 16-element blocks with AVX-512. Each element's result depends on its own F only, so the chunking
+// (and the thread count) does not change any bit.
 constexpr std::size_t kChunk = 64;
 
 // Adds V |grad N_i|^2 of one element to its four nodes. Rows of Dinv are the gradients of nodes
@@ -143,17 +143,14 @@ void TetSolidForce::update(const Points& x, double time, bool allow_flow) {
           const std::size_t n = static_cast<std::size_t>(m);
           parallel_for_each((n + kChunk - 1) / kChunk, kGrain / kChunk, [&](std::size_t c) {
             const std::size_t e0 = c * kChunk, count = std::min(kChunk, n - e0);
-            std::array<Mat3, kChunk> F;
+            std::array<Vec3, kChunk> p_hat;  // P^ = dPsi/dsigma of each element
+            tet_diagonalize_batch(rest_, x, e0, count, &diag_[e0], &det_F_[e0]);
             for (std::size_t j = 0; j < count; ++j) {
-              F[j] = deformation_gradient(rest_, static_cast<int>(e0 + j), x);
-              det_F_[e0 + j] = F[j].determinant();
-            }
-            diagonalize_batch(F.data(), count, &diag_[e0], e0);
-            for (std::size_t e = e0; e < e0 + count; ++e) {
-              Diagonalization3& d = diag_[e];
+              Diagonalization3& d = diag_[e0 + j];
               to_diagonal_frame(mdl, d);  // plain SVD for the corotated baseline (elasticity.hpp)
-              G_[e] = d.U * mdl.template psi_gradient<3>(d.sigma).asDiagonal() * d.V.transpose() * rest_.Bm[e];
+              p_hat[j] = mdl.template psi_gradient<3>(d.sigma);
             }
+            tet_forces_batch(rest_, e0, count, &diag_[e0], p_hat.data(), &G_[e0]);
           });
           return;
         }

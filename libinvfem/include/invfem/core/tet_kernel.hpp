@@ -4,6 +4,7 @@
 //   F = Ds Dm^-1,  Ds = [x1-x0, x2-x0, x3-x0] (world), Dm the same from rest positions.
 //   G = [g1 g2 g3] = P Bm,  Bm = -V0 Dm^-T,  g0 = -(g1 + g2 + g3)
 // so G holds the forces on nodes 1..3 of the element (ITF04 eq. 2 with Bm's sign folded in).
+#include <cstddef>
 #include <vector>
 
 #include "invfem/core/diagonalize.hpp"
@@ -31,6 +32,21 @@ inline Mat3 deformation_gradient(const TetRest& rest, int e, const Points& x) {
   Ds.col(2) = (x.row(t(3)) - x.row(t(0))).transpose();
   return Ds * rest.Dm_inv[e];
 }
+
+// The plain force pass of elements first .. first + n - 1 in SIMD lanes (tet_kernel_batch.cpp), in
+// two halves around the constitutive model, which stays scalar and generic (elasticity.hpp):
+// - tet_diagonalize_batch: F = Ds Dm^-1 at positions x, det F, and F's invertible diagonalization
+//   (diagonalize_batch.hpp's contract and errors, "tet forces: element E: ...") into diag[i] and
+//   det_F[i] for element first + i;
+// - tet_forces_batch: G[i] = U diag(p_hat[i]) V^T Bm of element first + i, (U, V) = diag[i]'s frame:
+//   P = U P^ V^T (ITF04 section 5) times Bm.
+// Bit for bit what deformation_gradient, Mat3::determinant and U * p.asDiagonal() * V^T * Bm give
+// (same products, same order of sums; the test holds it); faster for the vector width and for
+// never forming F and P as Eigen temporaries.
+void tet_diagonalize_batch(const TetRest& rest, const Points& x, std::size_t first, std::size_t n,
+                           Diagonalization3* diag, double* det_F);
+void tet_forces_batch(const TetRest& rest, std::size_t first, std::size_t n, const Diagonalization3* diag,
+                      const Vec3* p_hat, Mat3* G);
 
 // f (n x 3) += the element forces G_e (3x3, columns = forces on nodes 1..3; node 0 gets minus
 // their sum). The single scatter used by every tet force: sequential in element order, so the

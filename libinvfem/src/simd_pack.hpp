@@ -1,0 +1,60 @@
+#pragma once
+// The SIMD vocabulary of the batched element kernels (diagonalize_batch.cpp, tet_kernel_batch.cpp):
+// GCC vector extensions, one lane per element, each quantity of a kernel one Pack; selects are
+// `mask ? a : b` on whole Packs, so there is no branch to vectorize away and no reliance on the
+// auto-vectorizer.
+//
+// Only for the files compiled with INVFEM_SIMD_KERNEL_OPTIONS (libinvfem/CMakeLists.txt: -march=native,
+// -fno-math-errno): the width follows the target, so a file built for another target would see other
+// types under the same names. Those files do no Eigen arithmetic (entries are only copied): the
+// inline Eigen code they might share with other files would round differently with AVX-512.
+// GCC contracts a * b + c into a fused multiply-add in these files (the target has FMA): a kernel
+// that must round as the SSE2-built scalar code does is also compiled with -ffp-contract=off.
+#ifndef INVFEM_SIMD_KERNEL_FILE
+#error "simd_pack.hpp is for the files compiled with INVFEM_SIMD_KERNEL_OPTIONS (libinvfem/CMakeLists.txt)"
+#endif
+
+#include <cstdint>
+#include <cstring>
+#include <limits>
+
+namespace invfem::simd {
+
+// Doubles per vector: the target's widest (AVX-512: 8, AVX: 4, else 2). A vector wider than
+// the registers would be split by the compiler into several, but spilled and square-rooted lane
+// by lane, slower than the scalar code.
+#if defined(__AVX512F__)
+constexpr int kLanes = 8;
+#elif defined(__AVX__)
+constexpr int kLanes = 4;
+#else
+constexpr int kLanes = 2;
+#endif
+
+using Pack = double __attribute__((vector_size(kLanes * sizeof(double))));
+using Mask = std::int64_t __attribute__((vector_size(kLanes * sizeof(double))));  // -1 true, 0 false
+
+inline Pack splat(double x) { return Pack{} + x; }
+inline Pack vsqrt(Pack x) {
+  // kLanes scalar square roots that the compiler merges into one vsqrtpd (with -fno-math-errno);
+  // GCC has no generic vector square root builtin.
+  Pack r;
+  for (int i = 0; i < kLanes; ++i) r[i] = __builtin_sqrt(x[i]);
+  return r;
+}
+constexpr std::int64_t kSignBit = std::numeric_limits<std::int64_t>::min();
+inline Pack vabs(Pack x) { return (Pack)((Mask)x & ~kSignBit); }
+inline Pack vcopysign(Pack magnitude, Pack sign) {
+  return (Pack)(((Mask)magnitude & ~kSignBit) | ((Mask)sign & kSignBit));
+}
+inline Pack vmax(Pack a, Pack b) { return a < b ? b : a; }
+inline Pack vmin(Pack a, Pack b) { return b < a ? b : a; }
+
+inline Pack load_pack(const double* p) {
+  Pack x;
+  std::memcpy(&x, p, sizeof x);
+  return x;
+}
+inline void store_pack(double* p, Pack x) { std::memcpy(p, &x, sizeof x); }
+
+}  // namespace invfem::simd

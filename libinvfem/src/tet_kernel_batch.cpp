@@ -1,0 +1,114 @@
+// The plain tet force pass in SIMD lanes (tet_kernel.hpp: tet_diagonalize_batch, tet_forces_batch).
+// Each lane computes exactly what the per-element Eigen code computes, with the same products and
+// the same order of sums, so the bits are those of
+//   F = Ds * Dm_inv (deformation_gradient), F.determinant(),
+//   G = U * p^.asDiagonal() * V.transpose() * Bm.
+// Eigen (3.4, SSE2, which the rest of the project is built for) evaluates a 3x3 product C = A B as
+// C(i, j) = (A(i,0) B(0,j) + A(i,1) B(1,j)) + A(i,2) B(2,j) for rows 0 and 1 (a packet of two rows)
+// and A(2,0) B(0,j) + (A(2,1) B(1,j) + A(2,2) B(2,j)) for row 2 (its scalar reduction); the chain
+// U diag(p) V^T sums a + (b + c) in every entry, then (.) Bm sums (a + b) + c in every entry. The
+// test TetKernelBatch.GivesTheBitsOfTheEigenPath holds the kernel to them.
+#include <algorithm>
+
+#include "invfem/core/tet_kernel.hpp"
+#include "svd_block.hpp"
+
+namespace invfem {
+
+using simd::kLanes;
+using simd::load_pack;
+using simd::Pack;
+using simd::store_pack;
+
+namespace {
+// Sums of three terms in Eigen's two orders (file comment).
+inline Pack sum_ab_c(Pack a, Pack b, Pack c) { return (a + b) + c; }
+inline Pack sum_a_bc(Pack a, Pack b, Pack c) { return a + (b + c); }
+}  // namespace
+
+void tet_diagonalize_batch(const TetRest& rest, const Points& x, std::size_t first, std::size_t n,
+                           Diagonalization3* diag, double* det_F) {
+  constexpr int kBlock = simd::kSvdBlock;
+  simd::SvdIn in;
+  simd::SvdOut res;
+  alignas(64) double ds[9][kBlock], dm[9][kBlock], det[kBlock];
+  const double* xp = x.data();    // n x 3, row-major
+  const int* tp = rest.tets.data();  // m x 4, row-major
+  for (std::size_t i0 = 0; i0 < n; i0 += kBlock) {
+    const int count = static_cast<int>(std::min<std::size_t>(kBlock, n - i0));
+    // Ds = [x1 - x0, x2 - x0, x3 - x0] and Dm^-1 of each element into lanes (column-major index
+    // r + 3 c); padding lanes repeat the last element and are dropped.
+    for (int j = 0; j < kBlock; ++j) {
+      const std::size_t e = first + i0 + static_cast<std::size_t>(std::min(j, count - 1));
+      const int* t = tp + 4 * e;
+      const double* x0 = xp + 3 * static_cast<std::size_t>(t[0]);
+      for (int k = 0; k < 3; ++k) {
+        const double* xk = xp + 3 * static_cast<std::size_t>(t[k + 1]);
+        for (int r = 0; r < 3; ++r) ds[r + 3 * k][j] = xk[r] - x0[r];
+      }
+      const double* D = rest.Dm_inv[e].data();
+      for (int q = 0; q < 9; ++q) dm[q][j] = D[q];
+    }
+    for (int j0 = 0; j0 < kBlock; j0 += kLanes) {
+      Pack S[9], D[9], F[9];
+      for (int q = 0; q < 9; ++q) {
+        S[q] = load_pack(&ds[q][j0]);
+        D[q] = load_pack(&dm[q][j0]);
+      }
+      // F = Ds Dm^-1 (ITF04 section 3).
+      for (int c = 0; c < 3; ++c) {
+        for (int r = 0; r < 2; ++r)
+          F[r + 3 * c] = sum_ab_c(S[r] * D[3 * c], S[r + 3] * D[1 + 3 * c], S[r + 6] * D[2 + 3 * c]);
+        F[2 + 3 * c] = sum_a_bc(S[2] * D[3 * c], S[5] * D[1 + 3 * c], S[8] * D[2 + 3 * c]);
+      }
+      for (int q = 0; q < 9; ++q) store_pack(&in.f[q][j0], F[q]);
+      // det F by the first row's cofactors, Eigen's order: F00 C00 - F01 C01 + F02 C02.
+      const Pack d = F[0] * (F[4] * F[8] - F[7] * F[5]) - F[3] * (F[1] * F[8] - F[7] * F[2]) +
+                     F[6] * (F[1] * F[5] - F[4] * F[2]);
+      store_pack(&det[j0], d);
+    }
+    simd::check_finite(in, count, first + i0, "tet forces");
+    simd::diagonalize_block(in, res);
+    simd::store_results(res, count, diag + i0, first + i0, "tet forces");
+    std::copy(det, det + count, det_F + i0);
+  }
+}
+
+void tet_forces_batch(const TetRest& rest, std::size_t first, std::size_t n, const Diagonalization3* diag,
+                      const Vec3* p_hat, Mat3* G) {
+  for (std::size_t i0 = 0; i0 < n; i0 += kLanes) {
+    const int count = static_cast<int>(std::min<std::size_t>(kLanes, n - i0));
+    Pack U[9], V[9], p[3], D[9], minus_volume;
+    for (int l = 0; l < kLanes; ++l) {  // into lanes; padding repeats the last element
+      const std::size_t i = i0 + static_cast<std::size_t>(std::min(l, count - 1));
+      const double *u = diag[i].U.data(), *v = diag[i].V.data(), *d = rest.Dm_inv[first + i].data();
+      for (int q = 0; q < 9; ++q) {
+        U[q][l] = u[q];
+        V[q][l] = v[q];
+        D[q][l] = d[q];
+      }
+      for (int k = 0; k < 3; ++k) p[k][l] = p_hat[i][k];
+      minus_volume[l] = -rest.volume[first + i];
+    }
+    // Bm = -V0 Dm^-T, entry by entry as make_tet_rest forms it: the same bits as rest.Bm, read from
+    // Dm^-1, which the first half has just brought into the cache, instead of 72 more bytes an element.
+    Pack B[9];
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) B[r + 3 * c] = minus_volume * D[c + 3 * r];
+    // P = U diag(p^) V^T (ITF04 section 5): P(r, c) = sum_k (U(r, k) p^_k) V(c, k).
+    Pack P[9], out[9];
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r)
+        P[r + 3 * c] = sum_a_bc(U[r] * p[0] * V[c], U[r + 3] * p[1] * V[c + 3], U[r + 6] * p[2] * V[c + 6]);
+    // G = P Bm: the forces on nodes 1..3 (tet_kernel.hpp).
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r)
+        out[r + 3 * c] = sum_ab_c(P[r] * B[3 * c], P[r + 3] * B[1 + 3 * c], P[r + 6] * B[2 + 3 * c]);
+    for (int l = 0; l < count; ++l) {
+      double* g = G[i0 + static_cast<std::size_t>(l)].data();
+      for (int q = 0; q < 9; ++q) g[q] = out[q][l];
+    }
+  }
+}
+
+}  // namespace invfem

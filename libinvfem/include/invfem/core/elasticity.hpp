@@ -11,7 +11,9 @@
 // 3x2 versions (triangles in 3D) take Mat32 / Diagonalization32; their hessian is 6x6 on the
 // column-major vec of a 3x2 matrix. A model M is any struct with psi, psi_gradient, psi_hessian
 // templated on D and wave_modulus() (see materials/rotated_linear.hpp); it may also give
-// psi_d_minus(s, i, j), a closed form of (P^_i - P^_j)/(s_i - s_j).
+// psi_d_minus(s, i, j), a closed form of (P^_i - P^_j)/(s_i - s_j), and shared(s), what its
+// derivatives at one s have in common (NeoHookean: L = sum ln s_i, three logarithms), which
+// diagonal_space_hessian then computes once and passes as their last argument.
 //
 // dP/dF in the diagonal frame (dF^ = U^T dF V, dP = U dP^ V^T) splits into the 3x3 block
 // dP^_ii = sum_k H_ik dF^_kk and, per pair i < j, [dP^_ij; dP^_ji] = [[a, b], [b, a]] [dF^_ij; dF^_ji]
@@ -23,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <concepts>
+#include <type_traits>
 #include <variant>
 
 #include <Eigen/Eigenvalues>
@@ -57,9 +60,36 @@ inline constexpr double kRepeatedTol = 1e-5;
 // the true derivative is unbounded and a large finite value (projected to 0 if negative) is kept.
 inline constexpr double kSumTol = 1e-8;
 
-template <int D, class M>
-double d_minus(const M& m, const VecD<D>& s, const VecD<D>& p, const MatD<D>& H, int i, int j) {
-  if constexpr (requires { m.template psi_d_minus<D>(s, i, j); }) {
+// What the model's derivatives at s share (its shared<D>(s)), or nothing; the three below take it.
+struct NothingShared {};
+template <int D, class M> auto shared_terms(const M& m, const VecD<D>& s) {
+  if constexpr (requires { m.template shared<D>(s); }) {
+    return m.template shared<D>(s);
+  } else {
+    return NothingShared{};
+  }
+}
+template <int D, class M, class S> VecD<D> gradient(const M& m, const VecD<D>& s, const S& shared) {
+  if constexpr (std::is_same_v<S, NothingShared>) {
+    return m.template psi_gradient<D>(s);
+  } else {
+    return m.template psi_gradient<D>(s, shared);
+  }
+}
+template <int D, class M, class S> MatD<D> hessian(const M& m, const VecD<D>& s, const S& shared) {
+  if constexpr (std::is_same_v<S, NothingShared>) {
+    return m.template psi_hessian<D>(s);
+  } else {
+    return m.template psi_hessian<D>(s, shared);
+  }
+}
+
+template <int D, class M, class S = NothingShared>
+double d_minus(const M& m, const VecD<D>& s, const VecD<D>& p, const MatD<D>& H, int i, int j,
+               const S& shared = {}) {
+  if constexpr (!std::is_same_v<S, NothingShared>) {
+    return m.template psi_d_minus<D>(s, i, j, shared);
+  } else if constexpr (requires { m.template psi_d_minus<D>(s, i, j); }) {
     return m.template psi_d_minus<D>(s, i, j);
   } else {
     const double scale = std::max({1.0, std::abs(s(i)), std::abs(s(j))});
@@ -137,13 +167,14 @@ template <DiagonalModel M> Mat3 energy_gradient(const M& m, const Diagonalizatio
 template <DiagonalModel M>
 DiagonalSpaceHessian diagonal_space_hessian(const M& m, const Vec3& s, bool project_psd = false) {
   namespace ed = elasticity_detail;
-  const Vec3 p = m.template psi_gradient<3>(s);
-  const Mat3 H = m.template psi_hessian<3>(s);
+  const auto shared = ed::shared_terms<3>(m, s);
+  const Vec3 p = ed::gradient<3>(m, s, shared);
+  const Mat3 H = ed::hessian<3>(m, s, shared);
   DiagonalSpaceHessian h;
   h.diagonal = project_psd ? ed::project_psd(H) : H;
   for (int q = 0; q < 3; ++q) {
     const int i = DiagonalSpaceHessian::kPair[q][0], j = DiagonalSpaceHessian::kPair[q][1];
-    h.pairs[q] = ed::pair_block(ed::d_minus<3>(m, s, p, H, i, j), ed::d_plus<3>(s, p, i, j), project_psd);
+    h.pairs[q] = ed::pair_block(ed::d_minus<3>(m, s, p, H, i, j, shared), ed::d_plus<3>(s, p, i, j), project_psd);
   }
   return h;
 }

@@ -69,14 +69,19 @@ struct NeoHookean {
     const double L = log_sum<D>(s);
     return 0.5 * mu * (s.squaredNorm() - D) - mu * L + 0.5 * lambda * L * L;
   }
-  template <int D> VecD<D> psi_gradient(const VecD<D>& s) const {
-    const double k = mu - lambda * log_sum<D>(s);
+  // The derivatives at one s share L = log_sum(s) (elasticity.hpp: shared): each also takes it
+  // precomputed, the same bits as computing it itself.
+  template <int D> double shared(const VecD<D>& s) const { return log_sum<D>(s); }
+  template <int D> VecD<D> psi_gradient(const VecD<D>& s) const { return psi_gradient<D>(s, log_sum<D>(s)); }
+  template <int D> VecD<D> psi_gradient(const VecD<D>& s, double L) const {
+    const double k = mu - lambda * L;
     VecD<D> p;
     for (int i = 0; i < D; ++i) p(i) = mu * s(i) - k * log_ext_d1(s(i));
     return p;
   }
-  template <int D> MatD<D> psi_hessian(const VecD<D>& s) const {
-    const double k = mu - lambda * log_sum<D>(s);
+  template <int D> MatD<D> psi_hessian(const VecD<D>& s) const { return psi_hessian<D>(s, log_sum<D>(s)); }
+  template <int D> MatD<D> psi_hessian(const VecD<D>& s, double L) const {
+    const double k = mu - lambda * L;
     VecD<D> g;
     for (int i = 0; i < D; ++i) g(i) = log_ext_d1(s(i));
     MatD<D> H = lambda * g * g.transpose();
@@ -85,7 +90,10 @@ struct NeoHookean {
   }
   // Closed form of (P^_i - P^_j)/(s_i - s_j), exact also as s_i -> s_j (Teran 2005 pair block).
   template <int D> double psi_d_minus(const VecD<D>& s, int i, int j) const {
-    return mu - (mu - lambda * log_sum<D>(s)) * log_ext_d1_divided(s(i), s(j));
+    return psi_d_minus<D>(s, i, j, log_sum<D>(s));
+  }
+  template <int D> double psi_d_minus(const VecD<D>& s, int i, int j, double L) const {
+    return mu - (mu - lambda * L) * log_ext_d1_divided(s(i), s(j));
   }
   // Largest H_ii over s in [c, inf)^3, reached at s = (c, c, c). Inverted states below c are
   // stiffer still (l' grows linearly there); they are meant to be few and brief.

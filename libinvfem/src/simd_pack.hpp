@@ -8,6 +8,9 @@
 // -fno-math-errno): the width follows the target, so a file built for another target would see other
 // types under the same names. Those files do no Eigen arithmetic (entries are only copied): the
 // inline Eigen code they might share with other files would round differently with AVX-512.
+// Their interfaces take plain arrays and Eigen types without static alignment (Mat3, Vec3,
+// Diagonalization3, Mat34 by pointer): under -march=native Eigen aligns a Mat2, Vec2 or Mat4 member to
+// 32 or 64 bytes instead of 16, so a struct holding one has another layout here than elsewhere.
 // GCC contracts a * b + c into a fused multiply-add in these files (the target has FMA): a kernel
 // that must round as the SSE2-built scalar code does is also compiled with -ffp-contract=off.
 #ifndef INVFEM_SIMD_KERNEL_FILE

@@ -12,6 +12,9 @@
 // (rotated_damping.hpp or spin_free_damping.hpp), mapped with the same G: C_e = V0 det(Fp) G^T dP_d/dF_dot G.
 #include <Eigen/LU>
 
+#include <algorithm>
+#include <array>
+
 #include "invfem/core/elasticity.hpp"
 #include "invfem/core/element_matrices.hpp"
 #include "invfem/core/parallel.hpp"
@@ -22,7 +25,10 @@
 namespace invfem {
 
 namespace {
-constexpr std::size_t kGrain = 256;  // a tet's 12x12 matrix costs a few microseconds
+constexpr std::size_t kGrain = 256;  // tets per task: a tet's blocks cost a few hundred nanoseconds
+// Tets per call of the SIMD kernel (tet_upper_blocks_batch), their inputs in buffers on the stack
+// (17 KB; nothing allocated per Newton iteration).
+constexpr std::size_t kChunk = 64;
 
 // The element matrices in the given form: Upper (element_blocks' blocks, 90 numbers a tet), or
 // Dense where a fiber term is added to the whole matrix.
@@ -30,13 +36,6 @@ void set_nodes(const Tets& tets, ElementMatrices::Form form, ElementMatrices& ou
   if (out.arity == 4 && out.form == form && out.count() == tets.rows()) return;
   out.resize(tets.rows(), 4, form);
   out.nodes = tets;
-}
-
-// Writes element e's blocks into `out` (Upper form; block (l, k) is block (k, l)^T exactly).
-void write_upper(const DiagonalSpaceHessian& h, const Diagonalization3& d, const Mat34& beta, double scale,
-                 Eigen::Index e, ElementMatrices& out) {
-  element_blocks(h, d.U, d.V, beta, scale,
-                 [&](int k, int l, const Mat3& block) { out.set_block(e, k, l, block, block.transpose()); });
 }
 
 // Element e's rest shape for Fe (header): the shape gradients of Dm^-1 Fp^-1 and the volume
@@ -50,6 +49,27 @@ ElementRest element_rest(const TetRest& rest, const PlasticState& plastic, bool 
   const Mat3& Fp_inv = plastic.Fp_inv[e];
   return {shape_gradients<3>(Mat3(rest.Dm_inv[e] * Fp_inv)), rest.volume[e] * plastic_volume_factor(Fp_inv)};
 }
+// Every tet's Upper-form blocks (element_blocks' bits) through the SIMD kernel, kChunk tets a call:
+// hessian(e) is tet e's DiagonalSpaceHessian in the frame of diag[e].
+template <class Hessian>
+void write_upper(const TetRest& rest, const PlasticState& plastic, bool identity,
+                 const std::vector<Diagonalization3>& diag, const Hessian& hessian, ElementMatrices& out) {
+  const std::size_t m = diag.size();
+  parallel_for_each((m + kChunk - 1) / kChunk, kGrain / kChunk, [&](std::size_t c) {
+    const std::size_t e0 = c * kChunk, count = std::min(kChunk, m - e0);
+    std::array<double, kChunk * kHessianEntries> h;
+    std::array<Mat34, kChunk> beta;
+    std::array<double, kChunk> scale;
+    for (std::size_t j = 0; j < count; ++j) {
+      flatten(hessian(e0 + j), h.data() + kHessianEntries * j);
+      const ElementRest r = element_rest(rest, plastic, identity, e0 + j);
+      beta[j] = r.beta;
+      scale[j] = r.volume;
+    }
+    tet_upper_blocks_batch(count, h.data(), &diag[e0], beta.data(), scale.data(), out.nodes.data() + 4 * e0,
+                           out.values.data() + static_cast<std::size_t>(out.stride()) * e0);
+  });
+}
 }  // namespace
 
 bool TetSolidForce::stiffness_matrices(ElementMatrices& out) const {
@@ -58,14 +78,16 @@ bool TetSolidForce::stiffness_matrices(ElementMatrices& out) const {
   const IsotropicModel model = with_strength(material_.model, strength_);
   std::visit(
       [&](const auto& mdl) {
+        if (!fiber) {
+          write_upper(rest_, plastic_, plastic_identity_, diag_, [&](std::size_t e) {
+            return diagonal_space_hessian(mdl, diag_[e].sigma, /*project_psd=*/true);
+          }, out);
+          return;
+        }
         parallel_for_each(diag_.size(), kGrain, [&](std::size_t e) {
           const Diagonalization3& d = diag_[e];
           const DiagonalSpaceHessian H = diagonal_space_hessian(mdl, d.sigma, /*project_psd=*/true);
           const ElementRest r = element_rest(rest_, plastic_, plastic_identity_, e);
-          if (!fiber) {
-            write_upper(H, d, r.beta, r.volume, static_cast<Eigen::Index>(e), out);
-            return;
-          }
           // With a fiber: the whole matrix, plus the fiber term on the total F = Fe Fp and the
           // original rest shape.
           auto K = out.matrix<12>(static_cast<Eigen::Index>(e));
@@ -91,12 +113,9 @@ bool TetSolidForce::damping_matrices(ElementMatrices& out) const {
   const RotatedDamping damping{material_.damping * lambda, material_.damping * mu};
   const DiagonalSpaceHessian rotated = damping_diagonal_space_derivative(damping);
   const bool spin_free = material_.damping_model == DampingModel::SpinFree;
-  parallel_for_each(diag_.size(), kGrain, [&](std::size_t e) {
-    const Diagonalization3& d = diag_[e];
-    const DiagonalSpaceHessian D = spin_free ? spin_free_damping_diagonal_space_derivative(damping, d.sigma) : rotated;
-    const ElementRest r = element_rest(rest_, plastic_, plastic_identity_, e);
-    write_upper(D, d, r.beta, r.volume, static_cast<Eigen::Index>(e), out);
-  });
+  write_upper(rest_, plastic_, plastic_identity_, diag_, [&](std::size_t e) {
+    return spin_free ? spin_free_damping_diagonal_space_derivative(damping, diag_[e].sigma) : rotated;
+  }, out);
   return true;
 }
 

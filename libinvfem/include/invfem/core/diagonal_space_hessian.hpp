@@ -14,7 +14,9 @@
 // 21 terms per block and 10 blocks (Q_lk = Q_kl^T): about 1,000 multiplies, against about 2,200
 // for W K W^T followed by G^T H G; the result is exactly symmetric.
 #include <array>
+#include <cstddef>
 
+#include "invfem/core/diagonalize.hpp"
 #include "invfem/core/types.hpp"
 
 namespace invfem {
@@ -86,6 +88,25 @@ void element_blocks(const DiagonalSpaceHessian& h, const Mat3& U, const Mat3& V,
       }
     }
 }
+
+// h's 21 entries as plain doubles: diagonal (column-major), then pairs[0], [1], [2] (column-major).
+// The SIMD kernel below reads this, not the struct: it is built for the native target, where Eigen
+// aligns the Mat2 members to 32 bytes instead of 16 and the struct's layout differs.
+constexpr int kHessianEntries = 21;
+inline void flatten(const DiagonalSpaceHessian& h, double* out) {
+  for (int q = 0; q < 9; ++q) out[q] = h.diagonal.data()[q];
+  for (int p = 0; p < 3; ++p)
+    for (int q = 0; q < 4; ++q) out[9 + 4 * p + q] = h.pairs[static_cast<std::size_t>(p)].data()[q];
+}
+
+// element_blocks of tets i < n at once in SIMD lanes (element_blocks_batch.cpp), written in the Upper
+// form of ElementMatrices (element_matrices.hpp): out + 90 i receives tet i's ten blocks in packed
+// order, each pair keeping the block whose rows belong to its smaller node index (nodes: n x 4,
+// row-major, tet i's node indices at 4 i). h + 21 i (flatten's layout), the frame (U, V) of d[i],
+// beta[i] and scale[i] are element_blocks' arguments; the bits are element_blocks'
+// (test_element_blocks_batch).
+void tet_upper_blocks_batch(std::size_t n, const double* h, const Diagonalization3* d, const Mat34* beta,
+                            const double* scale, const int* nodes, double* out);
 
 // The whole 12x12 of element_blocks.
 inline Mat12 element_matrix(const DiagonalSpaceHessian& h, const Mat3& U, const Mat3& V, const Mat34& beta,

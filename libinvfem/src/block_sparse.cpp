@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "block_sparse_multiply.hpp"
 #include "invfem/core/parallel.hpp"
 
 namespace invfem {
@@ -60,11 +61,9 @@ void BlockSparseMatrix::set_zero() {
 void BlockSparseMatrix::multiply(const Points& x, Points& y) const {
   const std::size_t n = diag_.size();
   y.resize(static_cast<Eigen::Index>(n), 3);
-  parallel_for_each(n, kRowGrain, [&](std::size_t i) {
-    Vec3 s = Vec3::Zero();
-    for (int k = row_start_[i]; k < row_start_[i + 1]; ++k)
-      s.noalias() += blocks_[static_cast<std::size_t>(k)] * x.row(col_[static_cast<std::size_t>(k)]).transpose();
-    y.row(static_cast<Eigen::Index>(i)) = s.transpose();
+  parallel_for_each((n + kRowGrain - 1) / kRowGrain, 1, [&](std::size_t c) {
+    multiply_block_rows(row_start_.data(), col_.data(), blocks_.data(), x.data(), y.data(), c * kRowGrain,
+                        std::min(n, (c + 1) * kRowGrain));
   });
 }
 

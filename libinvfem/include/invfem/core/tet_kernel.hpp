@@ -39,7 +39,8 @@ inline Mat3 deformation_gradient(const TetRest& rest, int e, const Points& x) {
 //   (diagonalize_batch.hpp's contract and errors, "tet forces: element E: ...") into diag[i] and
 //   det_F[i] for element first + i;
 // - tet_forces_batch: G[i] = U diag(p_hat[i]) V^T Bm of element first + i, (U, V) = diag[i]'s frame:
-//   P = U P^ V^T (ITF04 section 5) times Bm.
+//   P = U P^ V^T (ITF04 section 5) times Bm, which it forms from rest.Dm_inv and rest.volume as
+//   make_tet_rest does (the same bits as rest.Bm, from data the first half has just cached).
 // Bit for bit what deformation_gradient, Mat3::determinant and U * p.asDiagonal() * V^T * Bm give
 // (same products, same order of sums; the test holds it); faster for the vector width and for
 // never forming F and P as Eigen temporaries.

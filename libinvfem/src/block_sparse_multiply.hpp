@@ -1,0 +1,14 @@
+#pragma once
+// The block-sparse product's kernel (block_sparse_multiply.cpp, a SIMD kernel file: simd_pack.hpp):
+// y.row(i) = sum_k blocks[k] x.row(col[k]) over k in [row_start[i], row_start[i + 1]), for rows
+// begin <= i < end; x and y are n x 3 row-major. The bits of BlockSparseMatrix's Eigen product.
+#include <cstddef>
+
+#include "invfem/core/types.hpp"
+
+namespace invfem {
+
+void multiply_block_rows(const int* row_start, const int* col, const Mat3* blocks, const double* x, double* y,
+                         std::size_t begin, std::size_t end);
+
+}  // namespace invfem

@@ -28,8 +28,8 @@
 // width), one lane per matrix, each quantity of the algorithm one Pack. Two Packs of matrices
 // (kStreams, svd_block.hpp) are interleaved step by step: each Jacobi rotation is a chain of
 // square root, multiplication, square root, division whose latency (~90 cycles) dwarfs its
-// throughput cost, and the second, independent chain fills it. The disassembly shows vsqrtpd/vdivpd on zmm
-// registers with AVX-512 (objdump -d ... | grep 'vsqrtpd.*zmm').
+// throughput cost, and the second, independent chain fills it. The disassembly shows
+// vsqrtpd/vdivpd on zmm registers with AVX-512 (objdump -d ... | grep 'vsqrtpd.*zmm').
 
 namespace invfem {
 namespace simd {

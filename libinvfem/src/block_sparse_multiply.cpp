@@ -8,8 +8,6 @@
 // Built without fused multiply-adds (libinvfem/CMakeLists.txt).
 #include "block_sparse_multiply.hpp"
 
-#include <cstring>
-
 #include "simd_pack.hpp"
 
 namespace invfem {
@@ -34,7 +32,7 @@ void multiply_block_rows(const int* row_start, const int* col, const Mat3* block
       const double* b = blocks[static_cast<std::size_t>(k)].data();  // column-major
       const double* xc = x + 3 * static_cast<std::size_t>(col[k]);
       const Quad a = load3(b) * splat4(xc[0]), c = load3(b + 3) * splat4(xc[1]), d = load3(b + 6) * splat4(xc[2]);
-      const Quad rows01 = (a + c) + d, rows2 = a + (c + d);
+      const Quad rows01 = simd::sum_ab_c(a, c, d), rows2 = simd::sum_a_bc(a, c, d);
       s = s + (row2 ? rows2 : rows01);
     }
     y[3 * i] = s[0];

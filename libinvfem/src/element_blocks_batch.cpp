@@ -17,10 +17,10 @@ namespace invfem {
 
 using simd::kLanes;
 using simd::Pack;
+using simd::sum_a_bc;
+using simd::sum_ab_c;
 
 namespace {
-inline Pack sum_ab_c(Pack a, Pack b, Pack c) { return (a + b) + c; }
-inline Pack sum_a_bc(Pack a, Pack b, Pack c) { return a + (b + c); }
 constexpr int kStride = 90;  // doubles per tet in the Upper form: 10 blocks of 9
 }  // namespace
 

@@ -1,5 +1,6 @@
 #pragma once
-// The SIMD vocabulary of the batched element kernels (diagonalize_batch.cpp, tet_kernel_batch.cpp):
+// The SIMD vocabulary of the batched kernels (diagonalize_batch.cpp, tet_kernel_batch.cpp,
+// element_blocks_batch.cpp, block_sparse_multiply.cpp):
 // GCC vector extensions, one lane per element, each quantity of a kernel one Pack; selects are
 // `mask ? a : b` on whole Packs, so there is no branch to vectorize away and no reliance on the
 // auto-vectorizer.
@@ -59,5 +60,11 @@ inline Pack load_pack(const double* p) {
   return x;
 }
 inline void store_pack(double* p, Pack x) { std::memcpy(p, &x, sizeof x); }
+
+// A sum of three terms in each of the two orders Eigen's SSE2 code uses (per kernel file comment:
+// a 3x3 product's rows 0 and 1 as a packet, (a + b) + c; row 2 by scalar reduction, a + (b + c)).
+// For any vector type of the kernels (Pack, or a 4-wide vector of a block's rows).
+template <class V> inline V sum_ab_c(V a, V b, V c) { return (a + b) + c; }
+template <class V> inline V sum_a_bc(V a, V b, V c) { return a + (b + c); }
 
 }  // namespace invfem::simd

@@ -19,12 +19,8 @@ using simd::kLanes;
 using simd::load_pack;
 using simd::Pack;
 using simd::store_pack;
-
-namespace {
-// Sums of three terms in Eigen's two orders (file comment).
-inline Pack sum_ab_c(Pack a, Pack b, Pack c) { return (a + b) + c; }
-inline Pack sum_a_bc(Pack a, Pack b, Pack c) { return a + (b + c); }
-}  // namespace
+using simd::sum_a_bc;
+using simd::sum_ab_c;
 
 void tet_diagonalize_batch(const TetRest& rest, const Points& x, std::size_t first, std::size_t n,
                            Diagonalization3* diag, double* det_F) {

@@ -341,10 +341,15 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
   const Eigen::VectorXd& mass = body.mass;
   stats.newton_converged = false;
   double force_scale = 0, g0 = 0;
+  // E at x when known: the accepted trial's, reused as the next line search's E0 unless the
+  // contact set changed (which moves x or x^ rows). The same bits as evaluating it again.
+  double E_x = 0;
+  bool E_x_known = false;
   for (int it = 0;; ++it) {
     total_force(body, forces, f);
     potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
     const bool set_changed = update_contacts(ws.grad);
+    if (set_changed) E_x_known = false;
     if (set_changed) {
       evaluate(forces, x, t_new);
       total_force(body, forces, f);
@@ -386,13 +391,14 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
     // direction of E.
     const double slope = points_dot(ws.grad, ws.dir);
     if (!(slope < 0)) return;  // no descent left: stop, reported as not converged
-    const double E0 = incremental_potential(body, forces, k, x, x_start, h, ws);
+    const double E0 = E_x_known ? E_x : incremental_potential(body, forces, k, x, x_start, h, ws);
     double alpha = 1;
     bool accepted = false;
     for (int ls = 0; ls <= settings.max_line_search; ++ls, alpha *= 0.5) {
       ws.x_trial = x + alpha * ws.dir;
       evaluate(forces, ws.x_trial, t_new);
       const double E = incremental_potential(body, forces, k, ws.x_trial, x_start, h, ws);
+      E_x = E;
       if (E <= E0 + 1e-4 * alpha * slope) {
         accepted = true;
         break;
@@ -409,6 +415,7 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
       }
     }
     x.swap(ws.x_trial);
+    E_x_known = accepted;
     if (!accepted) {  // the smallest step was evaluated last; keep it (it is tiny) and stop
       total_force(body, forces, f);
       return;

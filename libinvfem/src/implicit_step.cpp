@@ -235,8 +235,8 @@ void assemble(const Body& body, const std::vector<Force*>& forces, Contacts& k, 
 // contact set did not change and the last iteration cut the residual at least this much: the
 // quadratic model was good, and the stiffness moves little over the step that follows. Assembly
 // (the element matrices and their gather) was 38% of torus_115k and the systems barely change there
-// (rotated linear, small strains): quick torus 47 Newton iterations and 1,211 CG iterations either way,
-// 7 of the 47 assemblies kept, 7.05 -> 5.90 s CPU. Quick runs (Newton, CG, s CPU), always assembling
+// (rotated linear, small strains): the quick torus's first 4 frames took 47 Newton and 1,211 CG
+// iterations either way, 7 of the 47 assemblies kept, 7.05 -> 5.90 s CPU. Quick runs (Newton, CG, s CPU), always assembling
 // -> this rule: half_torus_shell 2,473, 71,418, 5.15 -> 2,423, 75,502, 4.55; cloth_drape 654,
 // 10,964, 0.85 -> 704, 13,136, 0.74; dress_dance unchanged (its contact set changes at every
 // iterate). Also keeping it across changes of the contact set measured 5.39 s on the torus but

@@ -224,17 +224,19 @@ void TetSolidForce::add_damping_forces(const Points& v, Points& f) const {
 
 double TetSolidForce::elastic_energy() const {
   const IsotropicModel model = with_strength(material_.model, strength_);
-  double energy = 0;  // sequential sum: reproducible
+  energy_terms_.resize(diag_.size());
   std::visit(
       [&](const auto& mdl) {
-        for (std::size_t e = 0; e < diag_.size(); ++e) {
+        parallel_for_each(diag_.size(), kGrain, [&](std::size_t e) {
           double w = mdl.template psi<3>(diag_[e].sigma);
           if (!plastic_identity_) w *= plastic_volume_factor(plastic_.Fp_inv[e]);
           if (material_.fiber) w += material_.fiber->psi(fiber_stretch_[e], activation_);
-          energy += rest_.volume[e] * w;
-        }
+          energy_terms_[e] = rest_.volume[e] * w;
+        });
       },
       model);
+  double energy = 0;  // summed in element order: the same bits for any thread count
+  for (const double term : energy_terms_) energy += term;
   return energy;
 }
 

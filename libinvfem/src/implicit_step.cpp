@@ -234,13 +234,14 @@ void assemble(const Body& body, const std::vector<Force*>& forces, Contacts& k, 
 // A Newton iteration keeps the last iterate's stiffness (a chord step: assemble's reuse) when the
 // contact set did not change and the last iteration cut the residual at least this much: the
 // quadratic model was good, and the stiffness moves little over the step that follows. Assembly
-// (the element matrices and their gather) was 38% of torus_115k and the systems barely change there
-// (rotated linear, small strains): the quick torus's first 4 frames took 47 Newton and 1,211 CG
-// iterations either way, 7 of the 47 assemblies kept, 7.05 -> 5.90 s CPU. Quick runs (Newton, CG, s CPU), always assembling
-// -> this rule: half_torus_shell 2,473, 71,418, 5.15 -> 2,423, 75,502, 4.55; cloth_drape 654,
-// 10,964, 0.85 -> 704, 13,136, 0.74; dress_dance unchanged (its contact set changes at every
-// iterate). Also keeping it across changes of the contact set measured 5.39 s on the torus but
-// raised the dress's worst capped residual from 0.08 to 0.20, so a change always reassembles.
+// (the element matrices and their gather) was 38% of torus_115k and the systems barely change
+// there (rotated linear, small strains): the quick torus's first 4 frames took 47 Newton and 1,211
+// CG iterations either way, 7 of the 47 assemblies kept, 7.05 -> 5.90 s CPU. Quick runs (Newton,
+// CG, s CPU), always assembling -> this rule: half_torus_shell 2,473, 71,418, 5.15 -> 2,423,
+// 75,502, 4.55; cloth_drape 654, 10,964, 0.85 -> 704, 13,136, 0.74; dress_dance unchanged (its
+// contact set changes at every iterate). Also keeping it across changes of the contact set
+// measured 5.39 s on the torus but raised the dress's worst capped residual from 0.08 to 0.20, so a
+// change always reassembles.
 constexpr double kReuseContraction = 0.25;
 
 // The multigrid hierarchy (Preconditioner::Amg) is built at the first step after
@@ -372,8 +373,8 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
     total_force(body, forces, f);
     potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
     const bool set_changed = update_contacts(ws.grad);
-    if (set_changed) E_x_known = false;
     if (set_changed) {
+      E_x_known = false;
       evaluate(forces, x, t_new);
       total_force(body, forces, f);
       potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);

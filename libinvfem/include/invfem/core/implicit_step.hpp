@@ -91,7 +91,8 @@ struct ImplicitWorkspace {
   BlockSparseMatrix A;  // M + h^2 K + h C
   BlockSparseMatrix C;  // the damping matrix at x(n) (same pattern)
   std::vector<Mat3> block_inverse;  // the block-Jacobi preconditioner
-  std::vector<std::pair<std::size_t, Mat3>> before_friction;  // A's diagonal blocks under friction, as they were
+  // A's diagonal blocks that the last assembly's friction went into, (slot, block before it).
+  std::vector<std::pair<std::size_t, Mat3>> before_friction;
   Eigen::VectorXd normal_force;     // per node: its contact force at the end of the last step [N]
   CGWorkspace cg;
   FilteredDirectSolver direct;      // LinearSolver::Direct: analyzed at its first use on this pattern

@@ -231,15 +231,15 @@ void SelfCollisionPass::resolve(double dt, FrameReport::Collisions& r, const Poi
   ccd.max_iterations = 10'000;
   // Each pass re-detects on the velocities the last one left (BFA02 section 5); when the
   // repulsion changed nothing, its candidates (boxes grown by the thickness, more than the CCD
-  // needs) serve the first pass. A pass that finds nothing colliding ends the step's work: the
-  // impact zones would find the same nothing.
+  // needs) serve the first pass. Otherwise the first pass refinds from the repulsion's find: its
+  // boxes, grown by the thickness, still hold nearly every box of the CCD's margin after the
+  // repulsion's small velocity changes (broad_phase.hpp refind). A pass that finds nothing
+  // colliding ends the step's work: the impact zones would find the same nothing.
   const double margin = 2 * settings_.ccd_distance;
   bool clear = false;
   for (int pass = 0; pass < settings_.impulse_passes && !clear; ++pass) {
-    if (pass > 0)  // only velocities changed since the last find: re-detect around them
+    if (pass > 0 || repulsions > 0)  // only velocities changed since the last find: re-detect around them
       broad_phase_.refind(mesh_, v, dt, margin, candidates_);
-    else if (repulsions > 0)
-      broad_phase_.find(mesh_, v, dt, margin, candidates_);
     const CcdPassReport p = apply_ccd_impulses(mesh_, candidates_, dt, ccd, settings_.friction, v);
     r.ccd_hits += p.impulses;
     clear = p.colliding == 0;

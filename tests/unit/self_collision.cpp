@@ -334,15 +334,31 @@ TEST(BroadPhase, RefindAfterVelocityChangesEqualsAFreshFind) {
     std::uniform_int_distribution<int> pick(0, 3 * 400 - 1);  // the soup's (movable) vertices
     for (int changes : {5, 0, 40, 3, 600}) {
       for (int k = 0; k < changes; ++k) v.row(pick(rng)) = Vec3(d(rng), d(rng), d(rng)).transpose();
-      Candidates again, fresh;
-      bp.refind(m, v, dt, margin, again);
-      BroadPhase other;
-      other.find(m, v, dt, margin, fresh);
-      EXPECT_GT(fresh.size(), 100u);
-      EXPECT_TRUE(again.vf == fresh.vf) << "seed " << seed << ", " << changes << " changes";
-      EXPECT_TRUE(again.ee == fresh.ee) << "seed " << seed << ", " << changes << " changes";
+      // The same margin, and narrower ones (the impulse passes after the repulsion's find).
+      for (double narrow : {margin, margin / 2, margin / 100}) {
+        Candidates again, fresh;
+        bp.refind(m, v, dt, narrow, again);
+        BroadPhase other;
+        other.find(m, v, dt, narrow, fresh);
+        EXPECT_GT(fresh.size(), 100u);
+        EXPECT_TRUE(again.vf == fresh.vf) << "seed " << seed << ", " << changes << " changes, margin " << narrow;
+        EXPECT_TRUE(again.ee == fresh.ee) << "seed " << seed << ", " << changes << " changes, margin " << narrow;
+      }
     }
-    // Another margin is another search: refind falls back to find.
+    // Every movable vertex nudged by less than the margins' difference (as the repulsion does
+    // before the impulse passes search with the CCD's margin): nothing leaves its box, and the
+    // pairs of the last find, re-checked, are the fresh find's.
+    {
+      std::uniform_real_distribution<double> nudge(-0.1 * margin / dt, 0.1 * margin / dt);
+      for (int i = 0; i < 3 * 400; ++i) v.row(i) += Vec3(nudge(rng), nudge(rng), nudge(rng)).transpose();
+      Candidates again, fresh;
+      bp.refind(m, v, dt, margin / 4, again);
+      BroadPhase other;
+      other.find(m, v, dt, margin / 4, fresh);
+      EXPECT_GT(fresh.size(), 100u);
+      EXPECT_TRUE(again.vf == fresh.vf && again.ee == fresh.ee) << "seed " << seed << ", nudged";
+    }
+    // A wider margin is another search: refind falls back to find.
     Candidates wide, fresh;
     bp.refind(m, v, dt, 4 * margin, wide);
     BroadPhase other;

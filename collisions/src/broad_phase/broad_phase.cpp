@@ -27,6 +27,7 @@ struct Box {
     hi = hi.cwiseMax(p);
   }
   bool overlaps(const Box& b) const { return (lo.array() <= b.hi.array()).all() && (b.lo.array() <= hi.array()).all(); }
+  bool holds(const Box& b) const { return (lo.array() <= b.lo.array()).all() && (b.hi.array() <= hi.array()).all(); }
   double area() const {
     const Vec3 d = hi - lo;
     return 2 * (d.x() * d.y() + d.y() * d.z() + d.z() * d.x());
@@ -100,6 +101,7 @@ struct BroadPhase::Embree {
   BoxSet vertices[2], triangles[2], edges[2];
   std::vector<int> vertex_ids[2], triangle_ids[2], edge_ids[2];  // set-local index -> mesh index
   std::vector<Box> vertex_boxes, triangle_boxes, edge_boxes;     // per mesh primitive, this step
+  std::vector<Box> found_vertex_boxes, found_triangle_boxes, found_edge_boxes;  // those of the last find()
   // refind(): the primitives whose boxes moved since the last find(), built anew each call.
   BoxSet moved_vertices, moved_triangles, moved_edges;
   std::vector<int> moved_vertex_ids, moved_triangle_ids, moved_edge_ids;
@@ -169,6 +171,8 @@ using PairFilter = std::function<bool(int, int)>;
 // runs in the callback, on the callback's thread: of cloth moving fast, millions of pairs a step
 // are reported, and filtered there they are filtered in parallel and never stored.
 struct Collected {
+  const std::vector<RTCBounds>* bounds0 = nullptr;  // the sets' float boxes, by set-local index
+  const std::vector<RTCBounds>* bounds1 = nullptr;
   const std::vector<int>* ids0 = nullptr;
   const std::vector<int>* ids1 = nullptr;
   bool same_scene = false;  // a scene against itself reports (a, b) and (b, a): keep a < b
@@ -176,11 +180,19 @@ struct Collected {
   const PairFilter* keep = nullptr;
   tbb::enumerable_thread_specific<std::vector<std::pair<int, int>>> local;
 };
+bool overlap(const RTCBounds& a, const RTCBounds& b) {
+  return a.lower_x <= b.upper_x && b.lower_x <= a.upper_x && a.lower_y <= b.upper_y && b.lower_y <= a.upper_y &&
+         a.lower_z <= b.upper_z && b.lower_z <= a.upper_z;
+}
 void collect(void* user, RTCCollision* c, unsigned n) {
   auto* out = static_cast<Collected*>(user);
   auto& pairs = out->local.local();
   for (unsigned i = 0; i < n; ++i) {
     if (out->same_scene && c[i].primID0 >= c[i].primID1) continue;
+    // rtcCollide also reports pairs whose own boxes are disjoint (three in five on the quick
+    // dress_dance): their float boxes drop them here, before the mesh indices and the filter
+    // are looked up.
+    if (!overlap((*out->bounds0)[c[i].primID0], (*out->bounds1)[c[i].primID1])) continue;
     int a = (*out->ids0)[c[i].primID0], b = (*out->ids1)[c[i].primID1];
     if (out->ordered && b < a) std::swap(a, b);
     if (*out->keep && !(*out->keep)(a, b)) continue;
@@ -195,6 +207,8 @@ void collide(RTCDevice device, const BoxSet& s0, const std::vector<int>& ids0, c
              std::vector<std::pair<int, int>>& pairs) {
   if (ids0.empty() || ids1.empty()) return;
   Collected c;
+  c.bounds0 = &s0.bounds;
+  c.bounds1 = &s1.bounds;
   c.ids0 = &ids0;
   c.ids1 = &ids1;
   c.same_scene = &s0 == &s1;
@@ -278,7 +292,7 @@ void BroadPhase::compute_boxes(const CollisionMesh& m, const Points& v, double d
 void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double margin, Candidates& out) {
   out.clear();
   found_.clear();
-  found_v_.resize(0, 3);
+  found_vertices_ = -1;
   if (m.tris.rows() == 0) return;
   Embree& e = *embree_;
   compute_boxes(m, v, dt, margin);
@@ -314,71 +328,68 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
   sort_unique(out.vf);
   sort_unique(out.ee);
   found_ = out;
-  found_v_ = v;
+  e.found_vertex_boxes = e.vertex_boxes;
+  e.found_triangle_boxes = e.triangle_boxes;
+  e.found_edge_boxes = e.edge_boxes;
+  found_vertices_ = m.num_vertices();
   found_dt_ = dt;
   found_margin_ = margin;
 }
 
 void BroadPhase::refind(const CollisionMesh& m, const Points& v, double dt, double margin, Candidates& out) {
   Embree& e = *embree_;
-  const auto nv = static_cast<std::size_t>(m.num_vertices());
-  if (found_v_.rows() != m.num_vertices() || dt != found_dt_ || margin != found_margin_ ||
+  if (found_vertices_ != m.num_vertices() || dt != found_dt_ || !(margin <= found_margin_) ||
       e.triangle_boxes.size() != static_cast<std::size_t>(m.tris.rows()) ||
       e.edge_boxes.size() != static_cast<std::size_t>(m.edges.rows())) {
     find(m, v, dt, margin, out);
     return;
   }
-  // Vertices whose velocity differs from the last find(), and the primitives that hold one:
-  // their boxes moved since the hierarchies were built.
-  std::vector<char> changed(nv, 0);
-  bool any = false;
-  for (std::size_t i = 0; i < nv; ++i) {
-    const auto row = static_cast<Eigen::Index>(i);
-    if (v.row(row) != found_v_.row(row)) changed[i] = any = true;
-  }
-  if (!any) {
-    out = found_;
-    return;
-  }
   compute_boxes(m, v, dt, margin);
-  auto holds_changed = [&](const int* ids, int n) {
-    for (int k = 0; k < n; ++k)
-      if (changed[static_cast<std::size_t>(ids[k])]) return true;
-    return false;
+  // A primitive has moved when its box now reaches out of its box at the last find(). Two
+  // primitives that have not moved and whose boxes overlap now overlapped then, so their pair is
+  // among that find's pairs if it is a candidate at all (the other filters do not depend on the
+  // boxes): those pairs are kept, re-checked on the boxes of now. The margin may be narrower than
+  // the last find's: the impulse passes after the repulsion and the impact zones search with the
+  // CCD's margin around velocities that the repulsion changed by a fraction of the thickness, so
+  // almost every box stays inside the one the repulsion's find grew by the thickness, and almost
+  // nothing is collided again.
+  auto moved_flags = [](const std::vector<Box>& now, const std::vector<Box>& then, std::vector<char>& flag) {
+    flag.assign(now.size(), 0);
+    parallel_for_each(now.size(), 4096, [&](std::size_t k) { flag[k] = then[k].holds(now[k]) ? 0 : 1; });
   };
   // The moved primitives, in small hierarchies built anew; the large ones keep the boxes of
   // the last find() (stale for moved primitives: the moved-against-moved collide covers their
   // pairs, and the exact double boxes drop the spurious overlaps of their stale boxes).
-  auto gather = [&](const std::vector<Box>& boxes, const std::function<bool(std::size_t)>& moved, BoxSet& set,
-                    std::vector<int>& ids, std::vector<char>& flag) {
+  auto gather = [&](const std::vector<Box>& boxes, const std::vector<char>& flag, BoxSet& set, std::vector<int>& ids) {
     ids.clear();
     set.boxes.clear();
-    flag.assign(boxes.size(), 0);
     for (std::size_t k = 0; k < boxes.size(); ++k)
-      if (moved(k)) {
+      if (flag[k]) {
         ids.push_back(static_cast<int>(k));
         set.boxes.push_back(boxes[k]);
-        flag[k] = 1;
       }
     set.release();
     if (!ids.empty()) e.commit(set, rebuild_growth);
   };
   std::vector<char> moved_vertex, moved_triangle, moved_edge;
-  gather(e.vertex_boxes, [&](std::size_t i) { return changed[i] != 0; }, e.moved_vertices, e.moved_vertex_ids,
-         moved_vertex);
-  gather(e.triangle_boxes, [&](std::size_t f) { return holds_changed(&m.tris(static_cast<Eigen::Index>(f), 0), 3); },
-         e.moved_triangles, e.moved_triangle_ids, moved_triangle);
-  gather(e.edge_boxes, [&](std::size_t k) { return holds_changed(&m.edges(static_cast<Eigen::Index>(k), 0), 2); },
-         e.moved_edges, e.moved_edge_ids, moved_edge);
+  moved_flags(e.vertex_boxes, e.found_vertex_boxes, moved_vertex);
+  moved_flags(e.triangle_boxes, e.found_triangle_boxes, moved_triangle);
+  moved_flags(e.edge_boxes, e.found_edge_boxes, moved_edge);
+  gather(e.vertex_boxes, moved_vertex, e.moved_vertices, e.moved_vertex_ids);
+  gather(e.triangle_boxes, moved_triangle, e.moved_triangles, e.moved_triangle_ids);
+  gather(e.edge_boxes, moved_edge, e.moved_edges, e.moved_edge_ids);
 
-  // Pairs of the last find() without a moved primitive are unchanged (same boxes, same filters).
+  // Pairs of the last find() without a moved primitive, if their boxes still overlap.
   Candidates fresh;
-  for (const auto& p : found_.vf)
-    if (!moved_vertex[static_cast<std::size_t>(p.vertex)] && !moved_triangle[static_cast<std::size_t>(p.face)])
+  for (const auto& p : found_.vf) {
+    const auto i = static_cast<std::size_t>(p.vertex), f = static_cast<std::size_t>(p.face);
+    if (!moved_vertex[i] && !moved_triangle[f] && e.vertex_boxes[i].overlaps(e.triangle_boxes[f]))
       fresh.vf.push_back(p);
-  for (const auto& p : found_.ee)
-    if (!moved_edge[static_cast<std::size_t>(p.edge_a)] && !moved_edge[static_cast<std::size_t>(p.edge_b)])
-      fresh.ee.push_back(p);
+  }
+  for (const auto& p : found_.ee) {
+    const auto a = static_cast<std::size_t>(p.edge_a), b = static_cast<std::size_t>(p.edge_b);
+    if (!moved_edge[a] && !moved_edge[b] && e.edge_boxes[a].overlaps(e.edge_boxes[b])) fresh.ee.push_back(p);
+  }
   const std::size_t kept_vf = fresh.vf.size(), kept_ee = fresh.ee.size();
 
   const PairFilter vf_keep = [&](int i, int f) { return keep_vf(m, e.vertex_boxes, e.triangle_boxes, i, f); };

@@ -36,11 +36,13 @@ class BroadPhase {
   void find(const CollisionMesh& mesh, double dt, double margin, Candidates& out) { find(mesh, mesh.v, dt, margin, out); }
 
   // The same result as find(), for a mesh on which only velocities changed since the last find()
-  // (the caller's promise: same x0, topology, exempt and released flags). Only the primitives
-  // holding a vertex whose velocity changed are collided again (against the hierarchies of the
-  // last find() and among themselves); the other pairs of the last find() are kept as they were.
-  // The impulse passes and the impact zones' rounds change a few vertices each, so this is what
-  // they call. Falls back to find() when dt, the margin or the sizes differ.
+  // (the caller's promise: same x0, topology, exempt and released flags), with the same margin or
+  // a narrower one. Only the primitives whose box now reaches out of the box they were collided
+  // with at the last find() are collided again (against the hierarchies of the last find() and
+  // among themselves); the pairs of the last find() between the others are kept, re-checked on
+  // the boxes of now. The impulse passes and the impact zones' rounds change a few vertices each,
+  // and the repulsion's changes stay within the thickness by which its find grew the boxes, so
+  // this is what they call. Falls back to find() when dt or the sizes differ or the margin is wider.
   void refind(const CollisionMesh& mesh, const Points& v, double dt, double margin, Candidates& out);
 
   // Edge-triangle pairs (not adjacent, not both without a movable vertex) whose boxes of the
@@ -59,7 +61,7 @@ class BroadPhase {
   // The last find(): its result and the state it was made on, which refind() starts from.
   void compute_boxes(const CollisionMesh& mesh, const Points& v, double dt, double margin);
   Candidates found_;
-  Points found_v_;
+  Eigen::Index found_vertices_ = -1;  // the mesh's vertex count at the last find(); -1: none yet
   double found_dt_ = 0, found_margin_ = 0;
 };
 

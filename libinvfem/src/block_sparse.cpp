@@ -45,6 +45,10 @@ BlockSparseMatrix::BlockSparseMatrix(Eigen::Index n, const std::vector<const Ele
       col_.push_back(j);
     }
   blocks_.assign(col_.size(), Mat3::Zero());
+  partner_.assign(col_.size(), -1);
+  for (int i = 0; i < static_cast<int>(n); ++i)
+    for (int s = row_start_[static_cast<std::size_t>(i)]; s < row_start_[static_cast<std::size_t>(i) + 1]; ++s)
+      if (const int j = col_[static_cast<std::size_t>(s)]; j < i) partner_[static_cast<std::size_t>(s)] = find(j, i);
 }
 
 int BlockSparseMatrix::find(int i, int j) const {
@@ -64,6 +68,12 @@ void BlockSparseMatrix::multiply(const Points& x, Points& y) const {
   parallel_for_each((n + kRowGrain - 1) / kRowGrain, 1, [&](std::size_t c) {
     multiply_block_rows(row_start_.data(), col_.data(), blocks_.data(), x.data(), y.data(), c * kRowGrain,
                         std::min(n, (c + 1) * kRowGrain));
+  });
+}
+
+void BlockSparseMatrix::mirror_lower() {
+  parallel_for_each(blocks_.size(), 16 * kRowGrain, [&](std::size_t s) {
+    if (const int u = partner_[s]; u >= 0) blocks_[s] = blocks_[static_cast<std::size_t>(u)].transpose();
   });
 }
 
@@ -134,7 +144,13 @@ ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatri
       if (cols[static_cast<std::size_t>(s)] > i) mirror_[static_cast<std::size_t>(s)] = A.find(cols[static_cast<std::size_t>(s)], i);
 }
 
-void ElementScatter::add(const ElementMatrices& em, double w, BlockSparseMatrix& A) const {
+void ElementScatter::add(const ElementMatrices& em, double w, BlockSparseMatrix& A) const { gather(em, w, A, true); }
+
+void ElementScatter::add_upper(const ElementMatrices& em, double w, BlockSparseMatrix& A) const {
+  gather(em, w, A, false);
+}
+
+void ElementScatter::gather(const ElementMatrices& em, double w, BlockSparseMatrix& A, bool lower) const {
   if (em.form != form_ || em.size() != stride_)
     throw std::logic_error("element scatter: the element matrices changed form or arity since the scatter was built");
   std::vector<Mat3>& blocks = A.blocks();
@@ -177,7 +193,7 @@ void ElementScatter::add(const ElementMatrices& em, double w, BlockSparseMatrix&
     for (int c = 0; c < 3; ++c)
       for (int r = 0; r < 3; ++r) block(r, c) += w * sum[3 * c + r];
     // Each lower slot has exactly one upper partner: no two tasks write the same block.
-    if (const int m = mirror_[s]; m >= 0) {
+    if (const int m = mirror_[s]; lower && m >= 0) {
       Mat3& lower = blocks[static_cast<std::size_t>(m)];
       for (int c = 0; c < 3; ++c)
         for (int r = 0; r < 3; ++r) lower(c, r) += w * sum[3 * c + r];

@@ -207,13 +207,17 @@ void assemble(const Body& body, const std::vector<Force*>& forces, Contacts& k, 
     for (auto it = ws.before_friction.rbegin(); it != ws.before_friction.rend(); ++it)
       ws.A.blocks()[it->first] = it->second;
   } else {
+    // The upper triangle and the diagonal, then the lower as their transposes: every term is
+    // symmetric (C too: its lower blocks are its upper ones' transposes), so these are the bits
+    // that adding each term to both triangles gave.
     ws.A.set_zero();
     ws.A.add_to_diagonal(body.mass);
     for (std::size_t f = 0; f < forces.size(); ++f) {
       forces[f]->stiffness_matrices(ws.stiffness[f]);
-      ws.stiffness_scatter[f].add(ws.stiffness[f], h * h, ws.A);
+      ws.stiffness_scatter[f].add_upper(ws.stiffness[f], h * h, ws.A);
     }
     ws.A.add_scaled(ws.C, h);  // C is frozen at x(n): assembled once a step, not gathered again
+    ws.A.mirror_lower();
   }
   ws.before_friction.clear();
   for (std::size_t j = k.first_contact; j < k.constraints.size(); ++j) {

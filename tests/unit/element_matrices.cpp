@@ -371,6 +371,47 @@ TEST(BlockSparseMatrix, TetUpperFormAssemblesToTheBitsOfTheDenseForm) {
   for (std::size_t k = 0; k < A.block_count(); ++k) EXPECT_EQ(A.blocks()[k], B.blocks()[k]) << "block " << k;
 }
 
+// The implicit step's assembly: every term on the diagonal and the upper triangle (add_upper,
+// add_scaled), then the lower triangle as the transposes (mirror_lower), gives the bits of adding
+// every term to both triangles, for tets (Upper form), hinges (Outer form) and a dense form.
+TEST(BlockSparseMatrix, UpperAssemblyMirroredGivesTheBitsOfTheFullOne) {
+  std::mt19937 rng(23);
+  const BarMatrices bm(rng);
+  std::uniform_real_distribution<double> u(-1, 1);
+  ElementMatrices hinges, blocks;
+  hinges.resize(30, 4, ElementMatrices::Form::Outer);
+  blocks.resize(30, 2);
+  for (Eigen::Index e = 0; e < 30; ++e) {
+    for (int a = 0; a < 4; ++a) hinges.nodes(e, a) = static_cast<int>((7 * e + 3 * a) % bm.n);
+    for (int a = 0; a < 2; ++a) blocks.nodes(e, a) = static_cast<int>((5 * e + 11 * a + 1) % bm.n);
+    hinges.outer_vector<12>(e) = Eigen::Matrix<double, 12, 1>::NullaryExpr([&] { return u(rng); });
+    hinges.outer_scale(e) = 1 + u(rng);
+    const Eigen::Matrix<double, 6, 6> R = Eigen::Matrix<double, 6, 6>::NullaryExpr([&] { return u(rng); });
+    blocks.matrix<6>(e) = R * R.transpose();
+  }
+  const std::vector<const ElementMatrices*> all{&bm.K, &bm.C, &hinges, &blocks};
+  BlockSparseMatrix full(bm.n, all), upper(bm.n, all), C(bm.n, all);
+  ElementScatter(bm.C, C).add(bm.C, 1.0, C);
+  const Eigen::VectorXd mass = Eigen::VectorXd::LinSpaced(bm.n, 1.0, 2.0);
+  for (BlockSparseMatrix* A : {&full, &upper}) A->add_to_diagonal(mass);
+  for (const ElementMatrices* em : std::vector<const ElementMatrices*>{&bm.K, &hinges, &blocks}) {
+    const ElementScatter scatter(*em, full);
+    scatter.add(*em, 0.04, full);
+    scatter.add_upper(*em, 0.04, upper);
+  }
+  full.add_scaled(C, 0.2);
+  upper.add_scaled(C, 0.2);
+  int below = 0;
+  const std::vector<int>& rows = upper.row_start();
+  for (int i = 0; i < bm.n; ++i)
+    for (int s = rows[static_cast<std::size_t>(i)]; s < rows[static_cast<std::size_t>(i) + 1]; ++s)
+      below += upper.columns()[static_cast<std::size_t>(s)] < i;
+  EXPECT_GT(below, 0);
+  EXPECT_FALSE(full.blocks() == upper.blocks()) << "before the mirror the lower triangles differ";
+  upper.mirror_lower();
+  for (std::size_t k = 0; k < full.block_count(); ++k) EXPECT_EQ(upper.blocks()[k], full.blocks()[k]) << "block " << k;
+}
+
 // A += w B with B a refilled copy of A's pattern (the implicit step adds h C this way), and a
 // matrix of another pattern is refused.
 TEST(BlockSparseMatrix, AddScaledCopyOfThePatternEqualsDenseSum) {

@@ -45,10 +45,10 @@ BlockSparseMatrix::BlockSparseMatrix(Eigen::Index n, const std::vector<const Ele
       col_.push_back(j);
     }
   blocks_.assign(col_.size(), Mat3::Zero());
-  partner_.assign(col_.size(), -1);
+  transpose_.assign(col_.size(), -1);
   for (int i = 0; i < static_cast<int>(n); ++i)
     for (int s = row_start_[static_cast<std::size_t>(i)]; s < row_start_[static_cast<std::size_t>(i) + 1]; ++s)
-      if (const int j = col_[static_cast<std::size_t>(s)]; j < i) partner_[static_cast<std::size_t>(s)] = find(j, i);
+      if (const int j = col_[static_cast<std::size_t>(s)]; j != i) transpose_[static_cast<std::size_t>(s)] = find(j, i);
 }
 
 int BlockSparseMatrix::find(int i, int j) const {
@@ -72,8 +72,10 @@ void BlockSparseMatrix::multiply(const Points& x, Points& y) const {
 }
 
 void BlockSparseMatrix::mirror_lower() {
+  // Rows are stored in order, so a block below the diagonal comes after its transpose.
   parallel_for_each(blocks_.size(), 16 * kRowGrain, [&](std::size_t s) {
-    if (const int u = partner_[s]; u >= 0) blocks_[s] = blocks_[static_cast<std::size_t>(u)].transpose();
+    if (const int t = transpose_[s]; t >= 0 && static_cast<std::size_t>(t) < s)
+      blocks_[s] = blocks_[static_cast<std::size_t>(t)].transpose();
   });
 }
 
@@ -93,8 +95,8 @@ ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatri
   const std::size_t nb = A.block_count();
   // Only element blocks (a, b) with nodes(a) <= nodes(b) are gathered: the upper triangle and the
   // diagonal of A. Block (b, a) of a symmetric element matrix is the transpose of (a, b), so the
-  // lower triangle is written as the transpose of its partner's sum (mirror_), which also makes A
-  // exactly symmetric.
+  // lower triangle is written as the transpose of its partner's sum (A.transpose_slot), which also
+  // makes A exactly symmetric.
   // Where element block (a, b) of element e starts in values, in either form (element_matrices.hpp).
   const auto offset = [&em](Eigen::Index e, int a, int b) -> std::size_t {
     const auto base = static_cast<std::size_t>(e) * static_cast<std::size_t>(em.stride());
@@ -136,12 +138,6 @@ ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatri
           source_[k] = offset(e, a, b);
           if (form_ == ElementMatrices::Form::Outer) pairs_[k] = {static_cast<std::uint8_t>(3 * a), static_cast<std::uint8_t>(3 * b)};
         }
-  mirror_.assign(nb, -1);
-  const std::vector<int>& rows = A.row_start();
-  const std::vector<int>& cols = A.columns();
-  for (int i = 0; i + 1 < static_cast<int>(rows.size()); ++i)
-    for (int s = rows[static_cast<std::size_t>(i)]; s < rows[static_cast<std::size_t>(i) + 1]; ++s)
-      if (cols[static_cast<std::size_t>(s)] > i) mirror_[static_cast<std::size_t>(s)] = A.find(cols[static_cast<std::size_t>(s)], i);
 }
 
 void ElementScatter::add(const ElementMatrices& em, double w, BlockSparseMatrix& A) const { gather(em, w, A, true); }
@@ -150,7 +146,7 @@ void ElementScatter::add_upper(const ElementMatrices& em, double w, BlockSparseM
   gather(em, w, A, false);
 }
 
-void ElementScatter::gather(const ElementMatrices& em, double w, BlockSparseMatrix& A, bool lower) const {
+void ElementScatter::gather(const ElementMatrices& em, double w, BlockSparseMatrix& A, bool write_lower) const {
   if (em.form != form_ || em.size() != stride_)
     throw std::logic_error("element scatter: the element matrices changed form or arity since the scatter was built");
   std::vector<Mat3>& blocks = A.blocks();
@@ -192,11 +188,12 @@ void ElementScatter::gather(const ElementMatrices& em, double w, BlockSparseMatr
     Mat3& block = blocks[s];
     for (int c = 0; c < 3; ++c)
       for (int r = 0; r < 3; ++r) block(r, c) += w * sum[3 * c + r];
-    // Each lower slot has exactly one upper partner: no two tasks write the same block.
-    if (const int m = mirror_[s]; lower && m >= 0) {
-      Mat3& lower = blocks[static_cast<std::size_t>(m)];
+    // s is on or above the diagonal (the only slots with sources). Each lower slot has exactly
+    // one upper partner: no two tasks write the same block.
+    if (const int t = A.transpose_slot(s); write_lower && t >= 0) {
+      Mat3& transposed = blocks[static_cast<std::size_t>(t)];
       for (int c = 0; c < 3; ++c)
-        for (int r = 0; r < 3; ++r) lower(c, r) += w * sum[3 * c + r];
+        for (int r = 0; r < 3; ++r) transposed(c, r) += w * sum[3 * c + r];
     }
   });
 }

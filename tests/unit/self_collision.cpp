@@ -345,16 +345,17 @@ TEST(BroadPhase, RefindAfterVelocityChangesEqualsAFreshFind) {
         EXPECT_TRUE(again.ee == fresh.ee) << "seed " << seed << ", " << changes << " changes, margin " << narrow;
       }
     }
-    // Every movable vertex nudged by less than the margins' difference (as the repulsion does
-    // before the impulse passes search with the CCD's margin): nothing leaves its box, and the
-    // pairs of the last find, re-checked, are the fresh find's.
+    // Every movable vertex's velocity of the last find nudged by less than the margins' difference
+    // (as the repulsion does before the impulse passes search with the CCD's margin): no box leaves
+    // its box of the last find, and that find's pairs, re-checked, are the fresh find's.
     {
       std::uniform_real_distribution<double> nudge(-0.1 * margin / dt, 0.1 * margin / dt);
-      for (int i = 0; i < 3 * 400; ++i) v.row(i) += Vec3(nudge(rng), nudge(rng), nudge(rng)).transpose();
+      Points nudged = m.v;
+      for (int i = 0; i < 3 * 400; ++i) nudged.row(i) += Vec3(nudge(rng), nudge(rng), nudge(rng)).transpose();
       Candidates again, fresh;
-      bp.refind(m, v, dt, margin / 4, again);
+      bp.refind(m, nudged, dt, margin / 4, again);
       BroadPhase other;
-      other.find(m, v, dt, margin / 4, fresh);
+      other.find(m, nudged, dt, margin / 4, fresh);
       EXPECT_GT(fresh.size(), 100u);
       EXPECT_TRUE(again.vf == fresh.vf && again.ee == fresh.ee) << "seed " << seed << ", nudged";
     }

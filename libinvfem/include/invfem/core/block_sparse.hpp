@@ -39,6 +39,9 @@ class BlockSparseMatrix {
   // of a matrix assembled in its upper triangle and diagonal (ElementScatter::add_upper).
   void mirror_lower();
 
+  // The index of block (j, i) for block s = (i, j), i != j; -1 for a diagonal block.
+  int transpose_slot(std::size_t s) const { return transpose_[s]; }
+
   std::vector<Mat3>& blocks() { return blocks_; }
   const std::vector<Mat3>& blocks() const { return blocks_; }
   const std::vector<int>& row_start() const { return row_start_; }
@@ -48,7 +51,7 @@ class BlockSparseMatrix {
   std::vector<int> row_start_{0};  // n + 1
   std::vector<int> col_;           // block column of each block, ascending within a row
   std::vector<int> diag_;          // per row, the index of its diagonal block
-  std::vector<int> partner_;       // per block below the diagonal, the index of its transpose's; else -1
+  std::vector<int> transpose_;     // per block, transpose_slot's answer
   std::vector<Mat3> blocks_;
 };
 
@@ -70,7 +73,7 @@ class ElementScatter {
   void add_upper(const ElementMatrices& elements, double w, BlockSparseMatrix& A) const;
 
  private:
-  void gather(const ElementMatrices& elements, double w, BlockSparseMatrix& A, bool lower) const;
+  void gather(const ElementMatrices& elements, double w, BlockSparseMatrix& A, bool write_lower) const;
   struct Pair {
     std::uint8_t a = 0, b = 0;  // 3 a and 3 b of block (a, b): offsets of u_a and u_b in u
   };
@@ -80,7 +83,6 @@ class ElementScatter {
   // block's node pair in pairs_.
   std::vector<std::size_t> source_;
   std::vector<Pair> pairs_;          // Outer form only, per source_ entry
-  std::vector<int> mirror_;          // per slot above the diagonal, its transpose's slot; else -1
   int stride_ = 0;                   // 3 arity: the rows of an element matrix (the dense column stride)
   ElementMatrices::Form form_ = ElementMatrices::Form::Dense;
 };

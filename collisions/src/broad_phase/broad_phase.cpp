@@ -100,8 +100,9 @@ struct BroadPhase::Embree {
   // overlaps, only to be filtered out.
   BoxSet vertices[2], triangles[2], edges[2];
   std::vector<int> vertex_ids[2], triangle_ids[2], edge_ids[2];  // set-local index -> mesh index
-  std::vector<Box> vertex_boxes, triangle_boxes, edge_boxes;     // per mesh primitive, this step
-  std::vector<Box> found_vertex_boxes, found_triangle_boxes, found_edge_boxes;  // those of the last find()
+  std::vector<Box> vertex_boxes, triangle_boxes, edge_boxes;     // per mesh primitive, this call's
+  // Those of the last find(), swapped in at its end (refind() compares its own boxes with them).
+  std::vector<Box> found_vertex_boxes, found_triangle_boxes, found_edge_boxes;
   // refind(): the primitives whose boxes moved since the last find(), built anew each call.
   BoxSet moved_vertices, moved_triangles, moved_edges;
   std::vector<int> moved_vertex_ids, moved_triangle_ids, moved_edge_ids;
@@ -328,9 +329,9 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
   sort_unique(out.vf);
   sort_unique(out.ee);
   found_ = out;
-  e.found_vertex_boxes = e.vertex_boxes;
-  e.found_triangle_boxes = e.triangle_boxes;
-  e.found_edge_boxes = e.edge_boxes;
+  e.found_vertex_boxes.swap(e.vertex_boxes);
+  e.found_triangle_boxes.swap(e.triangle_boxes);
+  e.found_edge_boxes.swap(e.edge_boxes);
   found_vertices_ = m.num_vertices();
   found_dt_ = dt;
   found_margin_ = margin;
@@ -339,8 +340,8 @@ void BroadPhase::find(const CollisionMesh& m, const Points& v, double dt, double
 void BroadPhase::refind(const CollisionMesh& m, const Points& v, double dt, double margin, Candidates& out) {
   Embree& e = *embree_;
   if (found_vertices_ != m.num_vertices() || dt != found_dt_ || !(margin <= found_margin_) ||
-      e.triangle_boxes.size() != static_cast<std::size_t>(m.tris.rows()) ||
-      e.edge_boxes.size() != static_cast<std::size_t>(m.edges.rows())) {
+      e.found_triangle_boxes.size() != static_cast<std::size_t>(m.tris.rows()) ||
+      e.found_edge_boxes.size() != static_cast<std::size_t>(m.edges.rows())) {
     find(m, v, dt, margin, out);
     return;
   }
@@ -427,8 +428,8 @@ void BroadPhase::refind(const CollisionMesh& m, const Points& v, double dt, doub
 void BroadPhase::edge_triangle_pairs(const CollisionMesh& m, std::vector<std::pair<int, int>>& out) {
   out.clear();
   Embree& e = *embree_;
-  if (e.edge_boxes.size() != static_cast<std::size_t>(m.edges.rows()) ||
-      e.triangle_boxes.size() != static_cast<std::size_t>(m.tris.rows()))
+  if (e.found_edge_boxes.size() != static_cast<std::size_t>(m.edges.rows()) ||
+      e.found_triangle_boxes.size() != static_cast<std::size_t>(m.tris.rows()))
     return;  // no find() on this mesh yet
   const char* what = "rtcCollide (edges, triangles)";
   const PairFilter all;

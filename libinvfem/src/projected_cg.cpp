@@ -1,6 +1,9 @@
 #include "invfem/core/projected_cg.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include "invfem/core/parallel.hpp"
 
 namespace invfem {
 
@@ -26,6 +29,19 @@ void impose(const NodeConstraints& constraints, Points& v) {
       row += (c.velocity.dot(c.normal) - row.dot(c.normal.transpose())) * c.normal.transpose();
     }
   }
+}
+
+// The iteration's element-wise updates over rows [0, n) in parallel chunks: each entry is computed
+// as by the serial Eigen expression it replaces (the same products and sums), so the bits do not
+// depend on the thread count. Rows per task: the vectors are a few hundred KB on a garment, and
+// the updates were a tenth of the CG's time on the one thread that ran them (README, Benchmarks).
+constexpr std::size_t kRowsPerTask = 4096;
+template <class Rows> void for_row_chunks(Eigen::Index n, const Rows& rows) {
+  const auto chunks = (static_cast<std::size_t>(n) + kRowsPerTask - 1) / kRowsPerTask;
+  parallel_for_each(chunks, 1, [&](std::size_t c) {
+    const auto begin = static_cast<Eigen::Index>(c * kRowsPerTask);
+    rows(begin, std::min<Eigen::Index>(n, begin + static_cast<Eigen::Index>(kRowsPerTask)) - begin);
+  });
 }
 
 }  // namespace
@@ -60,8 +76,10 @@ CGResult projected_pcg(const std::function<void(const Points&, Points&)>& apply_
     const double pAp = points_dot(p, Ap);
     if (!(pAp > 0)) break;  // not SPD on the free subspace (or p = 0): stop with what we have
     const double alpha = rz / pAp;
-    v += alpha * p;
-    r -= alpha * Ap;
+    for_row_chunks(n, [&](Eigen::Index i, Eigen::Index m) {
+      v.middleRows(i, m) += alpha * p.middleRows(i, m);
+      r.middleRows(i, m) -= alpha * Ap.middleRows(i, m);
+    });
     res.iterations = it;
     res.residual = std::sqrt(points_dot(r, r));
     if (res.residual <= tol) {
@@ -70,7 +88,8 @@ CGResult projected_pcg(const std::function<void(const Points&, Points&)>& apply_
     }
     apply_P(r, z);
     const double rz_new = points_dot(r, z);
-    p = z + (rz_new / rz) * p;
+    const double beta = rz_new / rz;
+    for_row_chunks(n, [&](Eigen::Index i, Eigen::Index m) { p.middleRows(i, m) = z.middleRows(i, m) + beta * p.middleRows(i, m); });
     rz = rz_new;
   }
   return res;

@@ -265,6 +265,15 @@ void sort_unique(std::vector<T>& list) {
   list.erase(std::unique(list.begin(), list.end()), list.end());
 }
 
+// out += the pairs for which keep(pair) holds, in their order; keep runs in parallel (its box reads
+// are random: the serial loops were a few percent of a garment step on its one thread).
+template <class Pair, class Keep> void append_kept(const std::vector<Pair>& pairs, std::vector<Pair>& out, const Keep& keep) {
+  std::vector<char> flag(pairs.size());
+  parallel_for_each(pairs.size(), 16384, [&](std::size_t q) { flag[q] = keep(pairs[q]) ? 1 : 0; });
+  for (std::size_t q = 0; q < pairs.size(); ++q)
+    if (flag[q]) out.push_back(pairs[q]);
+}
+
 // The pairs as candidates (VertexFaceCandidate {vertex, face} or EdgeEdgeCandidate {edge_a, edge_b}).
 template <class Candidate>
 void append(const std::vector<std::pair<int, int>>& pairs, std::vector<Candidate>& out) {
@@ -380,17 +389,17 @@ void BroadPhase::refind(const CollisionMesh& m, const Points& v, double dt, doub
   gather(e.triangle_boxes, moved_triangle, e.moved_triangles, e.moved_triangle_ids);
   gather(e.edge_boxes, moved_edge, e.moved_edges, e.moved_edge_ids);
 
-  // Pairs of the last find() without a moved primitive, if their boxes still overlap.
+  // Pairs of the last find() without a moved primitive, if their boxes still overlap: tested in
+  // parallel (two random box reads a pair, up to millions of pairs), then kept in their order.
   Candidates fresh;
-  for (const auto& p : found_.vf) {
+  append_kept(found_.vf, fresh.vf, [&](const VertexFaceCandidate& p) {
     const auto i = static_cast<std::size_t>(p.vertex), f = static_cast<std::size_t>(p.face);
-    if (!moved_vertex[i] && !moved_triangle[f] && e.vertex_boxes[i].overlaps(e.triangle_boxes[f]))
-      fresh.vf.push_back(p);
-  }
-  for (const auto& p : found_.ee) {
+    return !moved_vertex[i] && !moved_triangle[f] && e.vertex_boxes[i].overlaps(e.triangle_boxes[f]);
+  });
+  append_kept(found_.ee, fresh.ee, [&](const EdgeEdgeCandidate& p) {
     const auto a = static_cast<std::size_t>(p.edge_a), b = static_cast<std::size_t>(p.edge_b);
-    if (!moved_edge[a] && !moved_edge[b] && e.edge_boxes[a].overlaps(e.edge_boxes[b])) fresh.ee.push_back(p);
-  }
+    return !moved_edge[a] && !moved_edge[b] && e.edge_boxes[a].overlaps(e.edge_boxes[b]);
+  });
   const std::size_t kept_vf = fresh.vf.size(), kept_ee = fresh.ee.size();
 
   const PairFilter vf_keep = [&](int i, int f) { return keep_vf(m, e.vertex_boxes, e.triangle_boxes, i, f); };
@@ -439,14 +448,13 @@ void BroadPhase::edge_triangle_pairs(const CollisionMesh& m, std::vector<std::pa
   // Pairs for a test at x0: the boxes at x0 alone, not swept nor grown, must overlap (most of the
   // swept, grown pairs are neighbours that only come within the margin). Not sorted: thousands of
   // pairs for a handful of crossings; the consumer sorts what it keeps.
-  out.erase(std::remove_if(out.begin(), out.end(),
-                           [&](const std::pair<int, int>& p) {
-                             const int* edge = &m.edges(p.first, 0);
-                             const int* tri = &m.tris(p.second, 0);
-                             return !swept_box(m, m.v, edge, 2, 0.0, 0.0).overlaps(swept_box(m, m.v, tri, 3, 0.0, 0.0)) ||
-                                    adjacent(m, edge, 2, tri, 3);
-                           }),
-            out.end());
+  std::vector<std::pair<int, int>> all_pairs;
+  all_pairs.swap(out);
+  append_kept(all_pairs, out, [&](const std::pair<int, int>& p) {
+    const int* edge = &m.edges(p.first, 0);
+    const int* tri = &m.tris(p.second, 0);
+    return swept_box(m, m.v, edge, 2, 0.0, 0.0).overlaps(swept_box(m, m.v, tri, 3, 0.0, 0.0)) && !adjacent(m, edge, 2, tri, 3);
+  });
 }
 
 }  // namespace invfem::collisions

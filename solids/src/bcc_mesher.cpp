@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -34,6 +35,16 @@ struct Lattice {
   int corner(int i, int j, int k) const { return i + (n[0] + 1) * (j + (n[1] + 1) * k); }
   int centre(int i, int j, int k) const {
     return static_cast<int>(corners()) + i + n[0] * (j + n[1] * k);
+  }
+  // Lattice position in half cells: corner (i, j, k) at (2i, 2j, 2k), centre at (2i+1, 2j+1, 2k+1).
+  std::array<int, 3> doubled(int v) const {
+    if (v < corners()) {
+      const int i = v % (n[0] + 1), r = v / (n[0] + 1);
+      return {2 * i, 2 * (r % (n[1] + 1)), 2 * (r / (n[1] + 1))};
+    }
+    const int c = v - static_cast<int>(corners());
+    const int i = c % n[0], r = c / n[0];
+    return {2 * i + 1, 2 * (r % n[1]) + 1, 2 * (r / n[1]) + 1};
   }
   Points positions() const {
     Points X(corners() + centres(), 3);
@@ -74,6 +85,54 @@ void for_each_lattice_tet(const Lattice& L, Emit&& emit) {
           for (int m = 0; m < 4; ++m) emit(a, b, centres[m], centres[(m + 1) % 4]);
         }
   }
+}
+
+// Interleaves the low 21 bits of three non-negative integers (Morton or Z order).
+std::uint64_t morton3(const std::array<int, 3>& q) {
+  std::uint64_t key = 0;
+  for (int b = 0; b < 21; ++b)
+    for (int d = 0; d < 3; ++d) key |= ((static_cast<std::uint64_t>(q[d]) >> b) & 1u) << (3 * b + d);
+  return key;
+}
+
+// Renumbers the nodes in Z order of their lattice positions and sorts the tets in Z order of their
+// centroids (ties in their order of making), the mesh otherwise unchanged (the same positions,
+// each tet the same nodes in the same orientation). Lattice order made corners and centres two
+// separate halves of the node array and emitted the tets around the x, y and z edges in three
+// passes, so a tet's neighbours and its nodes' neighbours lay far apart in memory: what the
+// implicit step reads per node (its matrix row's x entries, its element blocks) came from
+// everywhere. In Z order they come from a few nearby places: the torus_115k unit's block-sparse
+// products took 27% less time (README, Benchmarks). lattice_node[i]: node i's lattice index.
+void order_for_locality(const Lattice& L, const std::vector<int>& lattice_node, TetMesh& mesh) {
+  const auto n = static_cast<std::size_t>(mesh.X.rows());
+  std::vector<std::array<int, 3>> q(n);
+  std::vector<std::pair<std::uint64_t, int>> nodes(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    q[i] = L.doubled(lattice_node[i]);
+    nodes[i] = {morton3(q[i]), static_cast<int>(i)};
+  }
+  std::sort(nodes.begin(), nodes.end());  // keys are distinct: distinct lattice positions
+  std::vector<int> renumber(n);
+  Points X(mesh.X.rows(), 3);
+  for (std::size_t k = 0; k < n; ++k) {
+    renumber[static_cast<std::size_t>(nodes[k].second)] = static_cast<int>(k);
+    X.row(static_cast<Eigen::Index>(k)) = mesh.X.row(nodes[k].second);
+  }
+  const auto m = static_cast<std::size_t>(mesh.tets.rows());
+  std::vector<std::pair<std::uint64_t, std::size_t>> tets(m);
+  for (std::size_t e = 0; e < m; ++e) {
+    std::array<int, 3> sum{};  // 4 centroid in half cells
+    for (int k = 0; k < 4; ++k)
+      for (int d = 0; d < 3; ++d) sum[d] += q[static_cast<std::size_t>(mesh.tets(static_cast<Eigen::Index>(e), k))][d];
+    tets[e] = {morton3(sum), e};
+  }
+  std::sort(tets.begin(), tets.end());  // (key, index): ties in their order of making
+  Tets T(mesh.tets.rows(), 4);
+  for (std::size_t k = 0; k < m; ++k)
+    for (int c = 0; c < 4; ++c)
+      T(static_cast<Eigen::Index>(k), c) = renumber[static_cast<std::size_t>(mesh.tets(static_cast<Eigen::Index>(tets[k].second), c))];
+  mesh.X = std::move(X);
+  mesh.tets = std::move(T);
 }
 
 // 6V / (longest edge)^3: 0.5 for the BCC tet, <= 0 when flat or inverted.
@@ -272,6 +331,10 @@ BccMeshResult bcc_mesh(const TriangleSurface& surface, const BccMeshOptions& opt
     rep.boundary_nodes = static_cast<int>(
         boundary_nodes(mesh.tets, n_nodes).size());
   }
+  std::vector<int> lattice_node(static_cast<std::size_t>(n_nodes));
+  for (std::size_t i = 0; i < remap.size(); ++i)
+    if (remap[i] >= 0) lattice_node[static_cast<std::size_t>(remap[i])] = static_cast<int>(i);
+  order_for_locality(L, lattice_node, mesh);
 
   rep.tets = static_cast<int>(mesh.tets.rows());
   rep.nodes = n_nodes;

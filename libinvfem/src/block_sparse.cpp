@@ -80,8 +80,9 @@ void BlockSparseMatrix::mirror_lower() {
 }
 
 void BlockSparseMatrix::add_to_diagonal(const Eigen::VectorXd& d) {
-  for (std::size_t i = 0; i < diag_.size(); ++i)
+  parallel_for_each(diag_.size(), 16 * kRowGrain, [&](std::size_t i) {
     blocks_[static_cast<std::size_t>(diag_[i])].diagonal().array() += d(static_cast<Eigen::Index>(i));
+  });
 }
 
 void BlockSparseMatrix::add_scaled(const BlockSparseMatrix& B, double w) {

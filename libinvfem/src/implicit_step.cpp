@@ -223,7 +223,7 @@ void assemble(const Body& body, const std::vector<Force*>& forces, Contacts& k, 
   for (std::size_t j = k.first_contact; j < k.constraints.size(); ++j) {
     if (k.friction[j] <= 0) continue;
     const int i = k.constraints[j].node;
-    const auto slot = static_cast<std::size_t>(ws.A.find(i, i));
+    const auto slot = static_cast<std::size_t>(ws.A.diagonal_slot(i));
     Mat3& block = ws.A.blocks()[slot];
     ws.before_friction.emplace_back(slot, block);
     const Slip sl = slip(k.constraints[j], x, x_start, h);

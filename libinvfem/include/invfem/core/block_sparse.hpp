@@ -28,8 +28,9 @@ class BlockSparseMatrix {
   void set_zero();
   // y = A x (n x 3), parallel over block rows.
   void multiply(const Points& x, Points& y) const;
-  // The diagonal block of node i.
+  // The diagonal block of node i, and its index in blocks().
   const Mat3& diagonal(Eigen::Index i) const { return blocks_[static_cast<std::size_t>(diag_[i])]; }
+  int diagonal_slot(Eigen::Index i) const { return diag_[static_cast<std::size_t>(i)]; }
   // A += diag(d): one weight per node, added to its 3x3 diagonal block (a lumped mass).
   void add_to_diagonal(const Eigen::VectorXd& d);
   // A += w B for a B with A's pattern (a copy of A, later refilled): block by block, parallel.

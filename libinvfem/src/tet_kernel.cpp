@@ -35,14 +35,14 @@ TetRest make_tet_rest(const Points& X, const Tets& tets) {
   return r;
 }
 
-NodeGather tet_node_gather(const Tets& tets, Eigen::Index n) { return NodeGather(tets.data(), tets.rows(), 4, {0, 1, 2, 3}, n); }
-
-void scatter_tet_forces(const NodeGather& gather, const std::vector<Mat3>& G, Points& f) {
-  gather.add(f, [&G](Eigen::Index e, int k) -> Vec3 {
-    const Mat3& g = G[static_cast<std::size_t>(e)];
-    // f - s and f + (-s) are the same number: node 0's term is the serial loop's `-=` of the sum.
-    return k == 0 ? Vec3(-(g.col(0) + g.col(1) + g.col(2))) : Vec3(g.col(k - 1));
-  });
+void scatter_tet_forces(const Tets& tets, const std::vector<Mat3>& G, Points& f) {
+  const int m = static_cast<int>(tets.rows());
+  for (int e = 0; e < m; ++e) {
+    const auto t = tets.row(e);
+    const Mat3& g = G[e];
+    f.row(t(0)) -= (g.col(0) + g.col(1) + g.col(2)).transpose();
+    for (int k = 0; k < 3; ++k) f.row(t(k + 1)) += g.col(k).transpose();
+  }
 }
 
 }  // namespace invfem

@@ -104,13 +104,14 @@ TriangleRest make_triangle_rest(const std::vector<PatternTriangle>& pattern, con
   return r;
 }
 
-NodeGather triangle_node_gather(const Tris& tris, Eigen::Index n) { return NodeGather(tris.data(), tris.rows(), 3, {1, 2, 0}, n); }
-
-void scatter_triangle_forces(const NodeGather& gather, const std::vector<Mat32>& G, Points& f) {
-  gather.add(f, [&G](Eigen::Index e, int k) -> Vec3 {
-    const Mat32& g = G[static_cast<std::size_t>(e)];
-    return k == 0 ? Vec3(-(g.col(0) + g.col(1))) : Vec3(g.col(k - 1));  // node 0: the loop's `-=`
-  });
+void scatter_triangle_forces(const Tris& tris, const std::vector<Mat32>& G, Points& f) {
+  const Eigen::Index m = tris.rows();
+  for (Eigen::Index e = 0; e < m; ++e) {
+    const Mat32& g = G[e];
+    f.row(tris(e, 1)) += g.col(0).transpose();
+    f.row(tris(e, 2)) += g.col(1).transpose();
+    f.row(tris(e, 0)) -= (g.col(0) + g.col(1)).transpose();
+  }
 }
 
 Eigen::VectorXd lumped_triangle_masses(const TriangleRest& rest, double areal_density) {

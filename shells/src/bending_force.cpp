@@ -14,20 +14,10 @@ using Mat34 = Eigen::Matrix<double, 3, 4>;
 constexpr std::size_t kGrain = 1024;
 }  // namespace
 
-NodeGather hinge_node_gather(const std::vector<Hinge>& hinges, Eigen::Index n) {
-  static_assert(sizeof(Hinge) == 4 * sizeof(int), "hinges are read as an m x 4 array of node indices");
-  return NodeGather(hinges.empty() ? nullptr : hinges[0].data(), static_cast<Eigen::Index>(hinges.size()), 4,
-                    {0, 1, 2, 3}, n);
-}
-
-void scatter_hinge_forces(const NodeGather& gather, const std::vector<Mat34>& G, Points& f) {
-  gather.add(f, [&G](Eigen::Index h, int k) -> Vec3 { return G[static_cast<std::size_t>(h)].col(k); });
-}
-
-const NodeGather& BendingForce::gather(Eigen::Index nodes) const {
-  if (gather_.nodes() != nodes || gather_.elements() != static_cast<Eigen::Index>(hinges_.size()))
-    gather_ = hinge_node_gather(hinges_, nodes);
-  return gather_;
+void scatter_hinge_forces(const std::vector<Hinge>& hinges, const std::vector<Mat34>& G,
+                          Points& f) {
+  for (std::size_t h = 0; h < hinges.size(); ++h)
+    for (int k = 0; k < 4; ++k) f.row(hinges[h][k]) += G[h].col(k).transpose();
 }
 
 BendingForce::BendingForce(const Points& X, const Tris& tris, const BendingParams& params,
@@ -112,21 +102,19 @@ void BendingForce::update(const Points& x, bool allow_flow) {
 
 void BendingForce::add_elastic_forces(Points& f) const {
   if (params_.stiffness == 0) return;
-  std::vector<Mat34>& G = G_scratch_;
-  G.resize(hinges_.size());
+  std::vector<Mat34> G(hinges_.size());
   parallel_for_each(G.size(), kGrain, [&](std::size_t h) {
     const HingeGeometry& g = geom_[h];
     const double c =
         params_.stiffness * g.scale * (g.sin_half - std::sin(0.5 * rest_angles_[h]));
     for (int k = 0; k < 4; ++k) G[h].col(k) = c * g.u[k];  // zero u for a degenerate hinge
   });
-  scatter_hinge_forces(gather(f.rows()), G, f);
+  scatter_hinge_forces(hinges_, G, f);
 }
 
 void BendingForce::add_damping_forces(const Points& v, Points& f) const {
   if (params_.damping == 0) return;
-  std::vector<Mat34>& G = G_scratch_;
-  G.resize(hinges_.size());
+  std::vector<Mat34> G(hinges_.size());
   parallel_for_each(G.size(), kGrain, [&](std::size_t h) {
     const HingeGeometry& g = geom_[h];
     double rate = 0;
@@ -134,7 +122,7 @@ void BendingForce::add_damping_forces(const Points& v, Points& f) const {
     const double c = -params_.damping * g.edge_length * rate;
     for (int k = 0; k < 4; ++k) G[h].col(k) = c * g.u[k];
   });
-  scatter_hinge_forces(gather(f.rows()), G, f);
+  scatter_hinge_forces(hinges_, G, f);
 }
 
 void BendingForce::save_state(StateWriter& out) const { out.doubles(rest_angles_); }

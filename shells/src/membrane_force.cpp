@@ -142,20 +142,14 @@ void MembraneForce::update(const Points& x, bool allow_flow) {
   }
 }
 
-const NodeGather& MembraneForce::gather(Eigen::Index nodes) const {
-  if (gather_.nodes() != nodes || gather_.elements() != rest_.tris.rows()) gather_ = triangle_node_gather(rest_.tris, nodes);
-  return gather_;
-}
-
-void MembraneForce::add_elastic_forces(Points& f) const { scatter_triangle_forces(gather(f.rows()), G_, f); }
+void MembraneForce::add_elastic_forces(Points& f) const { scatter_triangle_forces(rest_.tris, G_, f); }
 
 void MembraneForce::add_damping_forces(const Points& v, Points& f) const {
   if (rayleigh_ == 0) return;
   const double alpha = rayleigh_ * model_lambda(model_);
   const double beta = rayleigh_ * model_mu(model_);
   const bool plain = plastic_identity_;
-  std::vector<Mat32>& Gd = G_scratch_;
-  Gd.resize(rest_.area.size());
+  std::vector<Mat32> Gd(rest_.area.size());
   parallel_for_each(Gd.size(), kGrain, [&](std::size_t e) {
     const Diagonalization32& d = diag_[e];
     const Mat32 Fdot = velocity_gradient(rest_, static_cast<int>(e), v);
@@ -165,7 +159,7 @@ void MembraneForce::add_damping_forces(const Points& v, Points& f) const {
     const Mat32 Pd = d.U * Pd_hat * d.V.transpose();
     Gd[e] = triangle_forces(plain ? Pd : plastic_stress(Pd, Fp_inv), rest_.Dm_inv[e], rest_.area[e] * thickness_);
   });
-  scatter_triangle_forces(gather(f.rows()), Gd, f);
+  scatter_triangle_forces(rest_.tris, Gd, f);
 }
 
 double MembraneForce::elastic_energy() const {

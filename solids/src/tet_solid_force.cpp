@@ -195,12 +195,7 @@ void TetSolidForce::update(const Points& x, double time, bool allow_flow) {
   }
 }
 
-const NodeGather& TetSolidForce::gather(Eigen::Index nodes) const {
-  if (gather_.nodes() != nodes || gather_.elements() != rest_.tets.rows()) gather_ = tet_node_gather(rest_.tets, nodes);
-  return gather_;
-}
-
-void TetSolidForce::add_elastic_forces(Points& f) const { scatter_tet_forces(gather(f.rows()), G_, f); }
+void TetSolidForce::add_elastic_forces(Points& f) const { scatter_tet_forces(rest_.tets, G_, f); }
 
 void TetSolidForce::add_damping_forces(const Points& v, Points& f) const {
   if (material_.damping <= 0 || strength_ <= 0) return;
@@ -224,7 +219,7 @@ void TetSolidForce::add_damping_forces(const Points& v, Points& f) const {
       G_scratch_[e] = plastic_stress(stress(diag_[e], Mat3(F_dot * Fp_inv)), Fp_inv) * rest_.Bm[e];
     }
   });
-  scatter_tet_forces(gather(f.rows()), G_scratch_, f);
+  scatter_tet_forces(rest_.tets, G_scratch_, f);
 }
 
 double TetSolidForce::elastic_energy() const {

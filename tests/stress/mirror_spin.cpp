@@ -54,7 +54,7 @@ class GreenRateDampedTets final : public Force {
       const Mat3 E = F_[e].transpose() * deformation_gradient(rest_, static_cast<int>(e), v);
       G[e] = F_[e] * (beta_ * (E + E.transpose()) + alpha_ * E.trace() * Mat3::Identity()) * rest_.Bm[e];
     }
-    scatter_tet_forces(tet_node_gather(rest_.tets, f.rows()), G, f);
+    scatter_tet_forces(rest_.tets, G, f);
   }
   double elastic_energy() const override { return elastic_.elastic_energy(); }
   double stable_time_step(const Eigen::VectorXd& mass) const override { return elastic_.stable_time_step(mass); }

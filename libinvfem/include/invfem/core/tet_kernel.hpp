@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "invfem/core/diagonalize.hpp"
-#include "invfem/core/node_gather.hpp"
 #include "invfem/core/types.hpp"
 
 namespace invfem {
@@ -51,10 +50,8 @@ void tet_forces_batch(const TetRest& rest, std::size_t first, std::size_t n, con
                       const Vec3* p_hat, Mat3* G);
 
 // f (n x 3) += the element forces G_e (3x3, columns = forces on nodes 1..3; node 0 gets minus
-// their sum), through the tets' NodeGather (node_gather.hpp: in parallel, with the bits of the
-// serial loop over elements that adds node 0's force, then nodes 1..3's). tet_node_gather makes it
-// for f's n nodes.
-NodeGather tet_node_gather(const Tets& tets, Eigen::Index n);
-void scatter_tet_forces(const NodeGather& gather, const std::vector<Mat3>& G, Points& f);
+// their sum). The single scatter used by every tet force: sequential in element order, so the
+// sum is bit-reproducible whatever the thread count of the per-element pass.
+void scatter_tet_forces(const Tets& tets, const std::vector<Mat3>& G, Points& f);
 
 }  // namespace invfem

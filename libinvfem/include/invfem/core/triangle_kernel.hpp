@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "invfem/core/diagonalize.hpp"
-#include "invfem/core/node_gather.hpp"
 #include "invfem/core/materials/model.hpp"
 #include "invfem/core/types.hpp"
 
@@ -83,11 +82,9 @@ inline IsotropicModel plane_stress(const IsotropicModel& m) {
 }
 
 // f (n x 3) += the element forces G_e (3x2, columns = forces on nodes 1, 2; node 0 gets minus
-// their sum), through the triangles' NodeGather (node_gather.hpp: in parallel, with the bits of
-// the serial loop over elements that adds node 1's force, node 2's, then node 0's).
-// triangle_node_gather makes it for f's n nodes.
-NodeGather triangle_node_gather(const Tris& tris, Eigen::Index n);
-void scatter_triangle_forces(const NodeGather& gather, const std::vector<Mat32>& G, Points& f);
+// their sum). The single scatter used by every triangle force: sequential in element order, so
+// the sum is bit-reproducible whatever the thread count of the per-element pass.
+void scatter_triangle_forces(const Tris& tris, const std::vector<Mat32>& G, Points& f);
 
 // Lumped nodal masses [kg] for an areal density [kg/m^2] (volumetric density times thickness).
 Eigen::VectorXd lumped_triangle_masses(const TriangleRest& rest, double areal_density);

@@ -14,7 +14,6 @@
 #include <vector>
 
 #include "invfem/core/force.hpp"
-#include "invfem/core/node_gather.hpp"
 #include "invfem/shells/hinge.hpp"
 
 namespace invfem {
@@ -91,16 +90,12 @@ class BendingForce : public Force {
   std::vector<double> original_rest_angles_;
   std::vector<HingeGeometry> geom_;
   mutable std::vector<double> energy_terms_;  // per hinge (elastic_energy)
-  mutable std::vector<Eigen::Matrix<double, 3, 4>> G_scratch_;  // per hinge forces (columns: x1..x4)
-  mutable NodeGather gather_;                 // their scatter, made at its first use
-  const NodeGather& gather(Eigen::Index nodes) const;
   std::vector<char> yielded_;
   bool skip_next_flow_ = false;
 };
 
-// f (n x 3) += per-hinge forces (columns = forces on x1..x4), through the hinges' NodeGather
-// (node_gather.hpp: in parallel, with the bits of the serial loop over hinges, x1 to x4).
-NodeGather hinge_node_gather(const std::vector<Hinge>& hinges, Eigen::Index n);
-void scatter_hinge_forces(const NodeGather& gather, const std::vector<Eigen::Matrix<double, 3, 4>>& G, Points& f);
+// f (n x 3) += per-hinge forces (columns = forces on x1..x4), sequentially in hinge order.
+void scatter_hinge_forces(const std::vector<Hinge>& hinges,
+                          const std::vector<Eigen::Matrix<double, 3, 4>>& G, Points& f);
 
 }  // namespace invfem

@@ -90,9 +90,6 @@ class MembraneForce : public Force {
   bool skip_next_flow_ = false;   // set by restore_state
   std::vector<Diagonalization32> diag_;  // per element, of Fe = F Fp^-1 (signed by the inversion test)
   std::vector<Mat32> G_;                 // per element elastic forces
-  mutable std::vector<Mat32> G_scratch_;  // per element damping forces
-  mutable NodeGather gather_;            // the scatter of both, made at its first use
-  const NodeGather& gather(Eigen::Index nodes) const;
   std::vector<double> psi_;              // per element energy density [J/m^3], times det Fp
   std::vector<char> yielded_, inverted_;
 };

@@ -121,8 +121,6 @@ class TetSolidForce final : public Force {
   std::vector<char> yielded_;                // per element, last update
   std::vector<Mat3> G_;                      // elastic element forces
   mutable std::vector<Mat3> G_scratch_;      // damping element forces
-  mutable NodeGather gather_;                // the scatter of G_ and G_scratch_, made at its first use
-  const NodeGather& gather(Eigen::Index nodes) const;
   mutable std::vector<double> energy_terms_;  // per element V_e psi_e (elastic_energy)
   Eigen::VectorXd node_stiffness_;           // per node, sum_e V_e |grad N_i|^2 [m] at the original rest
 };

@@ -101,8 +101,9 @@ std::uint64_t morton3(const std::array<int, 3>& q) {
 // separate halves of the node array and emitted the tets around the x, y and z edges in three
 // passes, so a tet's neighbours and its nodes' neighbours lay far apart in memory: what the
 // implicit step reads per node (its matrix row's x entries, its element blocks) came from
-// everywhere. In Z order they come from a few nearby places: the torus_115k unit's block-sparse
-// products took 27% less time (README, Benchmarks). lattice_node[i]: node i's lattice index.
+// everywhere. In Z order they come from a few nearby places: on the quick torus_115k unit the
+// block-sparse products took 27% fewer samples at the same CG count (README, Benchmarks).
+// lattice_node[i]: node i's lattice index.
 void order_for_locality(const Lattice& L, const std::vector<int>& lattice_node, TetMesh& mesh) {
   const auto n = static_cast<std::size_t>(mesh.X.rows());
   std::vector<std::array<int, 3>> q(n);

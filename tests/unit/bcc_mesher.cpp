@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -121,6 +122,36 @@ TEST(BccMesher, SphereVolumeConvergesWithResolution) {
     EXPECT_LT(err, err_prev) << "resolution " << res;
     err_prev = err;
   }
+}
+
+// The nodes and tets come in Z order (bcc_mesher.cpp order_for_locality): a tet's nodes lie close
+// together in the node array, and consecutive tets share nodes. In lattice order every tet had
+// two corners and two centres, half the array apart.
+TEST(BccMesher, NodesAndTetsComeInZOrder) {
+  const TriangleSurface s = make_icosphere(0.7, 4);
+  BccMeshOptions opt;
+  opt.resolution = 24;
+  const BccMeshResult r = bcc_mesh(s, opt);
+  const auto n = r.mesh.X.rows(), m = r.mesh.tets.rows();
+  ASSERT_GT(n, 5000);
+  std::vector<int> span(static_cast<std::size_t>(m));
+  for (Eigen::Index e = 0; e < m; ++e)
+    span[static_cast<std::size_t>(e)] = r.mesh.tets.row(e).maxCoeff() - r.mesh.tets.row(e).minCoeff();
+  std::nth_element(span.begin(), span.begin() + m / 2, span.end());
+  EXPECT_LT(span[static_cast<std::size_t>(m / 2)], n / 50) << "median node span of a tet, " << n << " nodes";
+  // A node's tets lie close together in the tet array (in lattice order the tets around x, y and z
+  // edges came in three passes: a node's tets spanned most of it).
+  std::vector<Eigen::Index> first(static_cast<std::size_t>(n), m), last(static_cast<std::size_t>(n), -1);
+  for (Eigen::Index e = 0; e < m; ++e)
+    for (int k = 0; k < 4; ++k) {
+      const auto i = static_cast<std::size_t>(r.mesh.tets(e, k));
+      first[i] = std::min(first[i], e);
+      last[i] = std::max(last[i], e);
+    }
+  std::vector<Eigen::Index> tet_span(static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < tet_span.size(); ++i) tet_span[i] = last[i] - first[i];
+  std::nth_element(tet_span.begin(), tet_span.begin() + n / 2, tet_span.end());
+  EXPECT_LT(tet_span[static_cast<std::size_t>(n / 2)], m / 50) << "median tet span of a node, " << m << " tets";
 }
 
 TEST(BccMesher, WithoutCompressionItIsThePureLattice) {

@@ -65,9 +65,8 @@ void BlockSparseMatrix::set_zero() {
 void BlockSparseMatrix::multiply(const Points& x, Points& y) const {
   const std::size_t n = diag_.size();
   y.resize(static_cast<Eigen::Index>(n), 3);
-  parallel_for_each((n + kRowGrain - 1) / kRowGrain, 1, [&](std::size_t c) {
-    multiply_block_rows(row_start_.data(), col_.data(), blocks_.data(), x.data(), y.data(), c * kRowGrain,
-                        std::min(n, (c + 1) * kRowGrain));
+  parallel_for_ranges(n, kRowGrain, [&](std::size_t begin, std::size_t end) {
+    multiply_block_rows(row_start_.data(), col_.data(), blocks_.data(), x.data(), y.data(), begin, end);
   });
 }
 

@@ -1,6 +1,5 @@
 #include "invfem/core/projected_cg.hpp"
 
-#include <algorithm>
 #include <cmath>
 
 #include "invfem/core/parallel.hpp"
@@ -31,19 +30,12 @@ void impose(const NodeConstraints& constraints, Points& v) {
   }
 }
 
-// The iteration's element-wise updates over rows [0, n) in parallel chunks: each entry is computed
-// as by the serial Eigen expression it replaces (the same products and sums), so the bits do not
-// depend on the thread count. Serially they were half of projected_pcg's own samples on the quick
-// dress_dance, while the other core waited (README, Benchmarks); a garment's vectors are a few
-// hundred KB, 4,096 rows a task.
+// The iteration's element-wise updates run over rows in parallel ranges (parallel_for_ranges):
+// each entry is computed as by the serial Eigen expression it replaces (the same products and
+// sums), so the bits do not depend on the thread count. Serially they were half of
+// projected_pcg's own samples on the quick dress_dance, while the other core waited (README,
+// Benchmarks); a garment's vectors are a few hundred KB, 4,096 rows a task.
 constexpr std::size_t kRowsPerTask = 4096;
-template <class Rows> void for_row_chunks(Eigen::Index n, const Rows& rows) {
-  const auto chunks = (static_cast<std::size_t>(n) + kRowsPerTask - 1) / kRowsPerTask;
-  parallel_for_each(chunks, 1, [&](std::size_t c) {
-    const auto begin = static_cast<Eigen::Index>(c * kRowsPerTask);
-    rows(begin, std::min<Eigen::Index>(n, begin + static_cast<Eigen::Index>(kRowsPerTask)) - begin);
-  });
-}
 
 }  // namespace
 
@@ -77,7 +69,8 @@ CGResult projected_pcg(const std::function<void(const Points&, Points&)>& apply_
     const double pAp = points_dot(p, Ap);
     if (!(pAp > 0)) break;  // not SPD on the free subspace (or p = 0): stop with what we have
     const double alpha = rz / pAp;
-    for_row_chunks(n, [&](Eigen::Index i, Eigen::Index m) {
+    parallel_for_ranges(static_cast<std::size_t>(n), kRowsPerTask, [&](std::size_t begin, std::size_t end) {
+      const auto i = static_cast<Eigen::Index>(begin), m = static_cast<Eigen::Index>(end - begin);
       v.middleRows(i, m) += alpha * p.middleRows(i, m);
       r.middleRows(i, m) -= alpha * Ap.middleRows(i, m);
     });
@@ -90,7 +83,10 @@ CGResult projected_pcg(const std::function<void(const Points&, Points&)>& apply_
     apply_P(r, z);
     const double rz_new = points_dot(r, z);
     const double beta = rz_new / rz;
-    for_row_chunks(n, [&](Eigen::Index i, Eigen::Index m) { p.middleRows(i, m) = z.middleRows(i, m) + beta * p.middleRows(i, m); });
+    parallel_for_ranges(static_cast<std::size_t>(n), kRowsPerTask, [&](std::size_t begin, std::size_t end) {
+      const auto i = static_cast<Eigen::Index>(begin), m = static_cast<Eigen::Index>(end - begin);
+      p.middleRows(i, m) = z.middleRows(i, m) + beta * p.middleRows(i, m);
+    });
     rz = rz_new;
   }
   return res;

@@ -7,6 +7,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cstddef>
 
 namespace invfem {
@@ -19,6 +20,12 @@ template <class Body> void parallel_for_each(std::size_t n, std::size_t grain, c
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t e = r.begin(); e != r.end(); ++e) body(e);
   });
+}
+
+// body(begin, end) for the ranges [0, size), [size, 2 size), ... covering [0, n), one range a task:
+// for loops whose body works on a run of rows at once (a SIMD kernel, an Eigen block).
+template <class Body> void parallel_for_ranges(std::size_t n, std::size_t size, const Body& body) {
+  parallel_for_each((n + size - 1) / size, 1, [&](std::size_t c) { body(c * size, std::min(n, (c + 1) * size)); });
 }
 
 }  // namespace invfem

@@ -22,6 +22,10 @@
 #include <cstring>
 #include <limits>
 
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
 namespace invfem::simd {
 
 // Doubles per vector: the target's widest (AVX-512: 8, AVX: 4, else 2). A vector wider than
@@ -45,6 +49,25 @@ inline Pack vsqrt(Pack x) {
   Pack r;
   for (int i = 0; i < kLanes; ++i) r[i] = __builtin_sqrt(x[i]);
   return r;
+}
+// 1 / sqrt(x) for x > 0 normal, to a few ulps. AVX-512: the 14-bit estimate vrsqrt14pd and two
+// Newton steps k <- k (3/2 - x/2 k^2), each squaring the relative error (2^-14 -> 2^-28 -> 2^-56,
+// below the steps' own rounding): only multiply-adds, which pipeline, where sqrt and division
+// share one unpipelined unit (measured here: a zmm vsqrtpd 4.4 ns, vdivpd 2.5 ns, an FMA 0.28 ns).
+// The estimate's bits are the CPU's own (Intel's and AMD's may differ within 2^-14), so the
+// result's last bits may differ between machines; on one machine it is a pure function of x.
+// Elsewhere: the correctly rounded 1 / sqrt(x).
+inline Pack vrsqrt(Pack x) {
+#if defined(__AVX512F__)
+  static_assert(sizeof(Pack) == sizeof(__m512d));
+  Pack k = (Pack)_mm512_rsqrt14_pd((__m512d)x);
+  const Pack half_x = 0.5 * x;
+  k = k * (1.5 - half_x * (k * k));
+  k = k * (1.5 - half_x * (k * k));
+  return k;
+#else
+  return 1 / vsqrt(x);
+#endif
 }
 constexpr std::int64_t kSignBit = std::numeric_limits<std::int64_t>::min();
 inline Pack vabs(Pack x) { return (Pack)((Mask)x & ~kSignBit); }

@@ -3,6 +3,8 @@
 // the closed-form pair terms, the CFL modulus and parameter validation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -274,6 +276,28 @@ TEST(NeoHookean, MatchesClassicalModelAboveTheLimit) {
   const Vec3 p = m.psi_gradient<3>(s);
   for (int i = 0; i < 3; ++i)
     EXPECT_NEAR(p(i), m.mu * s(i) - (m.mu - m.lambda * lnJ) / s(i), 1e-13);
+}
+
+// log_sum takes one logarithm of the product of the s_i at or above c: it must agree with the sum
+// of the per-value l(s_i) to round-off, with values on both sides of c, exactly at c, inverted,
+// and where the product would overflow or underflow (then it sums the logarithms).
+TEST(NeoHookean, LogSumOfProductMatchesSumOfLogs) {
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> value(-1.5, 4.0);
+  auto check = [](const NeoHookean& m, const Vec3& s) {
+    double sum = 0;
+    for (int i = 0; i < 3; ++i) sum += m.log_ext(s(i));
+    EXPECT_NEAR(m.log_sum<3>(s), sum, 1e-14 * std::max(1.0, std::abs(sum))) << s.transpose();
+    const Vec2 s2 = s.head<2>();
+    EXPECT_NEAR(m.log_sum<2>(s2), m.log_ext(s(0)) + m.log_ext(s(1)), 1e-14 * std::max(1.0, std::abs(sum)))
+        << s2.transpose();
+  };
+  const NeoHookean m{1.3, 2.1, 0.3};
+  for (int k = 0; k < 10000; ++k) check(m, Vec3(value(rng), value(rng), value(rng)));
+  check(m, Vec3(0.3, 0.3, 0.3));
+  check(m, Vec3(1e200, 1e150, 0.1));                      // the product overflows
+  check(NeoHookean{1.3, 2.1, 1e-120}, Vec3(1e-110, 1e-115, 1e-119));  // the product underflows
+  EXPECT_TRUE(std::isfinite(m.log_sum<3>(Vec3(1e300, 1e300, 1e300))));
 }
 
 // With lambda = 0 the extension is README 2(a): P^ linear below c, tangent constant.

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <utility>
 
 #if defined(__AVX512F__)
 #include <immintrin.h>
@@ -83,6 +84,18 @@ inline Pack load_pack(const double* p) {
   return x;
 }
 inline void store_pack(double* p, Pack x) { std::memcpy(p, &x, sizeof x); }
+
+// The Pack of entries rows[l][k] of kLanes records (lane l from rows[l]), built in registers
+// (scalar loads and inserts). Filling a Pack lane by lane through memory instead stores kLanes
+// scalars and then loads them as one vector, which no store forwarding serves: the load waits
+// for the stores to reach the cache (the hottest instructions of the tet force kernel).
+template <std::size_t... L>
+inline Pack gather_lanes(const double* const* rows, int k, std::index_sequence<L...>) {
+  return Pack{rows[L][k]...};
+}
+inline Pack gather_lanes(const double* const* rows, int k) {
+  return gather_lanes(rows, k, std::make_index_sequence<kLanes>{});
+}
 
 // A sum of three terms in each of the two orders Eigen's SSE2 code uses (per kernel file comment:
 // a 3x3 product's rows 0 and 1 as a packet, (a + b) + c; row 2 by scalar reduction, a + (b + c)).

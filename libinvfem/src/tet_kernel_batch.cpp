@@ -16,6 +16,7 @@
 namespace invfem {
 
 using simd::kLanes;
+using simd::gather_lanes;
 using simd::load_pack;
 using simd::Pack;
 using simd::store_pack;
@@ -27,30 +28,24 @@ void tet_diagonalize_batch(const TetRest& rest, const Points& x, std::size_t fir
   constexpr int kBlock = simd::kSvdBlock;
   simd::SvdIn in;
   simd::SvdOut res;
-  alignas(64) double ds[9][kBlock], dm[9][kBlock], det[kBlock];
+  alignas(64) double det[kBlock];
   const double* xp = x.data();    // n x 3, row-major
   const int* tp = rest.tets.data();  // m x 4, row-major
   for (std::size_t i0 = 0; i0 < n; i0 += kBlock) {
     const int count = static_cast<int>(std::min<std::size_t>(kBlock, n - i0));
-    // Ds = [x1 - x0, x2 - x0, x3 - x0] and Dm^-1 of each element into lanes (column-major index
-    // r + 3 c); padding lanes repeat the last element and are dropped.
-    for (int j = 0; j < kBlock; ++j) {
-      const std::size_t e = first + i0 + static_cast<std::size_t>(std::min(j, count - 1));
-      const int* t = tp + 4 * e;
-      const double* x0 = xp + 3 * static_cast<std::size_t>(t[0]);
-      for (int k = 0; k < 3; ++k) {
-        const double* xk = xp + 3 * static_cast<std::size_t>(t[k + 1]);
-        for (int r = 0; r < 3; ++r) ds[r + 3 * k][j] = xk[r] - x0[r];
-      }
-      const double* D = rest.Dm_inv[e].data();
-      for (int q = 0; q < 9; ++q) dm[q][j] = D[q];
-    }
     for (int j0 = 0; j0 < kBlock; j0 += kLanes) {
-      Pack S[9], D[9], F[9];
-      for (int q = 0; q < 9; ++q) {
-        S[q] = load_pack(&ds[q][j0]);
-        D[q] = load_pack(&dm[q][j0]);
+      // Ds = [x1 - x0, x2 - x0, x3 - x0] and Dm^-1 of each element into lanes (column-major index
+      // r + 3 c); padding lanes repeat the last element and are dropped.
+      const double *node[4][kLanes], *dm[kLanes];
+      for (int l = 0; l < kLanes; ++l) {
+        const std::size_t e = first + i0 + static_cast<std::size_t>(std::min(j0 + l, count - 1));
+        for (int k = 0; k < 4; ++k) node[k][l] = xp + 3 * static_cast<std::size_t>(tp[4 * e + k]);
+        dm[l] = rest.Dm_inv[e].data();
       }
+      Pack S[9], D[9], F[9];
+      for (int k = 0; k < 3; ++k)
+        for (int r = 0; r < 3; ++r) S[r + 3 * k] = gather_lanes(node[k + 1], r) - gather_lanes(node[0], r);
+      for (int q = 0; q < 9; ++q) D[q] = gather_lanes(dm, q);
       // F = Ds Dm^-1 (ITF04 section 3).
       for (int c = 0; c < 3; ++c) {
         for (int r = 0; r < 2; ++r)
@@ -74,18 +69,23 @@ void tet_forces_batch(const TetRest& rest, std::size_t first, std::size_t n, con
                       const Vec3* p_hat, Mat3* G) {
   for (std::size_t i0 = 0; i0 < n; i0 += kLanes) {
     const int count = static_cast<int>(std::min<std::size_t>(kLanes, n - i0));
-    Pack U[9], V[9], p[3], D[9], minus_volume;
-    for (int l = 0; l < kLanes; ++l) {  // into lanes; padding repeats the last element
+    const double *u[kLanes], *v[kLanes], *d[kLanes], *ph[kLanes], *vol[kLanes];
+    for (int l = 0; l < kLanes; ++l) {  // lane l's element; padding repeats the last one
       const std::size_t i = i0 + static_cast<std::size_t>(std::min(l, count - 1));
-      const double *u = diag[i].U.data(), *v = diag[i].V.data(), *d = rest.Dm_inv[first + i].data();
-      for (int q = 0; q < 9; ++q) {
-        U[q][l] = u[q];
-        V[q][l] = v[q];
-        D[q][l] = d[q];
-      }
-      for (int k = 0; k < 3; ++k) p[k][l] = p_hat[i][k];
-      minus_volume[l] = -rest.volume[first + i];
+      u[l] = diag[i].U.data();
+      v[l] = diag[i].V.data();
+      d[l] = rest.Dm_inv[first + i].data();
+      ph[l] = p_hat[i].data();
+      vol[l] = &rest.volume[first + i];
     }
+    Pack U[9], V[9], p[3], D[9];
+    for (int q = 0; q < 9; ++q) {
+      U[q] = gather_lanes(u, q);
+      V[q] = gather_lanes(v, q);
+      D[q] = gather_lanes(d, q);
+    }
+    for (int k = 0; k < 3; ++k) p[k] = gather_lanes(ph, k);
+    const Pack minus_volume = -gather_lanes(vol, 0);
     // Bm = -V0 Dm^-T, entry by entry as make_tet_rest forms it: the same bits as rest.Bm, read from
     // Dm^-1, which the first half has just brought into the cache, instead of 72 more bytes an element.
     Pack B[9];

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "diagonalize_rules.hpp"
+
 // Fast path: closed-form eigenvectors of F^T F as a warm start, corrected by one-sided
 // (Hestenes) Jacobi on the columns of F V.
 //
@@ -28,22 +30,7 @@
 namespace invfem {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-// A column pair counts as orthogonal when |b_p . b_q| <= kOrthoTol |b_p| |b_q|. A few eps: one
-// rotation leaves ~eps of residual, and a tighter value makes the sweeps chase round-off.
-constexpr double kOrthoTol = 4 * kEps;
-// Cyclic Jacobi converges quadratically: from V = Id random 3x3 input needs 3-4 sweeps of
-// rotations plus a checking sweep in double, after the warm start 0-2. The cap only bounds the
-// work on pathological round-off.
-constexpr int kMaxSweeps3 = 12;
-constexpr int kMaxSweeps2 = 4;
-// F is rescaled by an exact power of two when its largest entry leaves [2^-100, 2^100], so
-// squared column norms neither overflow nor underflow for any finite F.
-constexpr double kScaleLow = 0x1p-100;
-constexpr double kScaleHigh = 0x1p100;
-// In the rescaled units (||F|| ~ 1), a remaining part of b2 below this is noise: u2 is then any
-// unit vector orthogonal to u1. The reconstruction error this allows is < 1e-150 ||F||.
-constexpr double kTinyColumn = 1e-150;
+using namespace diagonalize_rules;  // kOrthoTol, kMaxSweeps3/2, kScaleLow/High, kTinyColumn
 
 template <class M> double max_abs_checked(const M& F, const char* what) {
   // x * 0 is 0 for finite x and NaN for NaN or +-inf: one vectorizable test for the whole F.

@@ -4,10 +4,12 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
+#include "invfem/core/diagonalize_batch.hpp"
 #include "invfem/core/parallel.hpp"
 #include "invfem/core/surface.hpp"
 
@@ -17,6 +19,9 @@ namespace {
 // Elements per TBB task: a triangle costs about a microsecond, so smaller grains only add
 // scheduling overhead.
 constexpr std::size_t kGrain = 512;
+// The plain path diagonalizes kChunk triangles per call of the SIMD kernel (diagonalize_batch.hpp):
+// F of a chunk stays in the cache between the kernel and the stresses.
+constexpr std::size_t kChunk = 64;
 
 double model_mu(const IsotropicModel& m) {
   return std::visit([](const auto& x) { return x.mu; }, m);
@@ -103,14 +108,22 @@ void MembraneForce::update(const Points& x, bool allow_flow) {
   // Visit the model once for the whole batch; the element loop is then monomorphic.
   std::visit(
       [&](const auto& model) {
+        if (plain) {  // kChunk triangles at a time through the SIMD diagonalization (same bits)
+          const std::size_t m = rest_.area.size();
+          parallel_for_each((m + kChunk - 1) / kChunk, kGrain / kChunk, [&](std::size_t c) {
+            const std::size_t e0 = c * kChunk, count = std::min(kChunk, m - e0);
+            std::array<Mat32, kChunk> F;
+            for (std::size_t j = 0; j < count; ++j) F[j] = deformation_gradient(rest_, static_cast<int>(e0 + j), x);
+            diagonalize_batch(F.data(), count, &diag_[e0]);
+            for (std::size_t e = e0; e < e0 + count; ++e) {
+              psi_[e] = model.template psi<2>(diag_[e].sigma);
+              G_[e] = triangle_forces(first_piola(model, diag_[e]), rest_.Dm_inv[e], rest_.area[e] * thickness_);
+            }
+          });
+          return;
+        }
         parallel_for_each(rest_.area.size(), kGrain, [&](std::size_t e) {
           const Mat32 F = deformation_gradient(rest_, static_cast<int>(e), x);
-          if (plain) {
-            diag_[e] = diagonalize(F);
-            psi_[e] = model.template psi<2>(diag_[e].sigma);
-            G_[e] = triangle_forces(first_piola(model, diag_[e]), rest_.Dm_inv[e], rest_.area[e] * thickness_);
-            return;
-          }
           Mat2& Fp_inv = plastic_.Fp_inv[e];
           if (flow) {
             const PlasticUpdate2 u = plastic_flow(F, Fp_inv, *plasticity_);

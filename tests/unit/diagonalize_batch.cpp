@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -148,7 +149,8 @@ TEST(DiagonalizeBatch, MillionRandomMatricesInAwkwardBatches) {
 }
 
 TEST(DiagonalizeBatch, EmptyBatchDoesNothing) {
-  diagonalize_batch(nullptr, 0, nullptr);
+  diagonalize_batch(static_cast<const Mat3*>(nullptr), 0, static_cast<Diagonalization3*>(nullptr));
+  diagonalize_batch(static_cast<const Mat32*>(nullptr), 0, static_cast<Diagonalization32*>(nullptr));
   SUCCEED();
 }
 
@@ -182,6 +184,70 @@ TEST(DiagonalizeBatch, OverflowingSingularValueThrowsNamingElement) {
     FAIL() << "no exception";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("element 3"), std::string::npos) << e.what();
+  }
+}
+
+// ---- 3x2 (triangles): bit for bit diagonalize(const Mat32&) ----
+
+bool same_bits(const Diagonalization32& a, const Diagonalization32& b) {
+  return std::memcmp(a.U.data(), b.U.data(), 6 * sizeof(double)) == 0 &&
+         std::memcmp(a.V.data(), b.V.data(), 4 * sizeof(double)) == 0 &&
+         std::memcmp(a.sigma.data(), b.sigma.data(), 2 * sizeof(double)) == 0;
+}
+
+// Random F of every kind the membrane meets (stretched, squashed, sheared, nearly and exactly flat,
+// columns of equal length, orthogonal columns, rotated copies of them), the degenerate ones the
+// kernel leaves to the scalar code (zero, parallel columns, extreme scales), in an array of an
+// awkward length: every result has diagonalize's bits.
+TEST(DiagonalizeBatch32, GivesTheBitsOfDiagonalize) {
+  std::mt19937_64 rng(321);
+  std::uniform_real_distribution<double> uni(-1, 1), stretch(0.01, 3);
+  auto rotation = [&] {
+    return Eigen::Quaterniond(uni(rng), uni(rng), uni(rng), uni(rng)).normalized().toRotationMatrix();
+  };
+  std::vector<Mat32> F;
+  for (int i = 0; i < 200000; ++i) {
+    Mat32 f;
+    switch (i % 8) {
+      case 0: f = Mat32::NullaryExpr([&] { return uni(rng); }); break;
+      case 1: f = rotation().leftCols<2>() * Vec2(stretch(rng), stretch(rng)).asDiagonal() *
+                  Eigen::Rotation2Dd(3 * uni(rng)).toRotationMatrix(); break;
+      case 2: f = rotation().leftCols<2>() * Vec2(1.0, 1.0 + 1e-9 * uni(rng)).asDiagonal(); break;   // equal lengths
+      case 3: f = rotation().leftCols<2>() * Vec2(1.0, 1e-7 * stretch(rng)).asDiagonal() *
+                  Eigen::Rotation2Dd(3 * uni(rng)).toRotationMatrix(); break;                      // nearly flat
+      case 4: f = rotation().leftCols<2>(); break;                                                 // orthonormal
+      case 5: f = rotation().leftCols<2>() * Vec2(0.2, 2.5).asDiagonal(); break;                  // sorted reversed
+      case 6: f = Mat32::NullaryExpr([&] { return uni(rng); }) * std::pow(10.0, 25 * uni(rng)); break;
+      default: {
+        const Vec3 a = Vec3::NullaryExpr([&] { return uni(rng); });
+        f.col(0) = a;
+        f.col(1) = a * uni(rng);                                                                  // parallel
+      }
+    }
+    F.push_back(f);
+  }
+  F.push_back(Mat32::Zero());
+  F.push_back(Mat32::Constant(1e-200));
+  F.push_back(Mat32::Constant(1e200));
+  std::vector<Diagonalization32> d(F.size());
+  diagonalize_batch(F.data(), F.size(), d.data());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < F.size(); ++i) {
+    if (same_bits(d[i], diagonalize(F[i]))) continue;
+    if (++differ <= 5) ADD_FAILURE() << "triangle " << i << " differs from diagonalize: F =\n" << F[i];
+  }
+  EXPECT_EQ(differ, 0u);
+}
+
+TEST(DiagonalizeBatch32, NonFiniteEntryThrowsAsDiagonalize) {
+  std::vector<Mat32> F(40, Mat32::Identity());
+  F[17](1, 1) = std::numeric_limits<double>::quiet_NaN();
+  std::vector<Diagonalization32> d(F.size());
+  try {
+    diagonalize_batch(F.data(), F.size(), d.data());
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("F(1,1) is not finite"), std::string::npos) << e.what();
   }
 }
 

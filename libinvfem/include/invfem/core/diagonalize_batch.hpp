@@ -26,4 +26,10 @@ namespace invfem {
 // partial block is padded, so the cost is per block: pass many matrices per call.
 void diagonalize_batch(const Mat3* F, std::size_t n, Diagonalization3* out, std::size_t first_index = 0);
 
+// out[i] = diagonalize(F[i]) (the 3x2 case of diagonalize.hpp) for i < n, bit for bit, with its
+// errors: the same Hestenes rotations run for many triangles side by side in SIMD lanes
+// (diagonalize32_kernel.cpp); the rare F it leaves to the scalar code (zero, extreme scales,
+// parallel columns, non-finite entries) go through diagonalize itself. F and out must not overlap.
+void diagonalize_batch(const Mat32* F, std::size_t n, Diagonalization32* out);
+
 }  // namespace invfem

@@ -79,7 +79,8 @@ void diagonalize32_lanes(const double* F, std::size_t n, double* out, unsigned c
       v01 = swap ? -p0 : v01;
       v11 = swap ? -p1 : v11;
     }
-    // u1 = b1 / |b1|; u2 from the part of b2 orthogonal to u1 (second_column).
+    // u1 = b0 / |b0|; u2 from the part of b1 orthogonal to u1 (second_column; the scalar code calls
+    // the sorted columns b1 and b2).
     const Pack s1 = vsqrt(dot(b0, b0));
     const Col3 u1 = {b0.x / s1, b0.y / s1, b0.z / s1};
     const Pack t = dot(u1, b1);

@@ -57,7 +57,7 @@ inline Pack vsqrt(Pack x) {
 // share one unpipelined unit (measured here: a zmm vsqrtpd 4.4 ns, vdivpd 2.5 ns, an FMA 0.28 ns).
 // The estimate's bits are the CPU's own (Intel's and AMD's may differ within 2^-14), so the
 // result's last bits may differ between machines; on one machine it is a pure function of x.
-// Elsewhere: the correctly rounded 1 / sqrt(x).
+// Elsewhere: 1 / sqrt(x), a square root and a division.
 inline Pack vrsqrt(Pack x) {
 #if defined(__AVX512F__)
   static_assert(sizeof(Pack) == sizeof(__m512d));

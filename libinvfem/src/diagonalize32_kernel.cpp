@@ -37,7 +37,8 @@ void diagonalize32_lanes(const double* F, std::size_t n, double* out, unsigned c
     for (int l = 0; l < kLanes; ++l) rows[l] = F + 6 * (i0 + static_cast<std::size_t>(std::min(l, count - 1)));
     Col3 b0 = {gather_lanes(rows, 0), gather_lanes(rows, 1), gather_lanes(rows, 2)};
     Col3 b1 = {gather_lanes(rows, 3), gather_lanes(rows, 4), gather_lanes(rows, 5)};
-    // max |F_ij|: NaN compares false, so a lane with a NaN (or inf) entry fails the range test.
+    // max |F_ij| outside [kScaleLow, kScaleHigh] (F = 0 and inf entries among them) goes to the
+    // scalar code, and so does any NaN entry, which vmax may drop: x * 0 == 0 fails for it.
     Pack m = vabs(b0.x);
     for (const Pack& e : {b0.y, b0.z, b1.x, b1.y, b1.z}) m = vmax(m, vabs(e));
     Mask to_scalar = ~((m >= kScaleLow) & (m <= kScaleHigh));

@@ -138,22 +138,15 @@ void BendingForce::restore_state(StateReader& in) {
 
 double BendingForce::elastic_energy() const {
   // The terms in parallel (an arcsine, two cosines and a sine each: the line search evaluates this
-  // several times a Newton iteration), summed in hinge order: the same bits for any thread count.
-  energy_terms_.resize(hinges_.size());
-  parallel_for_each(hinges_.size(), kGrain, [&](std::size_t h) {
+  // several times a Newton iteration), summed in hinge order. A degenerate hinge adds +0, which
+  // leaves a sum that starts at +0 unchanged, bit for bit.
+  return parallel_ordered_sum(hinges_.size(), kGrain, energy_terms_, [&](std::size_t h) {
     const HingeGeometry& g = geom_[h];
-    if (!g.valid) {
-      energy_terms_[h] = 0;
-      return;
-    }
+    if (!g.valid) return 0.0;
     const double t = hinge_angle(g), t0 = rest_angles_[h];
-    energy_terms_[h] = params_.stiffness * g.scale *
-                       (2 * std::cos(0.5 * t0) - 2 * std::cos(0.5 * t) - (t - t0) * std::sin(0.5 * t0));
+    return params_.stiffness * g.scale *
+           (2 * std::cos(0.5 * t0) - 2 * std::cos(0.5 * t) - (t - t0) * std::sin(0.5 * t0));
   });
-  double sum = 0;
-  for (std::size_t h = 0; h < hinges_.size(); ++h)
-    if (geom_[h].valid) sum += energy_terms_[h];
-  return sum;
 }
 
 double BendingForce::stable_time_step(const Eigen::VectorXd& mass) const {

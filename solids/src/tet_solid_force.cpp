@@ -224,20 +224,17 @@ void TetSolidForce::add_damping_forces(const Points& v, Points& f) const {
 
 double TetSolidForce::elastic_energy() const {
   const IsotropicModel model = with_strength(material_.model, strength_);
-  energy_terms_.resize(diag_.size());
-  std::visit(
+  // Summed in element order: the same bits for any thread count.
+  return std::visit(
       [&](const auto& mdl) {
-        parallel_for_each(diag_.size(), kGrain, [&](std::size_t e) {
+        return parallel_ordered_sum(diag_.size(), kGrain, energy_terms_, [&](std::size_t e) {
           double w = mdl.template psi<3>(diag_[e].sigma);
           if (!plastic_identity_) w *= plastic_volume_factor(plastic_.Fp_inv[e]);
           if (material_.fiber) w += material_.fiber->psi(fiber_stretch_[e], activation_);
-          energy_terms_[e] = rest_.volume[e] * w;
+          return rest_.volume[e] * w;
         });
       },
       model);
-  double energy = 0;  // summed in element order: the same bits for any thread count
-  for (const double term : energy_terms_) energy += term;
-  return energy;
 }
 
 double TetSolidForce::stable_time_step(const Eigen::VectorXd& mass) const {

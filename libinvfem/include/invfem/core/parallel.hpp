@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <vector>
 
 namespace invfem {
 
@@ -26,6 +27,18 @@ template <class Body> void parallel_for_each(std::size_t n, std::size_t grain, c
 // for loops whose body works on a run of rows at once (a SIMD kernel, an Eigen block).
 template <class Body> void parallel_for_ranges(std::size_t n, std::size_t size, const Body& body) {
   parallel_for_each((n + size - 1) / size, 1, [&](std::size_t c) { body(c * size, std::min(n, (c + 1) * size)); });
+}
+
+// The sum of term(i) over i in [0, n): the terms formed in parallel into `terms` (the caller's
+// buffer, reused from call to call: no allocation once it has grown), then added in index order,
+// so the bits do not depend on the thread count. For energies whose terms cost more than the add.
+template <class Term>
+double parallel_ordered_sum(std::size_t n, std::size_t grain, std::vector<double>& terms, const Term& term) {
+  terms.resize(n);
+  parallel_for_each(n, grain, [&](std::size_t i) { terms[i] = term(i); });
+  double sum = 0;
+  for (const double t : terms) sum += t;
+  return sum;
 }
 
 }  // namespace invfem

@@ -12,7 +12,6 @@ TetRest make_tet_rest(const Points& X, const Tets& tets) {
   const int m = static_cast<int>(tets.rows());
   r.tets = tets;
   r.Dm_inv.resize(m);
-  r.Bm.resize(m);
   r.volume.resize(m);
   r.min_altitude.resize(m);
   for (int e = 0; e < m; ++e) {
@@ -25,7 +24,6 @@ TetRest make_tet_rest(const Points& X, const Tets& tets) {
                                   " has non-positive rest volume (6V = " + std::to_string(det) + ")");
     r.Dm_inv[e] = Dm.inverse();
     r.volume[e] = det / 6;
-    r.Bm[e] = -r.volume[e] * r.Dm_inv[e].transpose();
     // Row k of Dm^-1 is the gradient of node k+1's barycentric coordinate, and node 0's is
     // minus their sum; |grad lambda_k| = 1 / (altitude of node k over its opposite face).
     double max_grad = r.Dm_inv[e].colwise().sum().norm();

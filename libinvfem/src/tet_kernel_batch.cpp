@@ -86,8 +86,8 @@ void tet_forces_batch(const TetRest& rest, std::size_t first, std::size_t n, con
     }
     for (int k = 0; k < 3; ++k) p[k] = gather_lanes(ph, k);
     const Pack minus_volume = -gather_lanes(vol, 0);
-    // Bm = -V0 Dm^-T, entry by entry as make_tet_rest forms it: the same bits as rest.Bm, read from
-    // Dm^-1, which the first half has just brought into the cache, instead of 72 more bytes an element.
+    // Bm = -V0 Dm^-T, entry by entry as TetRest::Bm forms it (the same bits), from the Dm^-1 that the
+    // first half has just brought into the cache.
     Pack B[9];
     for (int c = 0; c < 3; ++c)
       for (int r = 0; r < 3; ++r) B[r + 3 * c] = minus_volume * D[c + 3 * r];

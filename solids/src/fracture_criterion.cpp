@@ -59,7 +59,7 @@ std::vector<CrackStart> find_crack_starts(const VirtualNodeMesh& mesh, const Tet
     int k = 0;
     p.maxCoeff(&k);
     double load = p(k) > 0 ? p(k) / c.max_principal_stress : 0.0;
-    if (plastic) load = std::max(load, plastic_strain(force.plastic_state().Fp_inv[static_cast<std::size_t>(e)]) / c.max_plastic_strain);
+    if (plastic) load = std::max(load, plastic_strain(force.Fp_inv(static_cast<std::size_t>(e))) / c.max_plastic_strain);
     Vec3 point = centroid, normal = force.diagonalization(e).V.col(k).normalized();
     if (seed) {
       load /= c.seed_factor;

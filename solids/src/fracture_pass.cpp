@@ -64,7 +64,7 @@ void rebuild_fractured_solid(SimObject& o, const VirtualNodeMesh& m, const Fract
       v.row(i) = o.body.v.row(p);
     }
     for (std::size_t e = 0; e < plastic.Fp_inv.size(); ++e)
-      plastic.Fp_inv[e] = old_force->plastic_state().Fp_inv[static_cast<std::size_t>(change->parent_element[e])];
+      plastic.Fp_inv[e] = old_force->Fp_inv(static_cast<std::size_t>(change->parent_element[e]));
   } else {
     x = rest_positions(m);
     v.setZero();

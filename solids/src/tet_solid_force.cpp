@@ -86,7 +86,9 @@ TetSolidForce::TetSolidForce(TetRest rest, TetMaterial material)
     validate_activation(material_.activation);
     fiber_stretch_.assign(m, 1.0);
   }
-  plastic_ = make_plastic_state(static_cast<int>(m));
+  // A solid without plasticity keeps no Fp^-1 (72 bytes a tet) while every one is the identity:
+  // plastic_identity_ skips them all (plastic_state()'s empty form).
+  if (material_.plasticity) plastic_ = make_plastic_state(static_cast<int>(m));
   diag_.resize(m);
   det_F_.resize(m);
   yielded_.assign(m, 0);
@@ -106,7 +108,7 @@ void TetSolidForce::set_plastic_state(PlasticState state) {
     validate_Fp_inv(state.Fp_inv[e], e);
     identity = identity && state.Fp_inv[e] == Mat3::Identity();
   }
-  plastic_ = std::move(state);
+  plastic_ = identity && !material_.plasticity ? PlasticState{} : std::move(state);
   plastic_identity_ = identity;
 }
 
@@ -158,11 +160,11 @@ void TetSolidForce::update(const Points& x, double time, bool allow_flow) {
           const int e = static_cast<int>(i);
           const Mat3 F = deformation_gradient(rest_, e, x);
           det_F_[e] = F.determinant();
-          Mat3& Fp_inv = plastic_.Fp_inv[e];
           Mat3 P;
           if (plain) {  // with a fiber (the plain case without one is above)
             P = energy_gradient(mdl, diag_[e] = diagonal_frame(mdl, F));
           } else {
+            Mat3& Fp_inv = plastic_.Fp_inv[e];  // held: not plain
             if (flow) {
               // ITF04 6.3 / 7: flow once per position update; u.elastic diagonalizes F Fp^-1 with
               // the updated Fp.
@@ -182,7 +184,7 @@ void TetSolidForce::update(const Points& x, double time, bool allow_flow) {
             fiber_stretch_[e] = fiber_stretch(F, a);
             P += fiber_stress(*fiber, F, a, activation_);
           }
-          G_[e] = P * rest_.Bm[e];
+          G_[e] = P * rest_.Bm(i);
         });
       },
       model);
@@ -212,11 +214,11 @@ void TetSolidForce::add_damping_forces(const Points& v, Points& f) const {
     const int e = static_cast<int>(i);
     const Mat3 F_dot = deformation_gradient(rest_, e, v);  // velocity gradient, same formula
     if (plain) {
-      G_scratch_[e] = stress(diag_[e], F_dot) * rest_.Bm[e];
+      G_scratch_[e] = stress(diag_[e], F_dot) * rest_.Bm(i);
     } else {
       // Rate of Fe = F Fp^-1 with Fp frozen over the step, stress mapped back like the elastic one.
       const Mat3& Fp_inv = plastic_.Fp_inv[e];
-      G_scratch_[e] = plastic_stress(stress(diag_[e], Mat3(F_dot * Fp_inv)), Fp_inv) * rest_.Bm[e];
+      G_scratch_[e] = plastic_stress(stress(diag_[e], Mat3(F_dot * Fp_inv)), Fp_inv) * rest_.Bm(i);
     }
   });
   scatter_tet_forces(rest_.tets, G_scratch_, f);
@@ -290,7 +292,19 @@ double TetSolidForce::min_det_F() const {
   return det_F_.empty() ? 1.0 : *std::min_element(det_F_.begin(), det_F_.end());
 }
 
-void TetSolidForce::save_state(StateWriter& out) const { out.matrices(plastic_.Fp_inv); }
+void TetSolidForce::save_state(StateWriter& out) const {
+  // The checkpoint holds every element's Fp^-1, the identities of a solid that keeps none too.
+  if (plastic_.Fp_inv.size() == diag_.size()) {
+    out.matrices(plastic_.Fp_inv);
+  } else {
+    out.matrices(make_plastic_state(static_cast<int>(diag_.size())).Fp_inv);
+  }
+}
+
+const Mat3& TetSolidForce::Fp_inv(std::size_t e) const {
+  static const Mat3 identity = Mat3::Identity();
+  return plastic_.Fp_inv.empty() ? identity : plastic_.Fp_inv[e];
+}
 
 void TetSolidForce::restore_state(StateReader& in) {
   std::vector<Mat3> fp;

@@ -346,10 +346,7 @@ Points rest_positions(const VirtualNodeMesh& m) {
 
 TetRest weighted_tet_rest(const VirtualNodeMesh& m) {
   TetRest rest = make_tet_rest(rest_positions(m), m.tets);
-  for (std::size_t e = 0; e < rest.volume.size(); ++e) {
-    rest.volume[e] *= m.weight[e];
-    rest.Bm[e] *= m.weight[e];  // Bm = -V0 Dm^-T
-  }
+  for (std::size_t e = 0; e < rest.volume.size(); ++e) rest.volume[e] *= m.weight[e];  // and so Bm
   return rest;
 }
 

@@ -52,7 +52,7 @@ class GreenRateDampedTets final : public Force {
     std::vector<Mat3> G(F_.size());
     for (std::size_t e = 0; e < F_.size(); ++e) {
       const Mat3 E = F_[e].transpose() * deformation_gradient(rest_, static_cast<int>(e), v);
-      G[e] = F_[e] * (beta_ * (E + E.transpose()) + alpha_ * E.trace() * Mat3::Identity()) * rest_.Bm[e];
+      G[e] = F_[e] * (beta_ * (E + E.transpose()) + alpha_ * E.trace() * Mat3::Identity()) * rest_.Bm(e);
     }
     scatter_tet_forces(rest_.tets, G, f);
   }

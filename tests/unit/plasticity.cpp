@@ -232,7 +232,7 @@ template <class M> void check_force_is_energy_gradient(const M& model, unsigned 
     auto minus_force = [&](const Eigen::VectorXd& q) {
       const Mat3 F = deformation_gradient(rest, 0, positions(q));
       const Mat3 Pe = energy_gradient(model, diagonalize(Mat3(F * Fp_inv)));
-      const Mat3 G = plastic_stress(Pe, Fp_inv) * rest.Bm[0];
+      const Mat3 G = plastic_stress(Pe, Fp_inv) * rest.Bm(0);
       Eigen::VectorXd g(12);
       g.segment<3>(0) = G.rowwise().sum();  // -(node 0 force) = g1 + g2 + g3
       for (int k = 0; k < 3; ++k) g.segment<3>(3 * (k + 1)) = -G.col(k);
@@ -248,7 +248,7 @@ template <class M> void check_force_is_energy_gradient(const M& model, unsigned 
     if (checked == 0) {
       auto wrong = [&](const Eigen::VectorXd& qq) {
         const Mat3 F = deformation_gradient(rest, 0, positions(qq));
-        const Mat3 G = energy_gradient(model, diagonalize(Mat3(F * Fp_inv))) * rest.Bm[0];
+        const Mat3 G = energy_gradient(model, diagonalize(Mat3(F * Fp_inv))) * rest.Bm(0);
         Eigen::VectorXd g(12);
         g.segment<3>(0) = G.rowwise().sum();
         for (int k = 0; k < 3; ++k) g.segment<3>(3 * (k + 1)) = -G.col(k);

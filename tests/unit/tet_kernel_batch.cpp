@@ -56,7 +56,7 @@ TEST(TetKernelBatch, GivesTheBitsOfTheEigenPath) {
     diagonalize_batch(&F, 1, &diag_ref[e]);
     p_hat[e] = Vec3(normal(rng), normal(rng), normal(rng));
     const Diagonalization3& d = diag_ref[e];
-    G_ref[e] = d.U * p_hat[e].asDiagonal() * d.V.transpose() * c.rest.Bm[e];
+    G_ref[e] = d.U * p_hat[e].asDiagonal() * d.V.transpose() * c.rest.Bm(e);
   }
   EXPECT_GT(inverted, 10);
   // Slices that start and end inside the kernel's blocks.

@@ -14,6 +14,7 @@
 #include "force_checks.hpp"
 #include "invfem/core/newmark_step.hpp"
 #include "invfem/core/plasticity_control.hpp"
+#include "invfem/core/state_stream.hpp"
 #include "invfem/solids/mass.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 
@@ -166,6 +167,38 @@ TEST(TetSolidForce, ForceIsMinusEnergyGradientWithFixedPlasticState) {
     force.update_positions(x, 0);
     EXPECT_GT(std::abs(force.elastic_energy() - plain.elastic_energy()), 1e-3 * plain.elastic_energy());
   }
+}
+
+// A solid without plasticity keeps no Fp^-1 while all are the identity (plastic_state() empty,
+// Fp_inv(e) the identity), holds one once set to something else, drops it when set back, and its
+// checkpoint still holds one Fp^-1 per element, restored with the same forces.
+TEST(TetSolidForce, ElasticSolidKeepsNoPlasticStateUntilOneIsSet) {
+  const SmallMesh m = small_mesh(5);
+  const std::size_t ne = static_cast<std::size_t>(elements(m));
+  TetSolidForce force(m.rest, TetMaterial{NeoHookean{1.0, 2.0}});
+  EXPECT_TRUE(force.plastic_state().Fp_inv.empty());
+  EXPECT_TRUE(force.Fp_inv(ne - 1) == Mat3::Identity());
+  const Points x = deformed(m.X, kStretch, 0.04, 9);
+  const Points f_identity = elastic_forces_at(force, x, 0);
+
+  StateWriter saved;
+  force.save_state(saved);
+  TetSolidForce restored(m.rest, TetMaterial{NeoHookean{1.0, 2.0}});
+  restored.set_plastic_state(PlasticState{random_Fp_inv(elements(m), 6, 0.25)});
+  EXPECT_EQ(restored.plastic_state().Fp_inv.size(), ne);
+  StateReader in(saved.bytes());
+  restored.restore_state(in);  // the saved identities: nothing kept again
+  EXPECT_TRUE(restored.plastic_state().Fp_inv.empty());
+  EXPECT_TRUE((elastic_forces_at(restored, x, 0).array() == f_identity.array()).all());
+
+  const std::vector<Mat3> fp = random_Fp_inv(elements(m), 6, 0.25);
+  force.set_plastic_state(PlasticState{fp});
+  ASSERT_EQ(force.plastic_state().Fp_inv.size(), ne);
+  EXPECT_TRUE(force.Fp_inv(3) == fp[3]);
+  EXPECT_FALSE((elastic_forces_at(force, x, 0).array() == f_identity.array()).all());
+  force.set_plastic_state(make_plastic_state(elements(m)));
+  EXPECT_TRUE(force.plastic_state().Fp_inv.empty());
+  EXPECT_TRUE((elastic_forces_at(force, x, 0).array() == f_identity.array()).all());
 }
 
 TEST(TetSolidForce, ForceIsMinusEnergyGradientWithFiber) {

@@ -147,7 +147,7 @@ TEST(VirtualNodeCut, PerElementStateIsCarriedToTheCopies) {
     EXPECT_LT((rest.Dm_inv[static_cast<std::size_t>(e)] - root_rest.Dm_inv[static_cast<std::size_t>(r)]).norm(), 1e-12);
     const double w = m.weight[static_cast<std::size_t>(e)];
     EXPECT_NEAR(rest.volume[static_cast<std::size_t>(e)], w * root_rest.volume[static_cast<std::size_t>(r)], 1e-15);
-    EXPECT_LT((rest.Bm[static_cast<std::size_t>(e)] - w * root_rest.Bm[static_cast<std::size_t>(r)]).norm(), 1e-15);
+    EXPECT_LT((rest.Bm(static_cast<std::size_t>(e)) - w * root_rest.Bm(static_cast<std::size_t>(r))).norm(), 1e-15);
   }
 }
 

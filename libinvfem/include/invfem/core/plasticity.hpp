@@ -26,7 +26,7 @@
 //     PlasticUpdate u = plastic_flow(F, state.Fp_inv[e], params);    // or controlled_plastic_flow
 //     // u.elastic is the diagonalization of Fe = F Fp^-1 with the UPDATED Fp: do not diagonalize again
 //     P_e = energy_gradient(model, u.elastic);                       // U P^ V^T at Fe
-//     G[e] = plastic_stress(P_e, state.Fp_inv[e]) * rest.Bm[e];
+//     G[e] = plastic_stress(P_e, state.Fp_inv[e]) * rest.Bm(e);
 //     energy_e = rest.volume[e] * plastic_volume_factor(state.Fp_inv[e]) * energy(model, u.elastic);
 //     dP/dF (implicit solves): plastic_stress_derivative(energy_hessian(model, u.elastic), Fp_inv)
 //   Between flows (force evaluations at other x with the same Fp): diagonalize(F * Fp_inv).

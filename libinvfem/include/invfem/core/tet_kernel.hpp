@@ -15,9 +15,12 @@ namespace invfem {
 struct TetRest {
   Tets tets;                  // m x 4, positively oriented at rest
   std::vector<Mat3> Dm_inv;   // m rest inverses
-  std::vector<Mat3> Bm;       // m, -V0 Dm^-T
   std::vector<double> volume; // m rest volumes V0 [m^3]
   std::vector<double> min_altitude;  // m smallest rest altitude [m], for the CFL step
+
+  // Bm = -V0 Dm^-T of element e, formed when used rather than stored (72 bytes a tet): the batched
+  // force kernel forms it the same way, entry by entry, from the Dm^-1 it has just read.
+  Mat3 Bm(std::size_t e) const { return -volume[e] * Dm_inv[e].transpose(); }
 };
 
 // Precompute the rest data. Throws std::invalid_argument naming the element if a rest tet has
@@ -39,8 +42,8 @@ inline Mat3 deformation_gradient(const TetRest& rest, int e, const Points& x) {
 //   (diagonalize_batch.hpp's contract and errors, "tet forces: element E: ...") into diag[i] and
 //   det_F[i] for element first + i;
 // - tet_forces_batch: G[i] = U diag(p_hat[i]) V^T Bm of element first + i, (U, V) = diag[i]'s frame:
-//   P = U P^ V^T (ITF04 section 5) times Bm, which it forms from rest.Dm_inv and rest.volume as
-//   make_tet_rest does (the same bits as rest.Bm, from data the first half has just cached).
+//   P = U P^ V^T (ITF04 section 5) times Bm, formed from rest.Dm_inv and rest.volume as
+//   TetRest::Bm forms it (the same bits, from data the first half has just cached).
 // Bit for bit what deformation_gradient, Mat3::determinant and U * p.asDiagonal() * V^T * Bm give
 // (same products, same order of sums; the test holds it); faster for the vector width and for
 // never forming F and P as Eigen temporaries.

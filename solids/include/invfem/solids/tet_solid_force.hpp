@@ -93,11 +93,14 @@ class TetSolidForce final : public Force {
   Vec3 principal_stresses(int e) const;
   const TetMaterial& material() const { return material_; }
 
-  // The plastic state (one symmetric positive definite Fp^-1 per element; identity at rest).
+  // The plastic state (one symmetric positive definite Fp^-1 per element; identity at rest), or an
+  // empty one when plasticity is off and every Fp^-1 is the identity (nothing is kept then: 72
+  // bytes a tet). Fp_inv(e) reads either form.
   // The setter is for checkpoints and tests: it takes effect at the next update_positions (which,
   // with plasticity on, flows from it). Throws std::invalid_argument on a wrong element count or an
   // element whose Fp^-1 is non-finite, not symmetric or not positive definite.
   const PlasticState& plastic_state() const { return plastic_; }
+  const Mat3& Fp_inv(std::size_t e) const;
   void set_plastic_state(PlasticState state);
   // For checkpoints: a state saved right after update_positions(x) already holds the plastic flow
   // at x, so the next update_positions (with that same x) must not flow again. Same checks as
@@ -112,7 +115,7 @@ class TetSolidForce final : public Force {
   double time_ = 0;
   double strength_ = 1;                      // strength at time_
   double activation_ = 0;                    // fiber activation at time_
-  PlasticState plastic_;                     // Fp^-1 per element
+  PlasticState plastic_;                     // Fp^-1 per element, or empty (plastic_state())
   bool skip_next_flow_ = false;              // set by restore_plastic_state
   bool plastic_identity_ = true;             // every Fp^-1 is exactly the identity
   std::vector<Diagonalization3> diag_;       // per element, of Fe = F Fp^-1 at the last positions

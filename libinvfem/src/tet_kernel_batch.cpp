@@ -1,13 +1,16 @@
-// The plain tet force pass in SIMD lanes (tet_kernel.hpp: tet_diagonalize_batch, tet_forces_batch).
-// Each lane computes exactly what the per-element Eigen code computes, with the same products and
-// the same order of sums, so the bits are those of
+// The plain tet force pass in SIMD lanes (tet_kernel.hpp: tet_diagonalize_batch, tet_forces_batch,
+// tet_damping_forces_batch). Each lane computes exactly what the per-element Eigen code computes,
+// with the same products and the same order of sums, so the bits are those of
 //   F = Ds * Dm_inv (deformation_gradient), F.determinant(),
-//   G = U * p^.asDiagonal() * V.transpose() * Bm.
+//   G = U * p^.asDiagonal() * V.transpose() * Bm,
+//   G_d = damping_stress(k, d, F_dot) * Bm (rotated_damping.hpp).
 // Eigen (3.4, SSE2, which the rest of the project is built for) evaluates a 3x3 product C = A B as
 // C(i, j) = (A(i,0) B(0,j) + A(i,1) B(1,j)) + A(i,2) B(2,j) for rows 0 and 1 (a packet of two rows)
 // and A(2,0) B(0,j) + (A(2,1) B(1,j) + A(2,2) B(2,j)) for row 2 (its scalar reduction); the chain
-// U diag(p) V^T sums a + (b + c) in every entry, then (.) Bm sums (a + b) + c in every entry. The
-// test TetKernelBatch.GivesTheBitsOfTheEigenPath holds the kernel to them.
+// U diag(p) V^T sums a + (b + c) in every entry, then (.) Bm sums (a + b) + c in every entry. A
+// product U^T B with a transposed left factor sums (a + b) + c in every entry; a chain A B C is
+// (A B) C; trace() is F00 + (F11 + F22). The tests TetKernelBatch.GivesTheBitsOfTheEigenPath and
+// TetKernelBatch.DampingGivesTheBitsOfTheEigenPath hold the kernel to them.
 #include <algorithm>
 
 #include "invfem/core/tet_kernel.hpp"
@@ -100,6 +103,81 @@ void tet_forces_batch(const TetRest& rest, std::size_t first, std::size_t n, con
     for (int c = 0; c < 3; ++c)
       for (int r = 0; r < 3; ++r)
         out[r + 3 * c] = sum_ab_c(P[r] * B[3 * c], P[r + 3] * B[1 + 3 * c], P[r + 6] * B[2 + 3 * c]);
+    for (int l = 0; l < count; ++l) {
+      double* g = G[i0 + static_cast<std::size_t>(l)].data();
+      for (int q = 0; q < 9; ++q) g[q] = out[q][l];
+    }
+  }
+}
+
+void tet_damping_forces_batch(const TetRest& rest, const Points& v, std::size_t first, std::size_t n,
+                              const Diagonalization3* diag, double alpha, double beta, Mat3* G) {
+  const double* vp = v.data();       // n x 3, row-major
+  const int* tp = rest.tets.data();  // m x 4, row-major
+  const Pack a = simd::splat(alpha), b = simd::splat(beta), zero = simd::splat(0.0);
+  for (std::size_t i0 = 0; i0 < n; i0 += kLanes) {
+    const int count = static_cast<int>(std::min<std::size_t>(kLanes, n - i0));
+    const double *node[4][kLanes], *u[kLanes], *w[kLanes], *d[kLanes], *vol[kLanes];
+    for (int l = 0; l < kLanes; ++l) {  // lane l's element; padding repeats the last one
+      const std::size_t i = i0 + static_cast<std::size_t>(std::min(l, count - 1)), e = first + i;
+      for (int k = 0; k < 4; ++k) node[k][l] = vp + 3 * static_cast<std::size_t>(tp[4 * e + k]);
+      u[l] = diag[i].U.data();
+      w[l] = diag[i].V.data();
+      d[l] = rest.Dm_inv[e].data();
+      vol[l] = &rest.volume[e];
+    }
+    Pack S[9], D[9], U[9], V[9];
+    for (int k = 0; k < 3; ++k)
+      for (int r = 0; r < 3; ++r) S[r + 3 * k] = gather_lanes(node[k + 1], r) - gather_lanes(node[0], r);
+    for (int q = 0; q < 9; ++q) {
+      D[q] = gather_lanes(d, q);
+      U[q] = gather_lanes(u, q);
+      V[q] = gather_lanes(w, q);
+    }
+    // F_dot = Ds(v) Dm^-1, the velocity gradient (deformation_gradient of v).
+    Pack Fd[9];
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 2; ++r)
+        Fd[r + 3 * c] = sum_ab_c(S[r] * D[3 * c], S[r + 3] * D[1 + 3 * c], S[r + 6] * D[2 + 3 * c]);
+      Fd[2 + 3 * c] = sum_a_bc(S[2] * D[3 * c], S[5] * D[1 + 3 * c], S[8] * D[2 + 3 * c]);
+    }
+    // F^dot = (U^T F_dot) V (ITF04 6.2): T(r, c) = sum_k U(k, r) F_dot(k, c), then T V.
+    Pack T[9], Fh[9];
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r)
+        T[r + 3 * c] = sum_ab_c(U[3 * r] * Fd[3 * c], U[3 * r + 1] * Fd[1 + 3 * c], U[3 * r + 2] * Fd[2 + 3 * c]);
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 2; ++r)
+        Fh[r + 3 * c] = sum_ab_c(T[r] * V[3 * c], T[r + 3] * V[1 + 3 * c], T[r + 6] * V[2 + 3 * c]);
+      Fh[2 + 3 * c] = sum_a_bc(T[2] * V[3 * c], T[5] * V[1 + 3 * c], T[8] * V[2 + 3 * c]);
+    }
+    // P^_d = beta (F^dot + F^dot^T) + alpha tr(F^dot) Id; the identity's zeros are s * 0, as in
+    // Eigen's product of the scalar and Identity() (their sign is s's).
+    const Pack s = a * sum_a_bc(Fh[0], Fh[4], Fh[8]);
+    Pack Ph[9];
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) Ph[r + 3 * c] = b * (Fh[r + 3 * c] + Fh[c + 3 * r]) + (r == c ? s : s * zero);
+    // P_d = (U P^_d) V^T, then G = P_d Bm with Bm = -V0 Dm^-T (TetRest::Bm).
+    Pack UP[9], P[9], out[9];
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 2; ++r)
+        UP[r + 3 * c] = sum_ab_c(U[r] * Ph[3 * c], U[r + 3] * Ph[1 + 3 * c], U[r + 6] * Ph[2 + 3 * c]);
+      UP[2 + 3 * c] = sum_a_bc(U[2] * Ph[3 * c], U[5] * Ph[1 + 3 * c], U[8] * Ph[2 + 3 * c]);
+    }
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 2; ++r)
+        P[r + 3 * c] = sum_ab_c(UP[r] * V[c], UP[r + 3] * V[c + 3], UP[r + 6] * V[c + 6]);
+      P[2 + 3 * c] = sum_a_bc(UP[2] * V[c], UP[5] * V[c + 3], UP[8] * V[c + 6]);
+    }
+    const Pack minus_volume = -gather_lanes(vol, 0);
+    Pack B[9];
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) B[r + 3 * c] = minus_volume * D[c + 3 * r];
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 2; ++r)
+        out[r + 3 * c] = sum_ab_c(P[r] * B[3 * c], P[r + 3] * B[1 + 3 * c], P[r + 6] * B[2 + 3 * c]);
+      out[2 + 3 * c] = sum_a_bc(P[2] * B[3 * c], P[5] * B[1 + 3 * c], P[8] * B[2 + 3 * c]);
+    }
     for (int l = 0; l < count; ++l) {
       double* g = G[i0 + static_cast<std::size_t>(l)].data();
       for (int q = 0; q < 9; ++q) g[q] = out[q][l];

@@ -210,6 +210,15 @@ void TetSolidForce::add_damping_forces(const Points& v, Points& f) const {
   auto stress = [&](const Diagonalization3& d, const Mat3& Fe_dot) {
     return spin_free ? spin_free_damping_stress(damping, d, Fe_dot) : damping_stress(damping, d, Fe_dot);
   };
+  if (plain && !spin_free) {  // the rotated damping in SIMD lanes, kChunk elements a call (same bits)
+    const std::size_t n = static_cast<std::size_t>(m);
+    parallel_for_each((n + kChunk - 1) / kChunk, kGrain / kChunk, [&](std::size_t c) {
+      const std::size_t e0 = c * kChunk, count = std::min(kChunk, n - e0);
+      tet_damping_forces_batch(rest_, v, e0, count, &diag_[e0], damping.alpha, damping.beta, &G_scratch_[e0]);
+    });
+    scatter_tet_forces(rest_.tets, G_scratch_, f);
+    return;
+  }
   parallel_for_each(static_cast<std::size_t>(m), kGrain, [&](std::size_t i) {
     const int e = static_cast<int>(i);
     const Mat3 F_dot = deformation_gradient(rest_, e, v);  // velocity gradient, same formula

@@ -1,8 +1,9 @@
-// Tests of the SIMD tet force kernel (tet_kernel.hpp: tet_diagonalize_batch, tet_forces_batch): the
-// bits of the per-element Eigen path it replaces, on a jittered cube with inverted and flat tets,
+// Tests of the SIMD tet force kernel (tet_kernel.hpp: tet_diagonalize_batch, tet_forces_batch,
+// tet_damping_forces_batch): the bits of the per-element Eigen path it replaces, on a jittered cube with inverted and flat tets,
 // for slices of awkward lengths; and its error on a non-finite position.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <random>
 #include <stdexcept>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "invfem/core/diagonalize_batch.hpp"
+#include "invfem/core/rotated_damping.hpp"
 #include "invfem/core/tet_kernel.hpp"
 #include "test_meshes.hpp"
 
@@ -73,6 +75,35 @@ TEST(TetKernelBatch, GivesTheBitsOfTheEigenPath) {
                   same_bits(diag[i].sigma, diag_ref[e].sigma))
           << "diagonalization of element " << e;
       ASSERT_TRUE(same_bits(G[i], G_ref[e])) << "G of element " << e << ":\n" << G[i] << "\nEigen:\n" << G_ref[e];
+    }
+  }
+}
+
+// The rotated damping's element forces: damping_stress(k, d, F_dot) * Bm per element, with
+// velocities of several scales (zeros among them, for the sign of the identity's zeros) and
+// damping coefficients of both signs of alpha.
+TEST(TetKernelBatch, DampingGivesTheBitsOfTheEigenPath) {
+  const Jittered c = jittered_cube();
+  const std::size_t m = c.rest.volume.size();
+  std::vector<Diagonalization3> diag(m);
+  std::vector<double> det(m);
+  tet_diagonalize_batch(c.rest, c.x, 0, m, diag.data(), det.data());
+  std::mt19937 rng(11);
+  std::normal_distribution<double> normal;
+  for (int trial = 0; trial < 4; ++trial) {
+    Points v(c.x.rows(), 3);
+    for (Eigen::Index i = 0; i < v.rows(); ++i)
+      for (int k = 0; k < 3; ++k) v(i, k) = trial == 3 && i % 3 == 0 ? 0.0 : std::pow(10.0, 2 * trial - 3) * normal(rng);
+    const RotatedDamping k{trial % 2 ? -0.2 : 0.7, 0.45};
+    std::vector<Mat3> G_ref(m);
+    for (std::size_t e = 0; e < m; ++e)
+      G_ref[e] = damping_stress(k, diag[e], deformation_gradient(c.rest, static_cast<int>(e), v)) * c.rest.Bm(e);
+    for (const auto& [first, n] : std::vector<std::pair<std::size_t, std::size_t>>{{0, m}, {3, 1}, {5, 37}, {17, m - 17}}) {
+      std::vector<Mat3> G(n);
+      tet_damping_forces_batch(c.rest, v, first, n, diag.data() + first, k.alpha, k.beta, G.data());
+      for (std::size_t i = 0; i < n; ++i)
+        ASSERT_TRUE(same_bits(G[i], G_ref[first + i]))
+            << "trial " << trial << ", element " << first + i << ":\n" << G[i] << "\nEigen:\n" << G_ref[first + i];
     }
   }
 }

@@ -52,6 +52,13 @@ void tet_diagonalize_batch(const TetRest& rest, const Points& x, std::size_t fir
 void tet_forces_batch(const TetRest& rest, std::size_t first, std::size_t n, const Diagonalization3* diag,
                       const Vec3* p_hat, Mat3* G);
 
+// The rotated damping's element forces (ITF04 6.2, rotated_damping.hpp) of elements first ..
+// first + n - 1 at nodal velocities v, in SIMD lanes: G[i] = damping_stress({alpha, beta}, diag[i],
+// F_dot) Bm with F_dot = deformation_gradient of v, bit for bit (Eigen's orders of sums; the test
+// holds it). The ITF04 step's damping solve applies it at every CG iteration.
+void tet_damping_forces_batch(const TetRest& rest, const Points& v, std::size_t first, std::size_t n,
+                              const Diagonalization3* diag, double alpha, double beta, Mat3* G);
+
 // f (n x 3) += the element forces G_e (3x3, columns = forces on nodes 1..3; node 0 gets minus
 // their sum). The single scatter used by every tet force: sequential in element order, so the
 // sum is bit-reproducible whatever the thread count of the per-element pass.

@@ -34,10 +34,13 @@ TetRest make_tet_rest(const Points& X, const Tets& tets) {
 }
 
 void scatter_tet_forces(const Tets& tets, const std::vector<Mat3>& G, Points& f) {
-  const int m = static_cast<int>(tets.rows());
-  for (int e = 0; e < m; ++e) {
+  scatter_tet_forces(tets, G.data(), f, 0, static_cast<std::size_t>(tets.rows()));
+}
+
+void scatter_tet_forces(const Tets& tets, const Mat3* G, Points& f, std::size_t begin, std::size_t end) {
+  for (int e = static_cast<int>(begin); e < static_cast<int>(end); ++e) {
     const auto t = tets.row(e);
-    const Mat3& g = G[e];
+    const Mat3& g = G[e - static_cast<int>(begin)];
     f.row(t(0)) -= (g.col(0) + g.col(1) + g.col(2)).transpose();
     for (int k = 0; k < 3; ++k) f.row(t(k + 1)) += g.col(k).transpose();
   }

@@ -27,6 +27,11 @@ constexpr std::size_t kGrain = 512;
 // 16-element blocks with AVX-512. Each element's result depends on its own F only, so the chunking
 // (and the thread count) does not change any bit.
 constexpr std::size_t kChunk = 64;
+// The damping pass runs in ranges of kScatterRange elements, each scattered right after it is
+// computed (parallel_ranges_in_order) from one of kRangesInFlight buffers (72 KB each, two per
+// thread: they stay in cache), instead of an array of one result per element written to memory
+// and read back; the serial scatter overlaps later ranges.
+constexpr std::size_t kScatterRange = 1024, kRangesInFlight = 4;
 
 // Adds V |grad N_i|^2 of one element to its four nodes. Rows of Dinv are the gradients of nodes
 // 1..3's shape functions; node 0's is minus their sum.
@@ -93,7 +98,6 @@ TetSolidForce::TetSolidForce(TetRest rest, TetMaterial material)
   det_F_.resize(m);
   yielded_.assign(m, 0);
   G_.resize(m);
-  G_scratch_.resize(m);
   node_stiffness_ = Eigen::VectorXd::Zero(rest_.tets.size() ? rest_.tets.maxCoeff() + 1 : 0);
   for (std::size_t e = 0; e < m; ++e)
     add_node_stiffness(rest_.tets, static_cast<int>(e), rest_.Dm_inv[e], rest_.volume[e], node_stiffness_);
@@ -210,15 +214,18 @@ void TetSolidForce::add_damping_forces(const Points& v, Points& f) const {
   auto stress = [&](const Diagonalization3& d, const Mat3& Fe_dot) {
     return spin_free ? spin_free_damping_stress(damping, d, Fe_dot) : damping_stress(damping, d, Fe_dot);
   };
-  if (plain && !spin_free) {  // the rotated damping in SIMD lanes, kChunk elements a call (same bits)
-    const std::size_t n = static_cast<std::size_t>(m);
-    parallel_for_each((n + kChunk - 1) / kChunk, kGrain / kChunk, [&](std::size_t c) {
-      const std::size_t e0 = c * kChunk, count = std::min(kChunk, n - e0);
-      tet_damping_forces_batch(rest_, v, e0, count, &diag_[e0], damping.alpha, damping.beta, &G_scratch_[e0]);
-    });
-    scatter_tet_forces(rest_.tets, G_scratch_, f);
+  if (plain && !spin_free) {  // the rotated damping in SIMD lanes, scattered range by range (same bits)
+    damping_ranges_.resize(kRangesInFlight * kScatterRange);
+    auto buffer = [&](std::size_t slot) { return damping_ranges_.data() + slot * kScatterRange; };
+    parallel_ranges_in_order(
+        static_cast<std::size_t>(m), kScatterRange, kRangesInFlight,
+        [&](std::size_t b, std::size_t e, std::size_t slot) {
+          tet_damping_forces_batch(rest_, v, b, e - b, &diag_[b], damping.alpha, damping.beta, buffer(slot));
+        },
+        [&](std::size_t b, std::size_t e, std::size_t slot) { scatter_tet_forces(rest_.tets, buffer(slot), f, b, e); });
     return;
   }
+  G_scratch_.resize(static_cast<std::size_t>(m));
   parallel_for_each(static_cast<std::size_t>(m), kGrain, [&](std::size_t i) {
     const int e = static_cast<int>(i);
     const Mat3 F_dot = deformation_gradient(rest_, e, v);  // velocity gradient, same formula

@@ -6,6 +6,7 @@
 // most one grain runs on the calling thread.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_pipeline.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -27,6 +28,44 @@ template <class Body> void parallel_for_each(std::size_t n, std::size_t grain, c
 // for loops whose body works on a run of rows at once (a SIMD kernel, an Eigen block).
 template <class Body> void parallel_for_ranges(std::size_t n, std::size_t size, const Body& body) {
   parallel_for_each((n + size - 1) / size, 1, [&](std::size_t c) { body(c * size, std::min(n, (c + 1) * size)); });
+}
+
+// compute(begin, end, slot) for the ranges [0, size), [size, 2 size), ... covering [0, n), in
+// parallel, and consume(begin, end, slot) of each range after its compute, one range at a time, in
+// range order (TBB's pipeline). At most `in_flight` ranges are between the two, and as they leave
+// in order the ranges alive at once are consecutive: slot = (range index) mod in_flight is unique
+// among them, so `in_flight` buffers of one range each hold every result between compute and
+// consume. For an element pass and its serial scatter: the scatter sees the elements in order, so
+// its sums have the serial loop's bits whatever the thread count; it reads each range's results
+// from cache (a buffer of a few ranges, not one result per element from memory), beside the later
+// ranges' computes.
+template <class Compute, class Consume>
+void parallel_ranges_in_order(std::size_t n, std::size_t size, std::size_t in_flight, const Compute& compute,
+                              const Consume& consume) {
+  const std::size_t count = (n + size - 1) / size;
+  if (count <= 1) {  // one range: no pipeline
+    if (n > 0) {
+      compute(std::size_t{0}, n, std::size_t{0});
+      consume(std::size_t{0}, n, std::size_t{0});
+    }
+    return;
+  }
+  std::size_t next = 0;
+  tbb::parallel_pipeline(
+      in_flight,
+      tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
+                                          [&](tbb::flow_control& fc) -> std::size_t {
+                                            if (next == count) fc.stop();
+                                            return next++;
+                                          }) &
+          tbb::make_filter<std::size_t, std::size_t>(tbb::filter_mode::parallel,
+                                                     [&](std::size_t c) {
+                                                       compute(c * size, std::min(n, (c + 1) * size), c % in_flight);
+                                                       return c;
+                                                     }) &
+          tbb::make_filter<std::size_t, void>(tbb::filter_mode::serial_in_order, [&](std::size_t c) {
+            consume(c * size, std::min(n, (c + 1) * size), c % in_flight);
+          }));
 }
 
 // The sum of term(i) over i in [0, n): the terms formed in parallel into `terms` (the caller's

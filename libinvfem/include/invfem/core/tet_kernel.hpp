@@ -63,5 +63,8 @@ void tet_damping_forces_batch(const TetRest& rest, const Points& v, std::size_t 
 // their sum). The single scatter used by every tet force: sequential in element order, so the
 // sum is bit-reproducible whatever the thread count of the per-element pass.
 void scatter_tet_forces(const Tets& tets, const std::vector<Mat3>& G, Points& f);
+// The same for elements begin .. end - 1 only, G[i] the forces of element begin + i: the whole
+// scatter's bits when called for consecutive ranges in order (parallel_ranges_in_order).
+void scatter_tet_forces(const Tets& tets, const Mat3* G, Points& f, std::size_t begin, std::size_t end);
 
 }  // namespace invfem

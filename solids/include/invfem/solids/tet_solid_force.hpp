@@ -123,7 +123,8 @@ class TetSolidForce final : public Force {
   std::vector<double> fiber_stretch_;        // per element |F a| (only with a fiber)
   std::vector<char> yielded_;                // per element, last update
   std::vector<Mat3> G_;                      // elastic element forces
-  mutable std::vector<Mat3> G_scratch_;      // damping element forces
+  mutable std::vector<Mat3> G_scratch_;      // damping element forces (allocated where the scalar path runs)
+  mutable std::vector<Mat3> damping_ranges_;  // the SIMD damping pass's range buffers (tet_solid_force.cpp)
   mutable std::vector<double> energy_terms_;  // per element V_e psi_e (elastic_energy)
   Eigen::VectorXd node_stiffness_;           // per node, sum_e V_e |grad N_i|^2 [m] at the original rest
 };

@@ -357,10 +357,16 @@ void solve_newton_system(const NodeConstraints& fixed, const Points& x, bool fir
 
 // Newton's method on E from the iterate x (the forces evaluated there) under the filter k.fixed.
 // At x and after every accepted iterate, update_contacts(grad) (grad: the unfiltered grad E at x)
-// may change the contact set, moving x and x^ rows (see the header); when it did, the forces are evaluated
-// again at x and the loop goes on from there. Converged: the residual under the tolerance with an
+// may change the contact set, moving x and x^ rows (see the header); when it moved x, the forces are
+// evaluated again at x, and the loop goes on from there. Converged: the residual under the tolerance with an
 // unchanged set. Adds its iterations to stats; leaves the forces evaluated at the final x and
 // f = the total force.
+// What update_contacts did: changed the set, and moved x (caught nodes projected onto the body;
+// letting go only moves x^ rows).
+struct ContactUpdate {
+  bool changed = false, moved = false;
+};
+
 template <class UpdateContacts>
 void newton_solve(const Body& body, const std::vector<Force*>& forces, const Points& x_start, Contacts& k,
                   double h, double t_new, const ImplicitSettings& settings, ImplicitWorkspace& ws, Points& x,
@@ -376,11 +382,16 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
   for (int it = 0;; ++it) {
     total_force(body, forces, f);
     potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
-    const bool set_changed = update_contacts(ws.grad);
+    const ContactUpdate update = update_contacts(ws.grad);
+    const bool set_changed = update.changed;
     if (set_changed) {
       E_x_known = false;
-      evaluate(forces, x, t_new);
-      total_force(body, forces, f);
+      // Contacts let go move x^ rows only: the forces at x stand (the same bits as evaluating them
+      // again). Caught nodes move to the body's surface: the forces are evaluated there.
+      if (update.moved) {
+        evaluate(forces, x, t_new);
+        total_force(body, forces, f);
+      }
       potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
     }
     project_free(fixed, ws.grad);
@@ -577,13 +588,15 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   // contacts pulled off let go and nodes now inside the body are projected and held.
   ws.x_hat = x_start + h * v_tilde;
   auto update_contacts = [&](const Points& grad) {
-    if (!collisions) return false;
+    ContactUpdate u;
+    if (!collisions) return u;
     const std::size_t held = k.constraints.size() - k.first_contact;
-    bool changed = let_go(grad);
+    const bool released = let_go(grad);
     const std::size_t after_let_go = k.constraints.size();
     NodeConstraints found;
     detect(found);
-    changed = add_contacts(x_proj, found) || changed;
+    u.moved = add_contacts(x_proj, found);
+    u.changed = u.moved || released;
     if (debug_contacts()) {
       int again = 0;
       for (std::size_t j = after_let_go; j < k.constraints.size(); ++j)
@@ -595,7 +608,7 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
                    held, held + k.first_contact - after_let_go, pulls.empty() ? 0.0 : pulls[pulls.size() / 2],
                    pulls.empty() ? 0.0 : pulls.back(), k.constraints.size() - after_let_go, again, held_pulling);
     }
-    return changed;
+    return u;
   };
   Points f;
   evaluate(forces, x, t_new);

@@ -355,12 +355,14 @@ void solve_newton_system(const NodeConstraints& fixed, const Points& x, bool fir
   }
 }
 
-// Newton's method on E from the iterate x (the forces evaluated there) under the filter k.fixed.
+// Newton's method on E from the iterate x under the filter k.fixed, no contact held yet.
 // At x and after every accepted iterate, update_contacts(grad) (grad: the unfiltered grad E at x)
 // may change the contact set, moving x and x^ rows (see the header); when it moved x, the forces are
-// evaluated again at x, and the loop goes on from there. Converged: the residual under the tolerance with an
-// unchanged set. Adds its iterations to stats; leaves the forces evaluated at the final x and
-// f = the total force.
+// evaluated again at x, and the loop goes on from there. At the first x no contact is held, so the
+// update only catches nodes and needs no gradient: it runs before the forces' first evaluation,
+// which is then at x after the catches (the same bits as evaluating them before too). Converged:
+// the residual under the tolerance with an unchanged set. Adds its iterations to stats; leaves the
+// forces evaluated at the final x and f = the total force.
 // What update_contacts did: changed the set, and moved x (caught nodes projected onto the body;
 // letting go only moves x^ rows).
 struct ContactUpdate {
@@ -380,20 +382,26 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
   double E_x = 0;
   bool E_x_known = false;
   for (int it = 0;; ++it) {
-    total_force(body, forces, f);
-    potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
-    const ContactUpdate update = update_contacts(ws.grad);
-    const bool set_changed = update.changed;
-    if (set_changed) {
-      E_x_known = false;
+    ContactUpdate update;
+    if (it == 0) {
+      update = update_contacts(ws.grad);  // catches only: ws.grad is not read
+      evaluate(forces, x, t_new);
+      total_force(body, forces, f);
+      potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
+    } else {
+      total_force(body, forces, f);
+      potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
+      update = update_contacts(ws.grad);
       // Contacts let go move x^ rows only: the forces at x stand (the same bits as evaluating them
       // again). Caught nodes move to the body's surface: the forces are evaluated there.
       if (update.moved) {
         evaluate(forces, x, t_new);
         total_force(body, forces, f);
       }
-      potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
+      if (update.changed) potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
     }
+    const bool set_changed = update.changed;
+    if (set_changed) E_x_known = false;
     project_free(fixed, ws.grad);
     const double g_norm = std::sqrt(points_dot(ws.grad, ws.grad));
     if (it == 0) {
@@ -611,7 +619,6 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
     return u;
   };
   Points f;
-  evaluate(forces, x, t_new);
   newton_solve(body, forces, x_start, k, h, t_new, settings, ws, x, f, stats, update_contacts);
   if (collisions) {  // the fail-safe: what is still inside is projected out
     NodeConstraints found;

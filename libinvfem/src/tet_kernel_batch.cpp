@@ -26,6 +26,38 @@ using simd::store_pack;
 using simd::sum_a_bc;
 using simd::sum_ab_c;
 
+namespace {
+
+// 3x3 matrices in lanes, column-major (entry (r, c) at r + 3 c).
+// C = A B in Eigen's order for a product of two plain matrices (the header): rows 0 and 1
+// (a + b) + c, row 2 a + (b + c). With b_transposed, C = A B^T in the same order.
+void product(const Pack* A, const Pack* B, Pack* C, bool b_transposed = false) {
+  const auto b = [&](int k, int c) { return b_transposed ? B[c + 3 * k] : B[k + 3 * c]; };
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 2; ++r) C[r + 3 * c] = sum_ab_c(A[r] * b(0, c), A[r + 3] * b(1, c), A[r + 6] * b(2, c));
+    C[2 + 3 * c] = sum_a_bc(A[2] * b(0, c), A[5] * b(1, c), A[8] * b(2, c));
+  }
+}
+
+// F = Ds Dm^-1 (ITF04 section 3) of the lanes' elements at nodal values x (positions or velocities),
+// Ds = [x1 - x0, x2 - x0, x3 - x0], with Dm^-1 gathered into D.
+void deformation_gradient_lanes(const double* const (&node)[4][kLanes], const double* const (&dm)[kLanes], Pack* D,
+                                Pack* F) {
+  Pack S[9];
+  for (int k = 0; k < 3; ++k)
+    for (int r = 0; r < 3; ++r) S[r + 3 * k] = gather_lanes(node[k + 1], r) - gather_lanes(node[0], r);
+  for (int q = 0; q < 9; ++q) D[q] = gather_lanes(dm, q);
+  product(S, D, F);
+}
+
+// Bm = -V0 Dm^-T, entry by entry as TetRest::Bm forms it (the same bits), from the lanes' Dm^-1.
+void rest_Bm_lanes(const Pack* D, Pack minus_volume, Pack* B) {
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) B[r + 3 * c] = minus_volume * D[c + 3 * r];
+}
+
+}  // namespace
+
 void tet_diagonalize_batch(const TetRest& rest, const Points& x, std::size_t first, std::size_t n,
                            Diagonalization3* diag, double* det_F) {
   constexpr int kBlock = simd::kSvdBlock;
@@ -45,16 +77,8 @@ void tet_diagonalize_batch(const TetRest& rest, const Points& x, std::size_t fir
         for (int k = 0; k < 4; ++k) node[k][l] = xp + 3 * static_cast<std::size_t>(tp[4 * e + k]);
         dm[l] = rest.Dm_inv[e].data();
       }
-      Pack S[9], D[9], F[9];
-      for (int k = 0; k < 3; ++k)
-        for (int r = 0; r < 3; ++r) S[r + 3 * k] = gather_lanes(node[k + 1], r) - gather_lanes(node[0], r);
-      for (int q = 0; q < 9; ++q) D[q] = gather_lanes(dm, q);
-      // F = Ds Dm^-1 (ITF04 section 3).
-      for (int c = 0; c < 3; ++c) {
-        for (int r = 0; r < 2; ++r)
-          F[r + 3 * c] = sum_ab_c(S[r] * D[3 * c], S[r + 3] * D[1 + 3 * c], S[r + 6] * D[2 + 3 * c]);
-        F[2 + 3 * c] = sum_a_bc(S[2] * D[3 * c], S[5] * D[1 + 3 * c], S[8] * D[2 + 3 * c]);
-      }
+      Pack D[9], F[9];
+      deformation_gradient_lanes(node, dm, D, F);
       for (int q = 0; q < 9; ++q) store_pack(&in.f[q][j0], F[q]);
       // det F by the first row's cofactors, Eigen's order: F00 C00 - F01 C01 + F02 C02.
       const Pack d = F[0] * (F[4] * F[8] - F[7] * F[5]) - F[3] * (F[1] * F[8] - F[7] * F[2]) +
@@ -88,12 +112,9 @@ void tet_forces_batch(const TetRest& rest, std::size_t first, std::size_t n, con
       D[q] = gather_lanes(d, q);
     }
     for (int k = 0; k < 3; ++k) p[k] = gather_lanes(ph, k);
-    const Pack minus_volume = -gather_lanes(vol, 0);
-    // Bm = -V0 Dm^-T, entry by entry as TetRest::Bm forms it (the same bits), from the Dm^-1 that the
-    // first half has just brought into the cache.
+    // Bm from the Dm^-1 that the first half has just brought into the cache.
     Pack B[9];
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r) B[r + 3 * c] = minus_volume * D[c + 3 * r];
+    rest_Bm_lanes(D, -gather_lanes(vol, 0), B);
     // P = U diag(p^) V^T (ITF04 section 5): P(r, c) = sum_k (U(r, k) p^_k) V(c, k).
     Pack P[9], out[9];
     for (int c = 0; c < 3; ++c)
@@ -117,40 +138,29 @@ void tet_damping_forces_batch(const TetRest& rest, const Points& v, std::size_t 
   const Pack a = simd::splat(alpha), b = simd::splat(beta), zero = simd::splat(0.0);
   for (std::size_t i0 = 0; i0 < n; i0 += kLanes) {
     const int count = static_cast<int>(std::min<std::size_t>(kLanes, n - i0));
-    const double *node[4][kLanes], *u[kLanes], *w[kLanes], *d[kLanes], *vol[kLanes];
+    const double *node[4][kLanes], *u[kLanes], *w[kLanes], *dm[kLanes], *vol[kLanes];
     for (int l = 0; l < kLanes; ++l) {  // lane l's element; padding repeats the last one
       const std::size_t i = i0 + static_cast<std::size_t>(std::min(l, count - 1)), e = first + i;
       for (int k = 0; k < 4; ++k) node[k][l] = vp + 3 * static_cast<std::size_t>(tp[4 * e + k]);
       u[l] = diag[i].U.data();
       w[l] = diag[i].V.data();
-      d[l] = rest.Dm_inv[e].data();
+      dm[l] = rest.Dm_inv[e].data();
       vol[l] = &rest.volume[e];
     }
-    Pack S[9], D[9], U[9], V[9];
-    for (int k = 0; k < 3; ++k)
-      for (int r = 0; r < 3; ++r) S[r + 3 * k] = gather_lanes(node[k + 1], r) - gather_lanes(node[0], r);
+    // F_dot = Ds(v) Dm^-1, the velocity gradient (deformation_gradient of v).
+    Pack D[9], Fd[9], U[9], V[9];
+    deformation_gradient_lanes(node, dm, D, Fd);
     for (int q = 0; q < 9; ++q) {
-      D[q] = gather_lanes(d, q);
       U[q] = gather_lanes(u, q);
       V[q] = gather_lanes(w, q);
     }
-    // F_dot = Ds(v) Dm^-1, the velocity gradient (deformation_gradient of v).
-    Pack Fd[9];
-    for (int c = 0; c < 3; ++c) {
-      for (int r = 0; r < 2; ++r)
-        Fd[r + 3 * c] = sum_ab_c(S[r] * D[3 * c], S[r + 3] * D[1 + 3 * c], S[r + 6] * D[2 + 3 * c]);
-      Fd[2 + 3 * c] = sum_a_bc(S[2] * D[3 * c], S[5] * D[1 + 3 * c], S[8] * D[2 + 3 * c]);
-    }
-    // F^dot = (U^T F_dot) V (ITF04 6.2): T(r, c) = sum_k U(k, r) F_dot(k, c), then T V.
+    // F^dot = (U^T F_dot) V (ITF04 6.2): T(r, c) = sum_k U(k, r) F_dot(k, c), (a + b) + c in every
+    // entry (a transposed left factor), then T V.
     Pack T[9], Fh[9];
     for (int c = 0; c < 3; ++c)
       for (int r = 0; r < 3; ++r)
         T[r + 3 * c] = sum_ab_c(U[3 * r] * Fd[3 * c], U[3 * r + 1] * Fd[1 + 3 * c], U[3 * r + 2] * Fd[2 + 3 * c]);
-    for (int c = 0; c < 3; ++c) {
-      for (int r = 0; r < 2; ++r)
-        Fh[r + 3 * c] = sum_ab_c(T[r] * V[3 * c], T[r + 3] * V[1 + 3 * c], T[r + 6] * V[2 + 3 * c]);
-      Fh[2 + 3 * c] = sum_a_bc(T[2] * V[3 * c], T[5] * V[1 + 3 * c], T[8] * V[2 + 3 * c]);
-    }
+    product(T, V, Fh);
     // P^_d = beta (F^dot + F^dot^T) + alpha tr(F^dot) Id; the identity's zeros are s * 0, as in
     // Eigen's product of the scalar and Identity() (their sign is s's).
     const Pack s = a * sum_a_bc(Fh[0], Fh[4], Fh[8]);
@@ -158,26 +168,11 @@ void tet_damping_forces_batch(const TetRest& rest, const Points& v, std::size_t 
     for (int c = 0; c < 3; ++c)
       for (int r = 0; r < 3; ++r) Ph[r + 3 * c] = b * (Fh[r + 3 * c] + Fh[c + 3 * r]) + (r == c ? s : s * zero);
     // P_d = (U P^_d) V^T, then G = P_d Bm with Bm = -V0 Dm^-T (TetRest::Bm).
-    Pack UP[9], P[9], out[9];
-    for (int c = 0; c < 3; ++c) {
-      for (int r = 0; r < 2; ++r)
-        UP[r + 3 * c] = sum_ab_c(U[r] * Ph[3 * c], U[r + 3] * Ph[1 + 3 * c], U[r + 6] * Ph[2 + 3 * c]);
-      UP[2 + 3 * c] = sum_a_bc(U[2] * Ph[3 * c], U[5] * Ph[1 + 3 * c], U[8] * Ph[2 + 3 * c]);
-    }
-    for (int c = 0; c < 3; ++c) {
-      for (int r = 0; r < 2; ++r)
-        P[r + 3 * c] = sum_ab_c(UP[r] * V[c], UP[r + 3] * V[c + 3], UP[r + 6] * V[c + 6]);
-      P[2 + 3 * c] = sum_a_bc(UP[2] * V[c], UP[5] * V[c + 3], UP[8] * V[c + 6]);
-    }
-    const Pack minus_volume = -gather_lanes(vol, 0);
-    Pack B[9];
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r) B[r + 3 * c] = minus_volume * D[c + 3 * r];
-    for (int c = 0; c < 3; ++c) {
-      for (int r = 0; r < 2; ++r)
-        out[r + 3 * c] = sum_ab_c(P[r] * B[3 * c], P[r + 3] * B[1 + 3 * c], P[r + 6] * B[2 + 3 * c]);
-      out[2 + 3 * c] = sum_a_bc(P[2] * B[3 * c], P[5] * B[1 + 3 * c], P[8] * B[2 + 3 * c]);
-    }
+    Pack UP[9], P[9], B[9], out[9];
+    product(U, Ph, UP);
+    product(UP, V, P, /*b_transposed=*/true);
+    rest_Bm_lanes(D, -gather_lanes(vol, 0), B);
+    product(P, B, out);
     for (int l = 0; l < count; ++l) {
       double* g = G[i0 + static_cast<std::size_t>(l)].data();
       for (int q = 0; q < 9; ++q) g[q] = out[q][l];

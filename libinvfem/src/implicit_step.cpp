@@ -382,24 +382,19 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
   double E_x = 0;
   bool E_x_known = false;
   for (int it = 0;; ++it) {
-    ContactUpdate update;
-    if (it == 0) {
-      update = update_contacts(ws.grad);  // catches only: ws.grad is not read
+    // At the first x the forces are not evaluated yet, and the update (catches only) reads no gradient.
+    if (it > 0) {
+      total_force(body, forces, f);
+      potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
+    }
+    const ContactUpdate update = update_contacts(ws.grad);
+    // Contacts let go move x^ rows only: the forces at x stand (the same bits as evaluating them
+    // again). Caught nodes move to the body's surface: the forces are evaluated there.
+    if (it == 0 || update.moved) {
       evaluate(forces, x, t_new);
       total_force(body, forces, f);
-      potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
-    } else {
-      total_force(body, forces, f);
-      potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
-      update = update_contacts(ws.grad);
-      // Contacts let go move x^ rows only: the forces at x stand (the same bits as evaluating them
-      // again). Caught nodes move to the body's surface: the forces are evaluated there.
-      if (update.moved) {
-        evaluate(forces, x, t_new);
-        total_force(body, forces, f);
-      }
-      if (update.changed) potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
     }
+    if (it == 0 || update.changed) potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
     const bool set_changed = update.changed;
     if (set_changed) E_x_known = false;
     project_free(fixed, ws.grad);

@@ -146,9 +146,8 @@ void TetSolidForce::update(const Points& x, double time, bool allow_flow) {
   std::visit(
       [&](const auto& mdl) {
         if (plain && !fiber) {  // the plain ITF04 force, diagonalized kChunk elements at a time
-          const std::size_t n = static_cast<std::size_t>(m);
-          parallel_for_each((n + kChunk - 1) / kChunk, kGrain / kChunk, [&](std::size_t c) {
-            const std::size_t e0 = c * kChunk, count = std::min(kChunk, n - e0);
+          parallel_for_ranges(static_cast<std::size_t>(m), kChunk, [&](std::size_t e0, std::size_t end) {
+            const std::size_t count = end - e0;
             std::array<Vec3, kChunk> p_hat;  // P^ = dPsi/dsigma of each element
             tet_diagonalize_batch(rest_, x, e0, count, &diag_[e0], &det_F_[e0]);
             for (std::size_t j = 0; j < count; ++j) {
@@ -157,7 +156,7 @@ void TetSolidForce::update(const Points& x, double time, bool allow_flow) {
               p_hat[j] = mdl.template psi_gradient<3>(d.sigma);
             }
             tet_forces_batch(rest_, e0, count, &diag_[e0], p_hat.data(), &G_[e0]);
-          });
+          }, kGrain / kChunk);
           return;
         }
         parallel_for_each(static_cast<std::size_t>(m), kGrain, [&](std::size_t i) {

@@ -55,8 +55,8 @@ template <class Hessian>
 void write_upper(const TetRest& rest, const PlasticState& plastic, bool identity,
                  const std::vector<Diagonalization3>& diag, const Hessian& hessian, ElementMatrices& out) {
   const std::size_t m = diag.size();
-  parallel_for_each((m + kChunk - 1) / kChunk, kGrain / kChunk, [&](std::size_t c) {
-    const std::size_t e0 = c * kChunk, count = std::min(kChunk, m - e0);
+  parallel_for_ranges(m, kChunk, [&](std::size_t e0, std::size_t end) {
+    const std::size_t count = end - e0;
     std::array<double, kChunk * kHessianEntries> h;
     std::array<Mat34, kChunk> beta;
     std::array<double, kChunk> scale;
@@ -68,7 +68,7 @@ void write_upper(const TetRest& rest, const PlasticState& plastic, bool identity
     }
     tet_upper_blocks_batch(count, h.data(), &diag[e0], beta.data(), scale.data(), out.nodes.data() + 4 * e0,
                            out.values.data() + static_cast<std::size_t>(out.stride()) * e0);
-  });
+  }, kGrain / kChunk);
 }
 }  // namespace
 

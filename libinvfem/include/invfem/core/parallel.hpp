@@ -24,10 +24,13 @@ template <class Body> void parallel_for_each(std::size_t n, std::size_t grain, c
   });
 }
 
-// body(begin, end) for the ranges [0, size), [size, 2 size), ... covering [0, n), one range a task:
-// for loops whose body works on a run of rows at once (a SIMD kernel, an Eigen block).
-template <class Body> void parallel_for_ranges(std::size_t n, std::size_t size, const Body& body) {
-  parallel_for_each((n + size - 1) / size, 1, [&](std::size_t c) { body(c * size, std::min(n, (c + 1) * size)); });
+// body(begin, end) for the ranges [0, size), [size, 2 size), ... covering [0, n), at least
+// `ranges_per_task` ranges a task: for loops whose body works on a run of rows at once (a SIMD
+// kernel, an Eigen block).
+template <class Body>
+void parallel_for_ranges(std::size_t n, std::size_t size, const Body& body, std::size_t ranges_per_task = 1) {
+  parallel_for_each((n + size - 1) / size, ranges_per_task,
+                    [&](std::size_t c) { body(c * size, std::min(n, (c + 1) * size)); });
 }
 
 // compute(begin, end, slot) for the ranges [0, size), [size, 2 size), ... covering [0, n), in

@@ -20,8 +20,9 @@ constexpr char kMagic[8] = {'I', 'N', 'V', 'F', 'E', 'M', 'C', 'K'};
 // 2: the world's state is one blob written by World::save_state (forces save their own state).
 // 3: a checksum of every byte before it, ahead of the trailer.
 // 4: the world state starts with the step passes' states (a fracture pass's cut mesh).
-constexpr std::uint32_t kVersion = 4;
-// Checksum and trailer: the last 16 bytes of a version-3 or -4 file.
+// 5: each object's state ends with the implicit step's last accelerations (its next Newton start).
+constexpr std::uint32_t kVersion = 5;
+// Checksum and trailer: the last 16 bytes of a version-3 or later file.
 constexpr std::size_t kTailBytes = sizeof(std::uint64_t) + sizeof kMagic;
 // A checkpoint holds a world's state; a file far larger is not one (and is not read into memory).
 constexpr std::uintmax_t kMaxCheckpointBytes = std::uintmax_t{16} << 30;

@@ -485,6 +485,7 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   if (!ws.ready || ws.stiffness.size() != forces.size() || ws.A.rows() != body.x.rows()) prepare(ws, body, forces);
   const Eigen::Index n = body.x.rows();
   if (ws.normal_force.size() != n) ws.normal_force = Eigen::VectorXd::Zero(n);  // none at the first step
+  if (ws.acceleration.rows() != n) ws.acceleration.resize(0, 3);
 
   // The damping matrix C at x(n) (the forces are evaluated there: the stepper's precondition).
   ws.C.set_zero();
@@ -498,6 +499,9 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   const Points x_start = body.x;
   Points x = body.x + h * body.v;
   x.rowwise() += (h * h) * body.gravity.transpose();
+  if (ws.acceleration.rows() == n)  // the first iterate (header): the last step's acceleration
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (!(ws.normal_force(i) > 0)) x.row(i) = x_start.row(i) + h * body.v.row(i) + (h * h) * ws.acceleration.row(i);
   Contacts k;
   k.constraints = pinned;
   for (const NodeConstraint& c : pinned)
@@ -540,8 +544,8 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   };
   // A contact whose constraint force pulls it off the body (f_N < 0, f_N = grad E . n / h^2, with
   // grad the unfiltered gradient at x) lets go, unless it was let go kMaxReleases times already:
-  // the prediction's h^2 g puts every resting node inside, and only this lets an element lying on
-  // the ground lift.
+  // the first iterate's h^2 g puts every resting node inside, and only this lets an element lying
+  // on the ground lift.
   std::vector<int> releases(static_cast<std::size_t>(n), 0);
   std::vector<double> pulls;  // INVFEM_DEBUG_CONTACTS: -f_N / (m g) of the contacts let go
   int held_pulling = 0;
@@ -586,8 +590,8 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
     collisions->process(x_start, x_proj, v_proc, t_new, dt, found, &constrained);
   };
 
-  // One Newton loop whose contact set follows its iterates (the header): at the prediction
-  // x(n) + h v(n) + h^2 g (as the ITF04 step on its x~(n+1)) and after each accepted iterate,
+  // One Newton loop whose contact set follows its iterates (the header): at the first iterate
+  // x(n) + h v(n) + h^2 a (as the ITF04 step on its x~(n+1), with a = g) and after each accepted iterate,
   // contacts pulled off let go and nodes now inside the body are projected and held.
   ws.x_hat = x_start + h * v_tilde;
   auto update_contacts = [&](const Points& grad) {
@@ -637,6 +641,7 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
       ws.normal_force(c.node) = std::max(0.0, ws.grad.row(c.node).dot(c.normal.transpose()) / (h * h));
     }
   }
+  ws.acceleration = (v - body.v) / h;
   body.x = std::move(x);
   body.v = std::move(v);
   // Plastic flow and everything else that moves with a step, once, at x(n+1).

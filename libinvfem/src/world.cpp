@@ -319,6 +319,10 @@ void World::save_state(StateWriter& out) const {
     const Eigen::VectorXd& lagged = implicit_[k].normal_force;
     out.count(static_cast<std::size_t>(lagged.size()));
     out.doubles(lagged.data(), static_cast<std::size_t>(lagged.size()));
+    // And the last step's accelerations (its Newton start of the next step): n x 3 or none.
+    const Points& a = implicit_[k].acceleration;
+    out.count(static_cast<std::size_t>(a.rows()));
+    out.doubles(a.data(), static_cast<std::size_t>(a.size()));
   }
 }
 
@@ -334,6 +338,7 @@ void World::apply_state(StateReader& in) {
   if (in.count("the object count") != objects_.size()) throw StateError("the state holds another number of objects");
   // Positions and velocities are read into copies first; forces restore themselves one by one.
   std::vector<Eigen::VectorXd> lagged(objects_.size());
+  std::vector<Points> acceleration(objects_.size());
   for (std::size_t k = 0; k < objects_.size(); ++k) {
     SimObject& o = objects_[k];
     const std::string name = in.string("an object name");
@@ -365,11 +370,20 @@ void World::apply_state(StateReader& in) {
       if (!(lagged[k](i) >= 0) || !std::isfinite(lagged[k](i)))
         throw StateError("the contact force of node " + std::to_string(i) + " of \"" + o.name +
                          "\" is not a finite non-negative number");
+    const std::size_t na = in.count("the accelerations of \"" + o.name + "\"");
+    if (na != 0 && na != static_cast<std::size_t>(o.body.x.rows()))
+      throw StateError("the state holds accelerations for another number of nodes of \"" + o.name + "\"");
+    acceleration[k].resize(static_cast<Eigen::Index>(na), 3);
+    in.doubles(acceleration[k].data(), 3 * na, "the accelerations of \"" + o.name + "\"");
+    if (!acceleration[k].allFinite()) throw StateError("an acceleration of \"" + o.name + "\" is not finite");
     o.body.x = std::move(x);
     o.body.v = std::move(v);
   }
   in.expect_end("the world state");
-  for (std::size_t k = 0; k < objects_.size(); ++k) implicit_[k].normal_force = std::move(lagged[k]);
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    implicit_[k].normal_force = std::move(lagged[k]);
+    implicit_[k].acceleration = std::move(acceleration[k]);
+  }
 }
 
 void World::restore_state(StateReader& in, double time) {

@@ -80,7 +80,7 @@ resume_case time_bit time_bit "is damaged (its checksum does not match its conte
 resume_case nan nan "does not fit this scene: the position of node 1 of \"torus\" is not finite"
 resume_case time_nan time_nan "holds time nan s, not the time of frame 8"
 resume_case directory dir "cannot be read: is a directory, not a regular file"
-resume_case version2 version2 "has format version 2, this invfem reads version 4"
+resume_case version2 version2 "has format version 2, this invfem reads version 5"
 
 # Another scene: the warning says what differs.
 cp -r "$work/reference" "$work/other"

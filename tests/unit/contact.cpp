@@ -374,6 +374,39 @@ TEST(Contact, ImplicitContactSetLetsGoAndSettlesWithinOneNewtonLoop) {
 }
 
 
+// The implicit step's Newton start carries the last step's acceleration (implicit_step.hpp). A
+// block stretched to 1.5 times its height, at rest with its bottom 0.5 mm above the ground: its
+// elements pull the bottom nodes up with far more than their weight. Without a last step, the
+// start x(n) + h^2 g (0.98 mm down) puts them inside: they are held, then let go within the step.
+// With a last step's acceleration that lifts them, they are not held at all; both steps end with
+// the bottom rising, at the same place to within the Newton tolerance.
+TEST(Contact, ImplicitNewtonStartCarriesTheLastStepsAcceleration) {
+  const Mesh m = block(2, 0.1);
+  Points x0 = m.X;
+  x0.col(1) *= 1.5;
+  x0.col(1).array() += 5e-4;
+  const auto ground = std::make_shared<PlaneSurface>(Vec3::Zero(), Vec3::UnitY());
+  Sim fresh(m, x0, material(1e5, 0.01), {{ground, 0.5}});
+  Sim carried(m, x0, material(1e5, 0.01), {{ground, 0.5}});
+  for (Sim* s : {&fresh, &carried}) s->use_implicit();
+  carried.ws.acceleration = Points::Zero(x0.rows(), 3);
+  carried.ws.acceleration.col(1).setConstant(100.0);  // up, as the stretch pulls the bottom
+  fresh.step();
+  carried.step();
+  EXPECT_EQ(fresh.last.colliding_nodes, 9) << "gravity's start puts the bottom face's 9 nodes inside";
+  EXPECT_EQ(carried.last.colliding_nodes, 0);
+  for (Sim* s : {&fresh, &carried}) {
+    EXPECT_TRUE(s->last.newton_converged);
+    for (Eigen::Index i = 0; i < m.X.rows(); ++i)
+      if (m.X(i, 1) == 0) EXPECT_GT(s->body.v(i, 1), 0.0) << "node " << i << " stayed held";
+  }
+  // Two Newton solves of one step from different starts: equal to the stopping rule's relative
+  // tolerance (1e-4) of the block's 0.15 m height.
+  EXPECT_LT((fresh.body.x - carried.body.x).cwiseAbs().maxCoeff(), 1.5e-5);
+  // The step leaves its own acceleration, (v(n+1) - v(n)) / h, for the next start.
+  EXPECT_LT((carried.ws.acceleration - carried.body.v / carried.dt).cwiseAbs().maxCoeff(), 1e-9);
+}
+
 TEST(Contact, MeshColliderClearanceSkipsOnlyNodesThatCannotCollide) {
   // A 0.2 m box as a mesh collider (offset 1 mm, query radius 5 cm). Its clearance is phi outside
   // within the radius and 0 inside or beyond it.

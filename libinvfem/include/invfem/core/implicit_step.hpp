@@ -15,9 +15,19 @@
 // and v(n+1) = (x(n+1) - x(n)) / h. Inverted elements keep the restoring force of the ITF04
 // extended model (their K_e is the clamped derivative, never their force).
 //
+// Newton's first iterate is x(n) + h v(n) + h^2 a with a the node's acceleration over the last
+// step, (v(n) - v(n-1)) / h as that step left v(n) (ImplicitWorkspace::acceleration; an after-step
+// pass's changes not counted), or gravity where there is none (the
+// first step, a new node count) and for nodes that ended the last step held with a pushing
+// contact force (resting nodes: gravity puts them inside again, so they are held at once). The
+// last step's acceleration carries the elastic and contact forces that x(n) + h v(n) + h^2 g
+// leaves out: with gravity alone every node coming to rest on the ground was predicted inside,
+// held, and let go over the next iterates as its elements pushed it off (the quick torus_115k:
+// 500-640 held at each step's start, 150-200 let go at hundreds of times their weight).
+//
 // Constraints (Baraff-Witkin filter S of projected_cg.hpp): pinned nodes (Kind::Full) sit at
 // x(n) + h v_pin from the first iterate on; colliding nodes (Kind::Normal, from the same rigid
-// collision processing as the ITF04 step, run on x(n) + h v(n) + h^2 g) start at their projected
+// collision processing as the ITF04 step, run on the first iterate) start at their projected
 // position and move only tangentially (their x^ row takes the body's normal velocity).
 // Coulomb friction is a smoothed potential of the tangential slip with the normal force lagged
 // one step (IPC, Li et al. 2020; see kStickSpeed in the .cpp): stick and slide in one Newton solve.
@@ -94,6 +104,7 @@ struct ImplicitWorkspace {
   // A's diagonal blocks that the last assembly's friction went into, (slot, block before it).
   std::vector<std::pair<std::size_t, Mat3>> before_friction;
   Eigen::VectorXd normal_force;     // per node: its contact force at the end of the last step [N]
+  Points acceleration;              // n x 3: per node (v(n) - v(n-1)) / h of the last step [m/s^2]; empty before one
   CGWorkspace cg;
   FilteredDirectSolver direct;      // LinearSolver::Direct: analyzed at its first use on this pattern
   Points x_hat, x_trial, grad, grad_trial, dir, rhs, scratch, product;

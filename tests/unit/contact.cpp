@@ -373,7 +373,6 @@ TEST(Contact, ImplicitContactSetLetsGoAndSettlesWithinOneNewtonLoop) {
   }
 }
 
-
 // The implicit step's Newton start carries the last step's acceleration (implicit_step.hpp). A
 // block stretched to 1.5 times its height, at rest with its bottom 0.5 mm above the ground: its
 // elements pull the bottom nodes up with far more than their weight. Without a last step, the

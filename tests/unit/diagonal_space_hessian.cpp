@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <random>
 
 #include "invfem/core/diagonal_space_hessian.hpp"

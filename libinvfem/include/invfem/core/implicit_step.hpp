@@ -17,9 +17,9 @@
 //
 // Newton's first iterate is x(n) + h v(n) + h^2 a with a the node's acceleration over the last
 // step, (v(n) - v(n-1)) / h as that step left v(n) (ImplicitWorkspace::acceleration; an after-step
-// pass's changes not counted), or gravity where there is none (the
-// first step, a new node count) and for nodes that ended the last step held with a pushing
-// contact force (resting nodes: gravity puts them inside again, so they are held at once). The
+// pass's changes not counted), or gravity where there is none (the first step, a new node count)
+// and for nodes that ended the last step held with a pushing contact force (resting nodes:
+// gravity puts them inside again, so they are held at once). The
 // last step's acceleration carries the elastic and contact forces that x(n) + h v(n) + h^2 g
 // leaves out: with gravity alone every node coming to rest on the ground was predicted inside,
 // held, and let go over the next iterates as its elements pushed it off (the quick torus_115k:

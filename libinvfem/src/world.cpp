@@ -230,11 +230,15 @@ void World::advance_to(double t_end, FrameReport& report) {
       // passes moved is evaluated again where it now is, as a checkpoint's restore would
       // (resumed runs stay bit-identical).
       // An object whose topology a pass changed (fracture) counts as moved; its implicit
-      // workspace rebuilds itself and drops its lagged contact forces at the next step, as the
+      // workspace forgets its per-node state (lagged contact forces, accelerations) now, so a
+      // checkpoint taken before the next step holds none, and rebuilds itself at that step, as the
       // node count differs (implicit_step.cpp).
-      for (std::size_t k = 0; k < objects_.size(); ++k)
-        if (objects_[k].body.x.rows() != x_before_passes[k].rows() || objects_[k].body.x != x_before_passes[k])
+      for (std::size_t k = 0; k < objects_.size(); ++k) {
+        const bool renumbered = objects_[k].body.x.rows() != x_before_passes[k].rows();
+        if (renumbered) implicit_[k].forget_nodes();
+        if (renumbered || objects_[k].body.x != x_before_passes[k])
           for (auto& f : objects_[k].forces) f->update_positions(objects_[k].body.x, time_ + dt);
+      }
     }
     time_ += dt;
     ++report.substeps;

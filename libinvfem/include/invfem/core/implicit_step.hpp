@@ -103,8 +103,9 @@ struct ImplicitWorkspace {
   std::vector<Mat3> block_inverse;  // the block-Jacobi preconditioner
   // A's diagonal blocks that the last assembly's friction went into, (slot, block before it).
   std::vector<std::pair<std::size_t, Mat3>> before_friction;
-  Eigen::VectorXd normal_force;     // per node: its contact force at the end of the last step [N]
-  Points acceleration;              // n x 3: per node (v(n) - v(n-1)) / h of the last step [m/s^2]; empty before one
+  // Per node, carried from one step to the next (and in checkpoints); empty before a first step.
+  Eigen::VectorXd normal_force;     // its contact force at the end of the last step [N]
+  Points acceleration;              // n x 3: (v(n) - v(n-1)) / h of the last step [m/s^2]
   CGWorkspace cg;
   FilteredDirectSolver direct;      // LinearSolver::Direct: analyzed at its first use on this pattern
   Points x_hat, x_trial, grad, grad_trial, dir, rhs, scratch, product;
@@ -122,6 +123,13 @@ struct ImplicitWorkspace {
     amg_rebuild = true;
     amg_engaged = false;
     amg_cg = amg_solves = 0;
+  }
+  // The per-node state above belongs to the nodes it was made for: when a pass changes the body's
+  // nodes (fracture), the World drops it, and the next step starts as a first one. (Kept, it would
+  // be saved with the old node count, and a checkpoint taken then refused.)
+  void forget_nodes() {
+    normal_force.resize(0);
+    acceleration.resize(0, 3);
   }
 };
 

@@ -489,7 +489,6 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   if (!ws.ready || ws.stiffness.size() != forces.size() || ws.A.rows() != body.x.rows()) prepare(ws, body, forces);
   const Eigen::Index n = body.x.rows();
   if (ws.normal_force.size() != n) ws.normal_force = Eigen::VectorXd::Zero(n);  // none at the first step
-  if (ws.acceleration.rows() != n) ws.acceleration.resize(0, 3);
 
   // The damping matrix C at x(n) (the forces are evaluated there: the stepper's precondition).
   ws.C.set_zero();
@@ -501,11 +500,16 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   // Pinned nodes land on their targets; the Newton increments keep every constrained component
   // fixed (the same filter as the constraints, with zero values).
   const Points x_start = body.x;
-  Points x = body.x + h * body.v;
-  x.rowwise() += (h * h) * body.gravity.transpose();
-  if (ws.acceleration.rows() == n)  // the first iterate (header): the last step's acceleration
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (!(ws.normal_force(i) > 0)) x.row(i) = x_start.row(i) + h * body.v.row(i) + (h * h) * ws.acceleration.row(i);
+  // The first iterate x(n) + h v(n) + h^2 a (header): a the last step's acceleration where there
+  // is one and the node did not end that step resting on a body, else gravity.
+  const bool accelerations = ws.acceleration.rows() == n;
+  Points x(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::RowVector3d a =
+        accelerations && !(ws.normal_force(i) > 0) ? Eigen::RowVector3d(ws.acceleration.row(i))
+                                                      : Eigen::RowVector3d(body.gravity.transpose());
+    x.row(i) = x_start.row(i) + h * body.v.row(i) + (h * h) * a;
+  }
   Contacts k;
   k.constraints = pinned;
   for (const NodeConstraint& c : pinned)

@@ -249,6 +249,22 @@ void World::advance_to(double t_end, FrameReport& report) {
 }
 
 namespace {
+// Per-node state (one row a node, M's columns) saved as its row count, 0 when there is none yet
+// (before a first step, or forgotten at a change of the nodes), then its values.
+template <class M> void write_per_node(StateWriter& out, const M& m) {
+  out.count(static_cast<std::size_t>(m.rows()));
+  out.doubles(m.data(), static_cast<std::size_t>(m.size()));
+}
+template <class M> M read_per_node(StateReader& in, const SimObject& o, const std::string& what) {
+  const std::string of = " of \"" + o.name + "\"";
+  const std::size_t n = in.count("the " + what + of);
+  if (n != 0 && n != static_cast<std::size_t>(o.body.x.rows()))
+    throw StateError("the state holds " + what + " for another number of nodes" + of);
+  M m(static_cast<Eigen::Index>(n), M::ColsAtCompileTime);
+  in.doubles(m.data(), static_cast<std::size_t>(m.size()), "the " + what + of);
+  return m;
+}
+
 // A body's kinetic energy 1/2 sum m_i |v_i|^2 and gravity potential -sum m_i g . x_i [J], the
 // figures of measure() and what non_finite_state() checks.
 double kinetic_energy(const Body& b) { return 0.5 * (b.mass.asDiagonal() * b.v).cwiseProduct(b.v).sum(); }
@@ -318,15 +334,11 @@ void World::save_state(StateWriter& out) const {
       f->save_state(w);
       out.string(w.bytes());
     }
-    // The implicit step's lagged contact forces (friction's normal force of the next step): state
-    // that carries over between steps, so a resumed run must have it to give the same bits.
-    const Eigen::VectorXd& lagged = implicit_[k].normal_force;
-    out.count(static_cast<std::size_t>(lagged.size()));
-    out.doubles(lagged.data(), static_cast<std::size_t>(lagged.size()));
-    // And the last step's accelerations (its Newton start of the next step): n x 3 or none.
-    const Points& a = implicit_[k].acceleration;
-    out.count(static_cast<std::size_t>(a.rows()));
-    out.doubles(a.data(), static_cast<std::size_t>(a.size()));
+    // The implicit step's per-node state, carried over between steps, so a resumed run must have
+    // it to give the same bits: the lagged contact forces (friction's normal force of the next
+    // step) and the last step's accelerations (the next Newton start).
+    write_per_node(out, implicit_[k].normal_force);
+    write_per_node(out, implicit_[k].acceleration);
   }
 }
 
@@ -365,20 +377,12 @@ void World::apply_state(StateReader& in) {
       o.forces[k]->restore_state(blob);
       blob.expect_end(what);
     }
-    const std::size_t n = in.count("the contact forces of \"" + o.name + "\"");
-    if (n != 0 && n != static_cast<std::size_t>(o.body.x.rows()))
-      throw StateError("the state holds contact forces for another number of nodes of \"" + o.name + "\"");
-    lagged[k].resize(static_cast<Eigen::Index>(n));
-    in.doubles(lagged[k].data(), n, "the contact forces of \"" + o.name + "\"");
+    lagged[k] = read_per_node<Eigen::VectorXd>(in, o, "contact forces");
     for (Eigen::Index i = 0; i < lagged[k].size(); ++i)
       if (!(lagged[k](i) >= 0) || !std::isfinite(lagged[k](i)))
         throw StateError("the contact force of node " + std::to_string(i) + " of \"" + o.name +
                          "\" is not a finite non-negative number");
-    const std::size_t na = in.count("the accelerations of \"" + o.name + "\"");
-    if (na != 0 && na != static_cast<std::size_t>(o.body.x.rows()))
-      throw StateError("the state holds accelerations for another number of nodes of \"" + o.name + "\"");
-    acceleration[k].resize(static_cast<Eigen::Index>(na), 3);
-    in.doubles(acceleration[k].data(), 3 * na, "the accelerations of \"" + o.name + "\"");
+    acceleration[k] = read_per_node<Points>(in, o, "accelerations");
     if (!acceleration[k].allFinite()) throw StateError("an acceleration of \"" + o.name + "\" is not finite");
     o.body.x = std::move(x);
     o.body.v = std::move(v);

@@ -396,8 +396,11 @@ TEST(Contact, ImplicitNewtonStartCarriesTheLastStepsAcceleration) {
   EXPECT_EQ(carried.last.colliding_nodes, 0);
   for (Sim* s : {&fresh, &carried}) {
     EXPECT_TRUE(s->last.newton_converged);
-    for (Eigen::Index i = 0; i < m.X.rows(); ++i)
-      if (m.X(i, 1) == 0) EXPECT_GT(s->body.v(i, 1), 0.0) << "node " << i << " stayed held";
+    for (Eigen::Index i = 0; i < m.X.rows(); ++i) {
+      if (m.X(i, 1) == 0) {
+        EXPECT_GT(s->body.v(i, 1), 0.0) << "node " << i << " stayed held";
+      }
+    }
   }
   // Two Newton solves of one step from different starts: equal to the stopping rule's relative
   // tolerance (1e-4) of the block's 0.15 m height.

@@ -19,11 +19,11 @@
 // step, (v(n) - v(n-1)) / h as that step left v(n) (ImplicitWorkspace::acceleration; an after-step
 // pass's changes not counted), or gravity where there is none (the first step, a new node count)
 // and for nodes that ended the last step held with a pushing contact force (resting nodes:
-// gravity puts them inside again, so they are held at once). The
-// last step's acceleration carries the elastic and contact forces that x(n) + h v(n) + h^2 g
-// leaves out: with gravity alone every node coming to rest on the ground was predicted inside,
-// held, and let go over the next iterates as its elements pushed it off (the quick torus_115k:
-// 500-640 held at each step's start, 150-200 let go at hundreds of times their weight).
+// gravity puts them inside again, so they are held at once). The last step's acceleration
+// carries the elastic and contact forces that x(n) + h v(n) + h^2 g leaves out: with gravity
+// alone every node coming to rest on the ground was predicted inside, held, and let go over the
+// next iterates as its elements pushed it off (the quick torus_115k: 500-640 held at each step's
+// start, 150-200 let go at hundreds of times their weight).
 //
 // Constraints (Baraff-Witkin filter S of projected_cg.hpp): pinned nodes (Kind::Full) sit at
 // x(n) + h v_pin from the first iterate on; colliding nodes (Kind::Normal, from the same rigid

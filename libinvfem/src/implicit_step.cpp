@@ -48,8 +48,15 @@ void prepare(ImplicitWorkspace& ws, const Body& body, const std::vector<Force*>&
   ws.C = ws.A;
   ws.stiffness_scatter.clear();
   ws.damping_scatter.clear();
+  ws.stiffness_by_ranges.assign(nf, false);
   for (std::size_t k = 0; k < nf; ++k) {
-    ws.stiffness_scatter.emplace_back(ws.stiffness[k], ws.A);
+    // A force that forms its stiffness by ranges has it added as it is formed (the in-order plan):
+    // its whole set is never held (the node lists stay, the values go).
+    const bool ranges = ws.stiffness[k].form == ElementMatrices::Form::Upper && forces[k]->stiffness_range(0, 0, nullptr);
+    ws.stiffness_by_ranges[k] = ranges;
+    ws.stiffness_scatter.emplace_back(ws.stiffness[k], ws.A,
+                                      ranges ? ElementScatter::Plan::InOrder : ElementScatter::Plan::Gather);
+    if (ranges) std::vector<double>().swap(ws.stiffness[k].values);
     ws.damping_scatter.emplace_back(ws.damping[k], ws.A);
   }
   ws.block_inverse.resize(static_cast<std::size_t>(n));
@@ -213,6 +220,13 @@ void assemble(const Body& body, const std::vector<Force*>& forces, Contacts& k, 
     ws.A.set_zero();
     ws.A.add_to_diagonal(body.mass);
     for (std::size_t f = 0; f < forces.size(); ++f) {
+      if (ws.stiffness_by_ranges[f]) {
+        const Force& force = *forces[f];
+        ws.stiffness_scatter[f].add_upper(
+            [&force](std::size_t begin, std::size_t end, double* values) { force.stiffness_range(begin, end, values); },
+            h * h, ws.A);
+        continue;
+      }
       forces[f]->stiffness_matrices(ws.stiffness[f]);
       ws.stiffness_scatter[f].add_upper(ws.stiffness[f], h * h, ws.A);
     }

@@ -29,6 +29,7 @@ constexpr std::size_t kGrain = 256;  // tets per task: a tet's blocks cost a few
 // Tets per call of the SIMD kernel (tet_upper_blocks_batch), their inputs in buffers on the stack
 // (17 KB; nothing allocated per Newton iteration).
 constexpr std::size_t kChunk = 64;
+constexpr std::size_t kUpperStride = 90;  // numbers of a tet in the Upper form (element_matrices.hpp)
 
 // The element matrices in the given form: Upper (element_blocks' blocks, 90 numbers a tet), or
 // Dense where a fiber term is added to the whole matrix.
@@ -49,25 +50,34 @@ ElementRest element_rest(const TetRest& rest, const PlasticState& plastic, bool 
   const Mat3& Fp_inv = plastic.Fp_inv[e];
   return {shape_gradients<3>(Mat3(rest.Dm_inv[e] * Fp_inv)), rest.volume[e] * plastic_volume_factor(Fp_inv)};
 }
-// Every tet's Upper-form blocks (element_blocks' bits) through the SIMD kernel, kChunk tets a call:
-// hessian(e) is tet e's DiagonalSpaceHessian in the frame of diag[e].
+// Tets [begin, end)'s Upper-form blocks (element_blocks' bits) through the SIMD kernel, kChunk tets
+// a call, into out (90 numbers a tet, tet begin's first): hessian(e) is tet e's DiagonalSpaceHessian
+// in the frame of diag[e].
 template <class Hessian>
 void write_upper(const TetRest& rest, const PlasticState& plastic, bool identity,
-                 const std::vector<Diagonalization3>& diag, const Hessian& hessian, ElementMatrices& out) {
-  const std::size_t m = diag.size();
-  parallel_for_ranges(m, kChunk, [&](std::size_t e0, std::size_t end) {
-    const std::size_t count = end - e0;
-    std::array<double, kChunk * kHessianEntries> h;
-    std::array<Mat34, kChunk> beta;
-    std::array<double, kChunk> scale;
+                 const std::vector<Diagonalization3>& diag, const Hessian& hessian, std::size_t begin,
+                 std::size_t end, double* out) {
+  std::array<double, kChunk * kHessianEntries> h;
+  std::array<Mat34, kChunk> beta;
+  std::array<double, kChunk> scale;
+  for (std::size_t e0 = begin; e0 < end; e0 += kChunk) {
+    const std::size_t count = std::min(kChunk, end - e0);
     for (std::size_t j = 0; j < count; ++j) {
       flatten(hessian(e0 + j), h.data() + kHessianEntries * j);
       const ElementRest r = element_rest(rest, plastic, identity, e0 + j);
       beta[j] = r.beta;
       scale[j] = r.volume;
     }
-    tet_upper_blocks_batch(count, h.data(), &diag[e0], beta.data(), scale.data(), out.nodes.data() + 4 * e0,
-                           out.values.data() + static_cast<std::size_t>(out.stride()) * e0);
+    tet_upper_blocks_batch(count, h.data(), &diag[e0], beta.data(), scale.data(), rest.tets.data() + 4 * e0,
+                           out + kUpperStride * (e0 - begin));
+  }
+}
+// Every tet's, in parallel, into out's values.
+template <class Hessian>
+void write_upper(const TetRest& rest, const PlasticState& plastic, bool identity,
+                 const std::vector<Diagonalization3>& diag, const Hessian& hessian, ElementMatrices& out) {
+  parallel_for_ranges(diag.size(), kChunk, [&](std::size_t e0, std::size_t end) {
+    write_upper(rest, plastic, identity, diag, hessian, e0, end, out.values.data() + kUpperStride * e0);
   }, kGrain / kChunk);
 }
 }  // namespace
@@ -99,6 +109,19 @@ bool TetSolidForce::stiffness_matrices(ElementMatrices& out) const {
         });
       },
       model);
+  return true;
+}
+
+bool TetSolidForce::stiffness_range(std::size_t begin, std::size_t end, double* out) const {
+  if (material_.fiber) return false;
+  if (begin == end) return true;
+  std::visit(
+      [&](const auto& mdl) {
+        write_upper(rest_, plastic_, plastic_identity_, diag_, [&](std::size_t e) {
+          return diagonal_space_hessian(mdl, diag_[e].sigma, /*project_psd=*/true);
+        }, begin, end, out);
+      },
+      with_strength(material_.model, strength_));
   return true;
 }
 

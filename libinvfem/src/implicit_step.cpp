@@ -49,15 +49,18 @@ void prepare(ImplicitWorkspace& ws, const Body& body, const std::vector<Force*>&
   ws.stiffness_scatter.clear();
   ws.damping_scatter.clear();
   ws.stiffness_by_ranges.assign(nf, false);
+  ws.damping_by_ranges.assign(nf, false);
+  // A force that forms its matrices by ranges has them added as they are formed (the in-order plan):
+  // its whole set is never held (the node lists stay, the values go).
+  auto plan = [&](ElementMatrices& em, bool ranges, std::vector<ElementScatter>& scatter) {
+    ranges = ranges && em.form == ElementMatrices::Form::Upper;
+    scatter.emplace_back(em, ws.A, ranges ? ElementScatter::Plan::InOrder : ElementScatter::Plan::Gather);
+    if (ranges) std::vector<double>().swap(em.values);
+    return ranges;
+  };
   for (std::size_t k = 0; k < nf; ++k) {
-    // A force that forms its stiffness by ranges has it added as it is formed (the in-order plan):
-    // its whole set is never held (the node lists stay, the values go).
-    const bool ranges = ws.stiffness[k].form == ElementMatrices::Form::Upper && forces[k]->stiffness_range(0, 0, nullptr);
-    ws.stiffness_by_ranges[k] = ranges;
-    ws.stiffness_scatter.emplace_back(ws.stiffness[k], ws.A,
-                                      ranges ? ElementScatter::Plan::InOrder : ElementScatter::Plan::Gather);
-    if (ranges) std::vector<double>().swap(ws.stiffness[k].values);
-    ws.damping_scatter.emplace_back(ws.damping[k], ws.A);
+    ws.stiffness_by_ranges[k] = plan(ws.stiffness[k], forces[k]->stiffness_range(0, 0, nullptr), ws.stiffness_scatter);
+    ws.damping_by_ranges[k] = plan(ws.damping[k], forces[k]->damping_range(0, 0, nullptr), ws.damping_scatter);
   }
   ws.block_inverse.resize(static_cast<std::size_t>(n));
   ws.direct = FilteredDirectSolver{};  // a new pattern: analyzed again at its first direct solve
@@ -507,9 +510,17 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   // The damping matrix C at x(n) (the forces are evaluated there: the stepper's precondition).
   ws.C.set_zero();
   for (std::size_t k = 0; k < forces.size(); ++k) {
+    if (ws.damping_by_ranges[k]) {
+      const Force& force = *forces[k];
+      ws.damping_scatter[k].add_upper(
+          [&force](std::size_t begin, std::size_t end, double* values) { force.damping_range(begin, end, values); }, 1.0,
+          ws.C);
+      continue;
+    }
     forces[k]->damping_matrices(ws.damping[k]);
-    ws.damping_scatter[k].add(ws.damping[k], 1.0, ws.C);
+    ws.damping_scatter[k].add_upper(ws.damping[k], 1.0, ws.C);
   }
+  ws.C.mirror_lower();
 
   // Pinned nodes land on their targets; the Newton increments keep every constrained component
   // fixed (the same filter as the constraints, with zero values).

@@ -80,6 +80,21 @@ void write_upper(const TetRest& rest, const PlasticState& plastic, bool identity
     write_upper(rest, plastic, identity, diag, hessian, e0, end, out.values.data() + kUpperStride * e0);
   }, kGrain / kChunk);
 }
+// write(derivative) with derivative(e) the damping model's dP_d/dFe_dot of tet e in its diagonal
+// frame (rotated_damping.hpp: the same for every tet; spin_free_damping.hpp: at its singular values).
+template <class Write>
+void with_damping_derivative(const TetMaterial& material, double strength, const std::vector<Diagonalization3>& diag,
+                             const Write& write) {
+  const IsotropicModel model = with_strength(material.model, strength);
+  const auto [mu, lambda] = std::visit([](const auto& m) { return std::pair(m.mu, m.lambda); }, model);
+  const RotatedDamping damping{material.damping * lambda, material.damping * mu};
+  if (material.damping_model == DampingModel::SpinFree) {
+    write([&](std::size_t e) { return spin_free_damping_diagonal_space_derivative(damping, diag[e].sigma); });
+    return;
+  }
+  const DiagonalSpaceHessian rotated = damping_diagonal_space_derivative(damping);
+  write([&](std::size_t) { return rotated; });
+}
 }  // namespace
 
 bool TetSolidForce::stiffness_matrices(ElementMatrices& out) const {
@@ -126,19 +141,23 @@ bool TetSolidForce::stiffness_range(std::size_t begin, std::size_t end, double* 
 }
 
 bool TetSolidForce::damping_matrices(ElementMatrices& out) const {
-  if (material_.damping <= 0 || strength_ <= 0) {
+  if (material_.damping <= 0) {
     out.resize(0, 4);
     return true;
   }
+  // At strength 0 every C_e is zero, still written: the set stays the same from call to call.
   set_nodes(rest_.tets, ElementMatrices::Form::Upper, out);
-  const IsotropicModel model = with_strength(material_.model, strength_);
-  const auto [mu, lambda] = std::visit([](const auto& m) { return std::pair(m.mu, m.lambda); }, model);
-  const RotatedDamping damping{material_.damping * lambda, material_.damping * mu};
-  const DiagonalSpaceHessian rotated = damping_diagonal_space_derivative(damping);
-  const bool spin_free = material_.damping_model == DampingModel::SpinFree;
-  write_upper(rest_, plastic_, plastic_identity_, diag_, [&](std::size_t e) {
-    return spin_free ? spin_free_damping_diagonal_space_derivative(damping, diag_[e].sigma) : rotated;
-  }, out);
+  with_damping_derivative(material_, strength_, diag_, [&](const auto& derivative) {
+    write_upper(rest_, plastic_, plastic_identity_, diag_, derivative, out);
+  });
+  return true;
+}
+
+bool TetSolidForce::damping_range(std::size_t begin, std::size_t end, double* out) const {
+  if (material_.damping <= 0) return false;
+  with_damping_derivative(material_, strength_, diag_, [&](const auto& derivative) {
+    write_upper(rest_, plastic_, plastic_identity_, diag_, derivative, begin, end, out);
+  });
   return true;
 }
 

@@ -3,8 +3,8 @@
 //  - the same matrix as the gather up to rounding, the lower triangle the exact transpose;
 //  - ranges formed and added as they come give the bits of the whole set added in order, with 1
 //    and 2 threads, each range once and at most kRange long;
-//  - a tet solid's stiffness_range writes the numbers of stiffness_matrices; a fiber (Dense form)
-//    forms no ranges;
+//  - a tet solid's stiffness_range and damping_range write the numbers of stiffness_matrices and
+//    damping_matrices (whose set stays at strength 0); a fiber (Dense form) forms no ranges;
 //  - the plan refuses element matrices not in the Upper form, and ranges on a gather plan.
 #include <gtest/gtest.h>
 
@@ -107,7 +107,7 @@ TEST(ElementScatter, RangesFormedAsTheyAreAddedGiveTheBitsOfTheWholeSet) {
   }
 }
 
-TEST(ElementScatter, TetStiffnessRangeWritesTheWholeSetsNumbers) {
+TEST(ElementScatter, TetRangesWriteTheWholeSetsNumbers) {
   const Block block;
   const ElementMatrices K = block.stiffness();
   EXPECT_TRUE(block.force.stiffness_range(0, 0, nullptr));
@@ -115,6 +115,29 @@ TEST(ElementScatter, TetStiffnessRangeWritesTheWholeSetsNumbers) {
   std::vector<double> values((end - begin) * stride);
   ASSERT_TRUE(block.force.stiffness_range(begin, end, values.data()));
   EXPECT_TRUE(std::equal(values.begin(), values.end(), K.values.begin() + static_cast<std::ptrdiff_t>(begin * stride)));
+
+  // The damping's ranges, spin-free (per-tet derivatives) and rotated; none without damping.
+  EXPECT_FALSE(block.force.damping_range(0, 0, nullptr));
+  for (const DampingModel model : {DampingModel::SpinFree, DampingModel::Rotated}) {
+    TetMaterial damped{NeoHookean{4e5, 6e5}};
+    damped.damping = 0.01;
+    damped.damping_model = model;
+    TetSolidForce force(make_tet_rest(block.mesh.X, block.mesh.T), damped);
+    force.update_positions(block.x, 0);
+    ElementMatrices C;
+    ASSERT_TRUE(force.damping_matrices(C));
+    ASSERT_EQ(C.count(), K.count());
+    ASSERT_TRUE(force.damping_range(begin, end, values.data()));
+    EXPECT_TRUE(std::equal(values.begin(), values.end(), C.values.begin() + static_cast<std::ptrdiff_t>(begin * stride)));
+    EXPECT_GT(*std::max_element(values.begin(), values.end()), 0);
+    // At strength 0 the set stays (the in-order plan was built for it), every C_e zero.
+    damped.strength = ScalarTrack::constant(0.0);
+    TetSolidForce limp(make_tet_rest(block.mesh.X, block.mesh.T), damped);
+    limp.update_positions(block.x, 0);
+    ASSERT_TRUE(limp.damping_matrices(C));
+    EXPECT_EQ(C.count(), K.count());
+    EXPECT_TRUE(std::all_of(C.values.begin(), C.values.end(), [](double v) { return v == 0; }));
+  }
 
   // A fiber needs the Dense form: no ranges.
   TetMaterial fibered{NeoHookean{4e5, 6e5}};

@@ -79,6 +79,8 @@ class Force {
   // (ElementScatter::add_upper with a Compute); called in parallel for disjoint ranges. False
   // where the force forms only its whole set, or not in the Upper form (an empty range asks).
   virtual bool stiffness_range(std::size_t begin, std::size_t end, double* out) const { return false; }
+  // The same for damping_matrices' set (which must then be the same from call to call).
+  virtual bool damping_range(std::size_t begin, std::size_t end, double* out) const { return false; }
   virtual bool damping_matrices(ElementMatrices& out) const { return false; }
 
   // State that is not a function of the positions (plastic Fp, plastic rest angles), for

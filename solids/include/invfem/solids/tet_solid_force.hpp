@@ -65,11 +65,14 @@ class TetSolidForce final : public Force {
   void add_elastic_forces(Points& f) const override;
   void add_damping_forces(const Points& v, Points& f) const override;
   // 12x12 per tet (tet_solid_stiffness.cpp): K_e from the clamped diagonal-space dP/dF on the
-  // plastic rest shape, plus the fiber's; C_e of the damping model. Zero elements without damping.
+  // plastic rest shape, plus the fiber's; C_e of the damping model. Zero elements without damping
+  // (material damping 0; at strength 0 zero matrices).
   bool stiffness_matrices(ElementMatrices& out) const override;
   // Without a fiber (whose term needs the Dense form): the Upper-form K_e of tets [begin, end).
   bool stiffness_range(std::size_t begin, std::size_t end, double* out) const override;
   bool damping_matrices(ElementMatrices& out) const override;
+  // With damping: the Upper-form C_e of tets [begin, end) (zero at strength 0).
+  bool damping_range(std::size_t begin, std::size_t end, double* out) const override;
   // sum_e V0 (det(Fp) Psi(Fe) + Psi_f(|F a|)) at the last update.
   double elastic_energy() const override;
   // Gershgorin bound on the current plastic rest shape (see the .cpp), fiber stiffness included.

@@ -15,6 +15,7 @@
 
 namespace invfem {
 
+using simd::gather_lanes;
 using simd::kLanes;
 using simd::Pack;
 using simd::sum_a_bc;
@@ -29,23 +30,29 @@ void tet_upper_blocks_batch(std::size_t n, const double* h, const Diagonalizatio
   for (std::size_t i0 = 0; i0 < n; i0 += kLanes) {
     const int count = static_cast<int>(std::min<std::size_t>(kLanes, n - i0));
     // Into lanes (padding repeats the last element; dropped): column-major indices r + 3 c.
-    Pack U[9], V[9], B[12], D[9], P[3][4], s;
+    // (gather_lanes: built in registers, not lane by lane through memory.)
+    const double *u[kLanes], *v[kLanes], *hi[kLanes], *bt[kLanes], *sc[kLanes];
     using Ints = std::int64_t __attribute__((vector_size(kLanes * sizeof(double))));
     Ints node[4];
     for (int l = 0; l < kLanes; ++l) {
       const std::size_t i = i0 + static_cast<std::size_t>(std::min(l, count - 1));
-      const double *u = d[i].U.data(), *v = d[i].V.data(), *hi = h + kHessianEntries * i, *b = beta[i].data();
-      for (int q = 0; q < 9; ++q) {
-        U[q][l] = u[q];
-        V[q][l] = v[q];
-        D[q][l] = hi[q];
-      }
-      for (int q = 0; q < 12; ++q) B[q][l] = b[q];
-      for (int p = 0; p < 3; ++p)
-        for (int q = 0; q < 4; ++q) P[p][q][l] = hi[9 + 4 * p + q];
-      s[l] = scale[i];
+      u[l] = d[i].U.data();
+      v[l] = d[i].V.data();
+      hi[l] = h + kHessianEntries * i;
+      bt[l] = beta[i].data();
+      sc[l] = scale + i;
       for (int k = 0; k < 4; ++k) node[k][l] = nodes[4 * i + static_cast<std::size_t>(k)];
     }
+    Pack U[9], V[9], B[12], D[9], P[3][4];
+    for (int q = 0; q < 9; ++q) {
+      U[q] = gather_lanes(u, q);
+      V[q] = gather_lanes(v, q);
+      D[q] = gather_lanes(hi, q);
+    }
+    for (int q = 0; q < 12; ++q) B[q] = gather_lanes(bt, q);
+    for (int p = 0; p < 3; ++p)
+      for (int q = 0; q < 4; ++q) P[p][q] = gather_lanes(hi, 9 + 4 * p + q);
+    const Pack s = gather_lanes(sc, 0);
     // b = V^T beta (3x4): column k is node k's shape gradient in V's frame.
     Pack b[3][4];
     for (int k = 0; k < 4; ++k)
@@ -84,11 +91,18 @@ void tet_upper_blocks_batch(std::size_t n, const double* h, const Diagonalizatio
             for (int r = 0; r < 3; ++r) blocks[slot][r + 3 * c] = keep ? K[r + 3 * c] : K[c + 3 * r];
         }
       }
-    for (int l = 0; l < count; ++l) {
-      double* o = out + (i0 + static_cast<std::size_t>(l)) * kStride;
-      for (int q = 0; q < 10; ++q)
-        for (int e = 0; e < 9; ++e) o[9 * q + e] = blocks[q][e][l];
+    // Out per tet: kLanes consecutive numbers of the packed order at a time, transposed in
+    // registers so that row l holds tet l's (90 scalar stores a tet were a third of this kernel).
+    const Pack* flat = &blocks[0][0];  // the 90 numbers in packed order
+    int k = 0;
+    for (; k + kLanes <= kStride; k += kLanes) {
+      Pack rows[kLanes];
+      for (int i = 0; i < kLanes; ++i) rows[i] = flat[k + i];
+      simd::transpose(rows);
+      for (int l = 0; l < count; ++l) simd::store_pack(out + (i0 + static_cast<std::size_t>(l)) * kStride + k, rows[l]);
     }
+    for (; k < kStride; ++k)
+      for (int l = 0; l < count; ++l) out[(i0 + static_cast<std::size_t>(l)) * kStride + k] = flat[k][l];
   }
 }
 

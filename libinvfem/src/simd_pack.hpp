@@ -97,6 +97,35 @@ inline Pack gather_lanes(const double* const* rows, int k) {
   return gather_lanes(rows, k, std::make_index_sequence<kLanes>{});
 }
 
+// The kLanes x kLanes transpose of r (r[i][l] -> r[l][i]), in registers: log2(kLanes) rounds,
+// each interleaving rows i and i + W (i / W even) W lanes at a time (unpcklpd and vpermt2pd).
+// For a kernel whose lanes are elements writing per-element records: kLanes consecutive entries of
+// the records, one per row, come out as one row per element, stored as one vector each instead of
+// kLanes scalars each.
+template <int W, std::size_t... J>
+constexpr Mask interleave_mask(bool high, std::index_sequence<J...>) {
+  // Lane j of the result, in group g = j / 2W at offset o = j % 2W: row i's lane g 2W + o for
+  // o < W, else row i + W's lane g 2W + o - W (index kLanes + that); the high half W lanes on.
+  return Mask{static_cast<std::int64_t>((J % (2 * W) < W ? 0 : kLanes - W) + (J / (2 * W)) * 2 * W + J % (2 * W) +
+                                        (high ? W : 0))...};
+}
+template <int W> inline void transpose_round(Pack (&r)[kLanes]) {
+  constexpr Mask lo = interleave_mask<W>(false, std::make_index_sequence<kLanes>{});
+  constexpr Mask hi = interleave_mask<W>(true, std::make_index_sequence<kLanes>{});
+  for (int i = 0; i < kLanes; ++i)
+    if ((i / W) % 2 == 0) {
+      const Pack a = r[i], b = r[i + W];
+      r[i] = __builtin_shuffle(a, b, lo);
+      r[i + W] = __builtin_shuffle(a, b, hi);
+    }
+}
+inline void transpose(Pack (&r)[kLanes]) {
+  transpose_round<1>(r);
+  if constexpr (kLanes > 2) transpose_round<2>(r);
+  if constexpr (kLanes > 4) transpose_round<4>(r);
+  static_assert(kLanes <= 8, "transpose: two, four or eight lanes");
+}
+
 // A sum of three terms in each of the two orders Eigen's SSE2 code uses (per kernel file comment:
 // a 3x3 product's rows 0 and 1 as a packet, (a + b) + c; row 2 by scalar reduction, a + (b + c)).
 // For any vector type of the kernels (Pack, or a 4-wide vector of a block's rows).

@@ -150,6 +150,7 @@ void ElementScatter::add_upper(const ElementMatrices& em, double w, BlockSparseM
 void ElementScatter::add_upper(const Compute& compute, double w, BlockSparseMatrix& A) {
   if (plan_ != Plan::InOrder)
     throw std::logic_error("element scatter: element matrices formed by ranges need the in-order plan");
+  if (slots_.empty()) return;  // no elements
   const std::size_t m = slots_.size() / static_cast<std::size_t>(pairs_per_element_);
   const std::size_t range_values = kRange * 9 * static_cast<std::size_t>(pairs_per_element_);
   parallel_ranges_in_order(

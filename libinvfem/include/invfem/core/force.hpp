@@ -74,14 +74,13 @@ class Force {
   // in v). The node lists stay the same from call to call. A force with no such term writes zero
   // elements and returns true; false means the force cannot give them (no implicit integration).
   virtual bool stiffness_matrices(ElementMatrices& out) const { return false; }
-  // The same stiffness for elements [begin, end) of that set only, written to out (out.stride()
+  virtual bool damping_matrices(ElementMatrices& out) const { return false; }
+  // The same matrices for elements [begin, end) of those sets only, written to out (stride()
   // numbers each, element begin's first), for an assembly that adds them as they are formed
   // (ElementScatter::add_upper with a Compute); called in parallel for disjoint ranges. False
   // where the force forms only its whole set, or not in the Upper form (an empty range asks).
   virtual bool stiffness_range(std::size_t begin, std::size_t end, double* out) const { return false; }
-  // The same for damping_matrices' set (which must then be the same from call to call).
   virtual bool damping_range(std::size_t begin, std::size_t end, double* out) const { return false; }
-  virtual bool damping_matrices(ElementMatrices& out) const { return false; }
 
   // State that is not a function of the positions (plastic Fp, plastic rest angles), for
   // checkpoints. save_state is called right after an update_positions(x); restore_state reads

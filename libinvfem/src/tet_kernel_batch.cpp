@@ -85,6 +85,11 @@ void tet_diagonalize_batch(const TetRest& rest, const Points& x, std::size_t fir
                      F[6] * (F[1] * F[5] - F[4] * F[2]);
       store_pack(&det[j0], d);
     }
+    // The block's records in diag (168 bytes each) are written right after the SVD: ask for their
+    // lines now, so that their reads for ownership overlap the SVD instead of stalling the stores.
+    for (const char *p = reinterpret_cast<const char*>(diag + i0), *end = reinterpret_cast<const char*>(diag + i0 + count);
+         p < end; p += 64)
+      __builtin_prefetch(p, 1);
     simd::check_finite(in, count, first + i0, "tet forces");
     simd::diagonalize_block(in, res);
     simd::store_results(res, count, diag + i0, first + i0, "tet forces");
@@ -94,6 +99,10 @@ void tet_diagonalize_batch(const TetRest& rest, const Points& x, std::size_t fir
 
 void tet_forces_batch(const TetRest& rest, std::size_t first, std::size_t n, const Diagonalization3* diag,
                       const Vec3* p_hat, Mat3* G) {
+  // G's lines (72 bytes a tet), asked for before the loop writes them (as diag's in
+  // tet_diagonalize_batch).
+  for (const char *p = reinterpret_cast<const char*>(G), *end = reinterpret_cast<const char*>(G + n); p < end; p += 64)
+    __builtin_prefetch(p, 1);
   for (std::size_t i0 = 0; i0 < n; i0 += kLanes) {
     const int count = static_cast<int>(std::min<std::size_t>(kLanes, n - i0));
     const double *u[kLanes], *v[kLanes], *d[kLanes], *ph[kLanes], *vol[kLanes];

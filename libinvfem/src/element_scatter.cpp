@@ -123,28 +123,21 @@ void ElementScatter::add_in_order(const double* values, std::size_t begin, std::
   }
 }
 
-void ElementScatter::check(const ElementMatrices& em) const {
+void ElementScatter::add(const ElementMatrices& em, double w, BlockSparseMatrix& A) const { add_set(em, w, A, true); }
+
+void ElementScatter::add_upper(const ElementMatrices& em, double w, BlockSparseMatrix& A) const {
+  add_set(em, w, A, false);
+}
+
+void ElementScatter::add_set(const ElementMatrices& em, double w, BlockSparseMatrix& A, bool write_lower) const {
   if (em.form != form_ || em.size() != stride_ ||
       (plan_ == Plan::InOrder && slots_.size() != static_cast<std::size_t>(em.count() * pairs_per_element_)))
     throw std::logic_error("element scatter: the element matrices changed form, arity or count since the scatter was built");
-}
-
-void ElementScatter::add(const ElementMatrices& em, double w, BlockSparseMatrix& A) const {
-  check(em);
   if (plan_ == Plan::InOrder) {
-    add_in_order(em.values.data(), 0, static_cast<std::size_t>(em.count()), w, A, true);
+    add_in_order(em.values.data(), 0, static_cast<std::size_t>(em.count()), w, A, write_lower);
     return;
   }
-  gather(em, w, A, true);
-}
-
-void ElementScatter::add_upper(const ElementMatrices& em, double w, BlockSparseMatrix& A) const {
-  check(em);
-  if (plan_ == Plan::InOrder) {
-    add_in_order(em.values.data(), 0, static_cast<std::size_t>(em.count()), w, A, false);
-    return;
-  }
-  gather(em, w, A, false);
+  gather(em, w, A, write_lower);
 }
 
 void ElementScatter::add_upper(const Compute& compute, double w, BlockSparseMatrix& A) {

@@ -97,7 +97,8 @@ class ElementScatter {
   void add_upper(const Compute& compute, double w, BlockSparseMatrix& A);
 
  private:
-  void check(const ElementMatrices& elements) const;
+  // add and add_upper: checks that the set is the plan's, then the plan's way.
+  void add_set(const ElementMatrices& elements, double w, BlockSparseMatrix& A, bool write_lower) const;
   void gather(const ElementMatrices& elements, double w, BlockSparseMatrix& A, bool write_lower) const;
   void build_in_order(const ElementMatrices& elements, const BlockSparseMatrix& A);
   // Elements [begin, end), values holding their packed blocks from element begin on.

@@ -14,6 +14,8 @@
 
 #include <algorithm>
 #include <array>
+#include <stdexcept>
+#include <string>
 
 #include "invfem/core/elasticity.hpp"
 #include "invfem/core/element_matrices.hpp"
@@ -80,6 +82,12 @@ void write_upper(const TetRest& rest, const PlasticState& plastic, bool identity
     write_upper(rest, plastic, identity, diag, hessian, e0, end, out.values.data() + kUpperStride * e0);
   }, kGrain / kChunk);
 }
+// A range of the caller's plan that is not one of this solid's (a plan built for another mesh).
+void check_range(std::size_t begin, std::size_t end, std::size_t m) {
+  if (begin > end || end > m)
+    throw std::logic_error("tet solid: element matrices asked for tets [" + std::to_string(begin) + ", " +
+                           std::to_string(end) + ") of " + std::to_string(m));
+}
 // write(derivative) with derivative(e) the damping model's dP_d/dFe_dot of tet e in its diagonal
 // frame (rotated_damping.hpp: the same for every tet; spin_free_damping.hpp: at its singular values).
 template <class Write>
@@ -129,6 +137,7 @@ bool TetSolidForce::stiffness_matrices(ElementMatrices& out) const {
 
 bool TetSolidForce::stiffness_range(std::size_t begin, std::size_t end, double* out) const {
   if (material_.fiber) return false;
+  check_range(begin, end, diag_.size());
   if (begin == end) return true;
   std::visit(
       [&](const auto& mdl) {
@@ -155,6 +164,7 @@ bool TetSolidForce::damping_matrices(ElementMatrices& out) const {
 
 bool TetSolidForce::damping_range(std::size_t begin, std::size_t end, double* out) const {
   if (material_.damping <= 0) return false;
+  check_range(begin, end, diag_.size());
   with_damping_derivative(material_, strength_, diag_, [&](const auto& derivative) {
     write_upper(rest_, plastic_, plastic_identity_, diag_, derivative, begin, end, out);
   });

@@ -115,6 +115,9 @@ TEST(ElementScatter, TetRangesWriteTheWholeSetsNumbers) {
   std::vector<double> values((end - begin) * stride);
   ASSERT_TRUE(block.force.stiffness_range(begin, end, values.data()));
   EXPECT_TRUE(std::equal(values.begin(), values.end(), K.values.begin() + static_cast<std::ptrdiff_t>(begin * stride)));
+  // A range past the solid's tets (a plan built for another mesh) is refused before anything is written.
+  const auto m = static_cast<std::size_t>(K.count());
+  EXPECT_THROW(block.force.stiffness_range(m - 10, m + 1, values.data()), std::logic_error);
 
   // The damping's ranges, spin-free (per-tet derivatives) and rotated; none without damping.
   EXPECT_FALSE(block.force.damping_range(0, 0, nullptr));
@@ -130,6 +133,7 @@ TEST(ElementScatter, TetRangesWriteTheWholeSetsNumbers) {
     ASSERT_TRUE(force.damping_range(begin, end, values.data()));
     EXPECT_TRUE(std::equal(values.begin(), values.end(), C.values.begin() + static_cast<std::ptrdiff_t>(begin * stride)));
     EXPECT_GT(*std::max_element(values.begin(), values.end()), 0);
+    EXPECT_THROW(force.damping_range(m, m + 1, values.data()), std::logic_error);
     // At strength 0 the set stays (the in-order plan was built for it), every C_e zero.
     damped.strength = ScalarTrack::constant(0.0);
     TetSolidForce limp(make_tet_rest(block.mesh.X, block.mesh.T), damped);

@@ -9,6 +9,22 @@ set -uo pipefail
 invfem="$1" scene="$2" work="$3"
 source "$(dirname "$0")/lib.sh"
 cli_setup
+# resume_matches LABEL REFERENCE RESUMED FRAME RUN...: `RUN... --out RESUMED --resume` resumes from
+# the checkpoint of FRAME and writes REFERENCE's frames and energies, bit for bit; else FAIL, fail=1.
+resume_matches() {
+  local label="$1" reference="$2" resumed="$3" frame="$4"
+  shift 4
+  local out
+  out=$("$@" --out "$resumed" --resume 2>&1) || { echo "FAIL: $label: the resumed run failed: $out"; fail=1; }
+  if ! grep -qF "resuming from the checkpoint of frame $frame" <<<"$out"; then
+    echo "FAIL: $label: no resume from frame $frame: $out"
+    fail=1
+  fi
+  if ! diff -r -q "$reference/frames" "$resumed/frames" || ! cmp -s "$reference/energies.csv" "$resumed/energies.csv"; then
+    echo "FAIL: $label: the resumed frames differ from the uninterrupted run"
+    fail=1
+  fi
+}
 run() { "$invfem" run "$scene" --quick --set frames=12 --threads 1 --checkpoint-every 3 --format obj,vtu,usd "$@"; }
 run --out "$work/reference" > "$work/reference.log" 2>&1 || { echo "FAIL: the reference run failed"; exit 1; }
 cells=$(grep -o 'NumberOfCells="[0-9]*"' "$work/reference/frames/slab/0012.vtu")
@@ -21,13 +37,7 @@ fi
 cp -r "$work/reference" "$work/resumed"
 rm "$work/resumed/checkpoints/0009.ckpt" "$work/resumed/checkpoints/0012.ckpt"
 rm "$work/resumed/frames/slab/"00{07,08,09,10,11,12}.*
-out=$(run --out "$work/resumed" --resume 2>&1) || { echo "FAIL: the resumed run failed: $out"; fail=1; }
-if ! grep -qF "resuming from the checkpoint of frame 6" <<<"$out"; then echo "FAIL: no resume from frame 6: $out"; fail=1; fi
-if ! diff -r -q "$work/reference/frames" "$work/resumed/frames" ||
-   ! cmp -s "$work/reference/energies.csv" "$work/resumed/energies.csv"; then
-  echo "FAIL: the resumed frames differ from the uninterrupted run"
-  fail=1
-fi
+resume_matches itf04 "$work/reference" "$work/resumed" 6 run
 # The implicit integrator keeps per-node state between steps (lagged contact forces, the last
 # accelerations): a checkpoint of a frame whose last step tore (frame 2) must hold it for the new
 # nodes, or none, and resume to the same bits (it was refused: "contact forces for another number
@@ -36,12 +46,6 @@ run_implicit() { "$invfem" run "$scene" --quick --set frames=4 --set solver.inte
 run_implicit --out "$work/implicit" > "$work/implicit.log" 2>&1 || { echo "FAIL: the implicit reference run failed"; exit 1; }
 cp -r "$work/implicit" "$work/implicit_resumed"
 rm "$work/implicit_resumed/checkpoints/"000{3,4}.ckpt "$work/implicit_resumed/frames/slab/"000{3,4}.*
-out=$(run_implicit --out "$work/implicit_resumed" --resume 2>&1) || { echo "FAIL: the implicit resumed run failed: $out"; fail=1; }
-if ! grep -qF "resuming from the checkpoint of frame 2" <<<"$out"; then echo "FAIL: implicit: no resume from frame 2: $out"; fail=1; fi
-if ! diff -r -q "$work/implicit/frames" "$work/implicit_resumed/frames" ||
-   ! cmp -s "$work/implicit/energies.csv" "$work/implicit_resumed/energies.csv"; then
-  echo "FAIL: the implicit resumed frames differ from the uninterrupted run"
-  fail=1
-fi
+resume_matches implicit "$work/implicit" "$work/implicit_resumed" 2 run_implicit
 if [ "$fail" -ne 0 ]; then exit 1; fi
 echo "a run resumed after a fracture is bit-identical (ITF04 and implicit steps)"

@@ -48,19 +48,16 @@ void prepare(ImplicitWorkspace& ws, const Body& body, const std::vector<Force*>&
   ws.C = ws.A;
   ws.stiffness_scatter.clear();
   ws.damping_scatter.clear();
-  ws.stiffness_by_ranges.assign(nf, false);
-  ws.damping_by_ranges.assign(nf, false);
   // A force that forms its matrices by ranges has them added as they are formed (the in-order plan):
   // its whole set is never held (the node lists stay, the values go).
   auto plan = [&](ElementMatrices& em, bool ranges, std::vector<ElementScatter>& scatter) {
     ranges = ranges && em.form == ElementMatrices::Form::Upper;
     scatter.emplace_back(em, ws.A, ranges ? ElementScatter::Plan::InOrder : ElementScatter::Plan::Gather);
     if (ranges) std::vector<double>().swap(em.values);
-    return ranges;
   };
   for (std::size_t k = 0; k < nf; ++k) {
-    ws.stiffness_by_ranges[k] = plan(ws.stiffness[k], forces[k]->stiffness_range(0, 0, nullptr), ws.stiffness_scatter);
-    ws.damping_by_ranges[k] = plan(ws.damping[k], forces[k]->damping_range(0, 0, nullptr), ws.damping_scatter);
+    plan(ws.stiffness[k], forces[k]->stiffness_range(0, 0, nullptr), ws.stiffness_scatter);
+    plan(ws.damping[k], forces[k]->damping_range(0, 0, nullptr), ws.damping_scatter);
   }
   ws.block_inverse.resize(static_cast<std::size_t>(n));
   ws.direct = FilteredDirectSolver{};  // a new pattern: analyzed again at its first direct solve
@@ -223,7 +220,7 @@ void assemble(const Body& body, const std::vector<Force*>& forces, Contacts& k, 
     ws.A.set_zero();
     ws.A.add_to_diagonal(body.mass);
     for (std::size_t f = 0; f < forces.size(); ++f) {
-      if (ws.stiffness_by_ranges[f]) {
+      if (ws.stiffness_scatter[f].plan() == ElementScatter::Plan::InOrder) {
         const Force& force = *forces[f];
         ws.stiffness_scatter[f].add_upper(
             [&force](std::size_t begin, std::size_t end, double* values) { force.stiffness_range(begin, end, values); },
@@ -510,7 +507,7 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   // The damping matrix C at x(n) (the forces are evaluated there: the stepper's precondition).
   ws.C.set_zero();
   for (std::size_t k = 0; k < forces.size(); ++k) {
-    if (ws.damping_by_ranges[k]) {
+    if (ws.damping_scatter[k].plan() == ElementScatter::Plan::InOrder) {
       const Force& force = *forces[k];
       ws.damping_scatter[k].add_upper(
           [&force](std::size_t begin, std::size_t end, double* values) { force.damping_range(begin, end, values); }, 1.0,

@@ -95,6 +95,7 @@ class ElementScatter {
   // it is formed, in order (the element-order sum of add_upper, the same bits).
   using Compute = std::function<void(std::size_t begin, std::size_t end, double* values)>;
   void add_upper(const Compute& compute, double w, BlockSparseMatrix& A);
+  Plan plan() const { return plan_; }
 
  private:
   // add and add_upper: checks that the set is the plan's, then the plan's way.

@@ -97,10 +97,9 @@ struct ImplicitSettings {
 struct ImplicitWorkspace {
   bool ready = false;
   std::vector<ElementMatrices> stiffness, damping;  // per force
+  // Per force; an in-order plan means its matrices are formed by ranges (Force::stiffness_range,
+  // damping_range) and added as formed, the set's values not held.
   std::vector<ElementScatter> stiffness_scatter, damping_scatter;
-  // Per force: its stiffness (damping) formed by ranges (Force::stiffness_range, damping_range) and
-  // added by the in-order plan.
-  std::vector<bool> stiffness_by_ranges, damping_by_ranges;
   BlockSparseMatrix A;  // M + h^2 K + h C
   BlockSparseMatrix C;  // the damping matrix at x(n) (same pattern)
   std::vector<Mat3> block_inverse;  // the block-Jacobi preconditioner

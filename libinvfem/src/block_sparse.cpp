@@ -1,6 +1,7 @@
 #include "invfem/core/block_sparse.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -15,32 +16,68 @@ constexpr std::size_t kRowGrain = 1024;
 }  // namespace
 
 BlockSparseMatrix::BlockSparseMatrix(Eigen::Index n, const std::vector<const ElementMatrices*>& elements) {
-  // Neighbour lists per node, then sorted and deduplicated: the pattern is built once per body.
-  std::vector<std::vector<int>> adj(static_cast<std::size_t>(n));
-  for (Eigen::Index i = 0; i < n; ++i) adj[static_cast<std::size_t>(i)].push_back(static_cast<int>(i));
-  for (const ElementMatrices* em : elements)
-    for (Eigen::Index e = 0; e < em->count(); ++e)
-      for (int a = 0; a < em->arity; ++a) {
-        const int i = em->nodes(e, a);
+  // Each node's elements (incidence: 4 bytes a node of an element), then row i's columns are the
+  // nodes of node i's elements, sorted and deduplicated, counted in a first pass and written in a
+  // second. The transient is the incidence, not a list of every element block (a neighbour list of
+  // 16 ints a tet in per-node vectors was about 130 bytes a tet at its peak).
+  const auto un = static_cast<std::size_t>(n);
+  std::vector<std::size_t> incidence_start(un + 1, 0);
+  for (std::size_t set = 0; set < elements.size(); ++set) {
+    const ElementMatrices& em = *elements[set];
+    for (Eigen::Index e = 0; e < em.count(); ++e)
+      for (int a = 0; a < em.arity; ++a) {
+        const int i = em.nodes(e, a);
         if (i < 0 || i >= n)
           throw std::invalid_argument("block matrix: element " + std::to_string(e) + " names node " +
                                       std::to_string(i) + " outside [0, " + std::to_string(n) + ")");
-        for (int b = 0; b < em->arity; ++b) adj[static_cast<std::size_t>(i)].push_back(em->nodes(e, b));
+        ++incidence_start[static_cast<std::size_t>(i) + 1];
       }
-  row_start_.assign(static_cast<std::size_t>(n) + 1, 0);
-  diag_.assign(static_cast<std::size_t>(n), -1);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    auto& a = adj[static_cast<std::size_t>(i)];
-    std::sort(a.begin(), a.end());
-    a.erase(std::unique(a.begin(), a.end()), a.end());
-    row_start_[static_cast<std::size_t>(i) + 1] = row_start_[static_cast<std::size_t>(i)] + static_cast<int>(a.size());
   }
-  col_.reserve(static_cast<std::size_t>(row_start_.back()));
-  for (Eigen::Index i = 0; i < n; ++i)
-    for (int j : adj[static_cast<std::size_t>(i)]) {
-      if (j == i) diag_[static_cast<std::size_t>(i)] = static_cast<int>(col_.size());
-      col_.push_back(j);
+  for (std::size_t i = 0; i < un; ++i) incidence_start[i + 1] += incidence_start[i];
+  // An incidence is the element's index among all sets' elements (set by set).
+  std::vector<std::size_t> set_offset(elements.size() + 1, 0);
+  for (std::size_t set = 0; set < elements.size(); ++set)
+    set_offset[set + 1] = set_offset[set] + static_cast<std::size_t>(elements[set]->count());
+  if (set_offset.back() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw std::invalid_argument("block matrix: more than 2^31 elements");
+  std::vector<int> incidence(incidence_start[un]);
+  {
+    std::vector<std::size_t> fill(incidence_start.begin(), incidence_start.end() - 1);
+    for (std::size_t set = 0; set < elements.size(); ++set) {
+      const ElementMatrices& em = *elements[set];
+      for (Eigen::Index e = 0; e < em.count(); ++e)
+        for (int a = 0; a < em.arity; ++a)
+          incidence[fill[static_cast<std::size_t>(em.nodes(e, a))]++] =
+              static_cast<int>(set_offset[set] + static_cast<std::size_t>(e));
     }
+  }
+  // Row i's columns (node i itself and the nodes of its elements) into `row`, sorted, unique.
+  auto columns_of = [&](std::size_t i, std::vector<int>& row) {
+    row.assign(1, static_cast<int>(i));
+    for (std::size_t k = incidence_start[i]; k < incidence_start[i + 1]; ++k) {
+      const auto global = static_cast<std::size_t>(incidence[k]);
+      const std::size_t set = static_cast<std::size_t>(
+          std::upper_bound(set_offset.begin(), set_offset.end(), global) - set_offset.begin() - 1);
+      const ElementMatrices& em = *elements[set];
+      const auto e = static_cast<Eigen::Index>(global - set_offset[set]);
+      for (int b = 0; b < em.arity; ++b) row.push_back(em.nodes(e, b));
+    }
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+  };
+  row_start_.assign(un + 1, 0);
+  diag_.assign(un, -1);
+  std::vector<int> row;
+  for (std::size_t i = 0; i < un; ++i) {
+    columns_of(i, row);
+    row_start_[i + 1] = row_start_[i] + static_cast<int>(row.size());
+  }
+  col_.resize(static_cast<std::size_t>(row_start_.back()));
+  for (std::size_t i = 0; i < un; ++i) {
+    columns_of(i, row);
+    std::copy(row.begin(), row.end(), col_.begin() + row_start_[i]);
+    diag_[i] = row_start_[i] + static_cast<int>(std::lower_bound(row.begin(), row.end(), static_cast<int>(i)) - row.begin());
+  }
   blocks_.assign(col_.size(), Mat3::Zero());
   transpose_.assign(col_.size(), -1);
   for (int i = 0; i < static_cast<int>(n); ++i)

@@ -196,7 +196,7 @@ double EdgeSpringForce::stable_time_step(const Eigen::VectorXd& mass) const {
 }
 
 void EdgeSpringForce::set_nodes(ElementMatrices& out) const {
-  if (out.arity == 2 && out.count() == springs_.edges.rows()) return;
+  if (out.shaped(springs_.edges.rows(), 2, ElementMatrices::Form::Dense)) return;
   out.resize(springs_.edges.rows(), 2);
   out.nodes = springs_.edges;
 }

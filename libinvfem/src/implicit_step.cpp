@@ -32,33 +32,20 @@ bool debug_contacts() {
 
 // Builds the pattern of M + h^2 K + h C from every force's element lists (once per body).
 void prepare(ImplicitWorkspace& ws, const Body& body, const std::vector<Force*>& forces) {
-  const std::size_t nf = forces.size();
-  ws.stiffness.assign(nf, ElementMatrices{});
-  ws.damping.assign(nf, ElementMatrices{});
-  std::vector<const ElementMatrices*> all;
-  for (std::size_t k = 0; k < nf; ++k) {
-    if (!forces[k]->stiffness_matrices(ws.stiffness[k]) || !forces[k]->damping_matrices(ws.damping[k]))
+  ws.stiffness.learn(forces);
+  ws.damping.learn(forces);
+  for (std::size_t k = 0; k < forces.size(); ++k)
+    if (!ws.stiffness.given(k) || !ws.damping.given(k))
       throw std::invalid_argument("implicit integrator: force " + std::to_string(k) +
                                   " gives no stiffness or damping matrices; use solver.integrator \"itf04\"");
-    all.push_back(&ws.stiffness[k]);
-    all.push_back(&ws.damping[k]);
-  }
+  std::vector<const ElementMatrices*> all;
+  ws.stiffness.append_sets(all);
+  ws.damping.append_sets(all);
   const Eigen::Index n = body.x.rows();
   ws.A = BlockSparseMatrix(n, all);
   ws.C = ws.A;
-  ws.stiffness_scatter.clear();
-  ws.damping_scatter.clear();
-  // A force that forms its matrices by ranges has them added as they are formed (the in-order plan):
-  // its whole set is never held (the node lists stay, the values go).
-  auto plan = [&](ElementMatrices& em, bool ranges, std::vector<ElementScatter>& scatter) {
-    ranges = ranges && em.form == ElementMatrices::Form::Upper;
-    scatter.emplace_back(em, ws.A, ranges ? ElementScatter::Plan::InOrder : ElementScatter::Plan::Gather);
-    if (ranges) std::vector<double>().swap(em.values);
-  };
-  for (std::size_t k = 0; k < nf; ++k) {
-    plan(ws.stiffness[k], forces[k]->stiffness_range(0, 0, nullptr), ws.stiffness_scatter);
-    plan(ws.damping[k], forces[k]->damping_range(0, 0, nullptr), ws.damping_scatter);
-  }
+  ws.stiffness.plan(forces, ws.A);
+  ws.damping.plan(forces, ws.A);  // C has A's pattern
   ws.block_inverse.resize(static_cast<std::size_t>(n));
   ws.direct = FilteredDirectSolver{};  // a new pattern: analyzed again at its first direct solve
   for (Points* p : {&ws.x_hat, &ws.x_trial, &ws.grad, &ws.grad_trial, &ws.dir, &ws.rhs, &ws.scratch, &ws.product})
@@ -219,17 +206,7 @@ void assemble(const Body& body, const std::vector<Force*>& forces, Contacts& k, 
     // that adding each term to both triangles gave.
     ws.A.set_zero();
     ws.A.add_to_diagonal(body.mass);
-    for (std::size_t f = 0; f < forces.size(); ++f) {
-      if (ws.stiffness_scatter[f].plan() == ElementScatter::Plan::InOrder) {
-        const Force& force = *forces[f];
-        ws.stiffness_scatter[f].add_upper(
-            [&force](std::size_t begin, std::size_t end, double* values) { force.stiffness_range(begin, end, values); },
-            h * h, ws.A);
-        continue;
-      }
-      forces[f]->stiffness_matrices(ws.stiffness[f]);
-      ws.stiffness_scatter[f].add_upper(ws.stiffness[f], h * h, ws.A);
-    }
+    ws.stiffness.add_upper(forces, h * h, ws.A);
     ws.A.add_scaled(ws.C, h);  // C is frozen at x(n): assembled once a step, not gathered again
     ws.A.mirror_lower();
   }
@@ -500,23 +477,13 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
                         ImplicitWorkspace& ws) {
   StepStats stats;
   const double h = dt, t_new = t + dt;
-  if (!ws.ready || ws.stiffness.size() != forces.size() || ws.A.rows() != body.x.rows()) prepare(ws, body, forces);
+  if (!ws.ready || ws.stiffness.forces() != forces.size() || ws.A.rows() != body.x.rows()) prepare(ws, body, forces);
   const Eigen::Index n = body.x.rows();
   if (ws.normal_force.size() != n) ws.normal_force = Eigen::VectorXd::Zero(n);  // none at the first step
 
   // The damping matrix C at x(n) (the forces are evaluated there: the stepper's precondition).
   ws.C.set_zero();
-  for (std::size_t k = 0; k < forces.size(); ++k) {
-    if (ws.damping_scatter[k].plan() == ElementScatter::Plan::InOrder) {
-      const Force& force = *forces[k];
-      ws.damping_scatter[k].add_upper(
-          [&force](std::size_t begin, std::size_t end, double* values) { force.damping_range(begin, end, values); }, 1.0,
-          ws.C);
-      continue;
-    }
-    forces[k]->damping_matrices(ws.damping[k]);
-    ws.damping_scatter[k].add_upper(ws.damping[k], 1.0, ws.C);
-  }
+  ws.damping.add_upper(forces, 1.0, ws.C);
   ws.C.mirror_lower();
 
   // Pinned nodes land on their targets; the Newton increments keep every constrained component

@@ -29,7 +29,7 @@ Vec12 stacked(const HingeGeometry& g) {
 
 void set_nodes(const std::vector<Hinge>& hinges, ElementMatrices& out) {
   const auto m = static_cast<Eigen::Index>(hinges.size());
-  if (out.arity == 4 && out.form == ElementMatrices::Form::Outer && out.count() == m) return;
+  if (out.shaped(m, 4, ElementMatrices::Form::Outer)) return;
   out.resize(m, 4, ElementMatrices::Form::Outer);
   for (Eigen::Index h = 0; h < m; ++h)
     for (int k = 0; k < 4; ++k) out.nodes(h, k) = hinges[static_cast<std::size_t>(h)][k];

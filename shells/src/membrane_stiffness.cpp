@@ -20,7 +20,7 @@ constexpr std::size_t kGrain = 512;
 
 // In the Upper form (element_matrices.hpp): the 6 blocks the assembly reads, 54 numbers a triangle.
 void set_nodes(const Tris& tris, ElementMatrices& out) {
-  if (out.arity == 3 && out.form == ElementMatrices::Form::Upper && out.count() == tris.rows()) return;
+  if (out.shaped(tris.rows(), 3, ElementMatrices::Form::Upper)) return;
   out.resize(tris.rows(), 3, ElementMatrices::Form::Upper);
   out.nodes = tris;
 }

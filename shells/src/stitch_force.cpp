@@ -128,7 +128,7 @@ namespace {
 void stitch_matrices(const std::vector<Stitch>& stitches, const std::vector<double>& length, double per_metre,
                      ElementMatrices& out) {
   const auto m = static_cast<Eigen::Index>(stitches.size());
-  if (out.arity != 3 || out.count() != m) {
+  if (!out.shaped(m, 3, ElementMatrices::Form::Dense)) {
     out.resize(m, 3);
     for (Eigen::Index s = 0; s < m; ++s) {
       const Stitch& t = stitches[static_cast<std::size_t>(s)];

@@ -36,9 +36,16 @@ constexpr std::size_t kUpperStride = 90;  // numbers of a tet in the Upper form 
 // The element matrices in the given form: Upper (element_blocks' blocks, 90 numbers a tet), or
 // Dense where a fiber term is added to the whole matrix.
 void set_nodes(const Tets& tets, ElementMatrices::Form form, ElementMatrices& out) {
-  if (out.arity == 4 && out.form == form && out.count() == tets.rows()) return;
+  if (out.shaped(tets.rows(), 4, form)) return;
   out.resize(tets.rows(), 4, form);
   out.nodes = tets;
+}
+// The same lists with no values (the *_pattern calls).
+void set_pattern(const Tets& tets, ElementMatrices::Form form, ElementMatrices& out) {
+  out.arity = 4;
+  out.form = form;
+  out.nodes = tets;
+  std::vector<double>().swap(out.values);
 }
 
 // Element e's rest shape for Fe (header): the shape gradients of Dm^-1 Fp^-1 and the volume
@@ -146,6 +153,20 @@ bool TetSolidForce::stiffness_range(std::size_t begin, std::size_t end, double* 
         }, begin, end, out);
       },
       with_strength(material_.model, strength_));
+  return true;
+}
+
+bool TetSolidForce::stiffness_pattern(ElementMatrices& out) const {
+  set_pattern(rest_.tets, material_.fiber ? ElementMatrices::Form::Dense : ElementMatrices::Form::Upper, out);
+  return true;
+}
+
+bool TetSolidForce::damping_pattern(ElementMatrices& out) const {
+  if (material_.damping <= 0) {
+    out.resize(0, 4);
+    return true;
+  }
+  set_pattern(rest_.tets, ElementMatrices::Form::Upper, out);
   return true;
 }
 

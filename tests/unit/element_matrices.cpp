@@ -5,7 +5,8 @@
 //    and the baselines (corotated tets, mass-spring edges);
 //  - positive semidefinite everywhere, inverted and flat elements included;
 //  - damping matrices reproduce add_damping_forces: C v = -f_d(v);
-//  - the assembled block matrix multiplies like the sum of the dense element matrices.
+//  - the *_pattern calls give the sets' lists without values;
+//  - the assembled block matrix's pattern and product are those of the dense element matrices' sum.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -16,6 +17,7 @@
 #include <numeric>
 #include <random>
 #include <stdexcept>
+#include <vector>
 
 #include "fd_check.hpp"
 #include "force_checks.hpp"
@@ -254,6 +256,47 @@ TEST(ElementMatrices, EdgeSpringStiffnessIsMinusForceJacobianAndSemidefiniteComp
   expect_matrices_sound_at(f, squeezed, rng);
 }
 
+// Force::stiffness_pattern and damping_pattern give the node lists and form of the matrices' sets
+// without values (the tet solid's own, every other force's by the default), and a set they gave is
+// then formed in place with the numbers of a fresh one (ElementMatrices::shaped).
+void expect_patterns_are_the_sets_lists(const Force& f) {
+  for (bool damping : {false, true}) {
+    ElementMatrices pattern, fresh;
+    const bool given = damping ? f.damping_pattern(pattern) : f.stiffness_pattern(pattern);
+    ASSERT_EQ(given, damping ? f.damping_matrices(fresh) : f.stiffness_matrices(fresh));
+    EXPECT_TRUE(pattern.values.empty());
+    EXPECT_EQ(pattern.arity, fresh.arity);
+    EXPECT_EQ(pattern.form, fresh.form);
+    EXPECT_EQ(pattern.nodes, fresh.nodes);
+    ASSERT_TRUE(damping ? f.damping_matrices(pattern) : f.stiffness_matrices(pattern));
+    EXPECT_EQ(pattern.values, fresh.values) << (damping ? "damping" : "stiffness");
+  }
+}
+
+TEST(ElementMatrices, PatternsAreTheSetsListsWithoutValues) {
+  std::mt19937 rng(11);
+  const Bar bar(rng);
+  for (double damping : {0.0, 0.01}) {  // without damping the damping set is empty
+    TetSolidForce tets(make_tet_rest(bar.mesh.X, bar.mesh.T), neo_hookean_material(damping));
+    tets.update_positions(bar.x, 0);
+    expect_patterns_are_the_sets_lists(tets);
+  }
+  const TriangleSurface grid = make_grid(0.2, 0.2, 3, 3);
+  const Points bent = grid.x + random_points(grid.x.rows(), 1e-2, rng);
+  MembraneForce membrane(grid.x, grid.tris, membrane_params(0.01));
+  BendingParams bp;
+  bp.stiffness = 1e-2;
+  bp.damping = 1e-3;
+  BendingForce bending(grid.x, grid.tris, bp);
+  StitchForce stitches({{0, 1, 2, 0.3}, {3, 4, 1, 0.0}}, {0.05, 0.1}, grid.x.rows(), StitchParams{5e3, 10});
+  TetRest rest = make_tet_rest(bar.mesh.X, bar.mesh.T);
+  EdgeSpringForce springs(tet_edge_springs(rest, 1e6), bar.mesh.X.rows(), EdgeSpringParams{0.01}, "springs", rest);
+  springs.update_positions(bar.x, 0);
+  for (Force* f : std::initializer_list<Force*>{&membrane, &bending, &stitches}) f->update_positions(bent, 0);
+  for (const Force* f : std::initializer_list<const Force*>{&membrane, &bending, &stitches, &springs})
+    expect_patterns_are_the_sets_lists(*f);
+}
+
 // The stiffness K and damping C element matrices of a damped neo-Hookean bar, deformed.
 struct BarMatrices {
   ElementMatrices K, C;
@@ -293,6 +336,37 @@ TEST(BlockSparseMatrix, AssembledProductEqualsDenseSum) {
       const int j = A.columns()[static_cast<std::size_t>(s)];
       EXPECT_EQ(A.blocks()[static_cast<std::size_t>(s)], A.blocks()[static_cast<std::size_t>(A.find(j, static_cast<int>(i)))].transpose());
     }
+}
+
+// The pattern: row i holds node i and every node that shares an element of any set with it, in
+// ascending order, each once; the diagonal slot is found (here tets and 3-node stitches together).
+TEST(BlockSparseMatrix, PatternIsEachNodesNeighboursInOrder) {
+  std::mt19937 rng(12);
+  const BarMatrices bm(rng);
+  ElementMatrices stitches;
+  stitches.resize(2, 3);
+  stitches.nodes << 0, static_cast<int>(bm.n) - 1, 5, 7, 2, 0;  // couples the bar's far corner to node 0
+  const BlockSparseMatrix A(bm.n, {&bm.K, &stitches});
+  std::vector<std::vector<int>> expected(static_cast<std::size_t>(bm.n));
+  for (const ElementMatrices* em : {&bm.K, static_cast<const ElementMatrices*>(&stitches)})
+    for (Eigen::Index e = 0; e < em->count(); ++e)
+      for (int a = 0; a < em->arity; ++a)
+        for (int b = 0; b < em->arity; ++b) expected[static_cast<std::size_t>(em->nodes(e, a))].push_back(em->nodes(e, b));
+  for (Eigen::Index i = 0; i < bm.n; ++i) {
+    auto& row = expected[static_cast<std::size_t>(i)];
+    row.push_back(static_cast<int>(i));
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    const std::vector<int> got(A.columns().begin() + A.row_start()[static_cast<std::size_t>(i)],
+                               A.columns().begin() + A.row_start()[static_cast<std::size_t>(i) + 1]);
+    EXPECT_EQ(got, row) << "row " << i;
+    EXPECT_EQ(A.columns()[static_cast<std::size_t>(A.diagonal_slot(i))], i);
+  }
+  EXPECT_GE(A.find(0, static_cast<int>(bm.n) - 1), 0);
+  ElementMatrices outside;
+  outside.resize(1, 2);
+  outside.nodes << 0, static_cast<int>(bm.n);
+  EXPECT_THROW(BlockSparseMatrix(bm.n, {&outside}), std::invalid_argument);
 }
 
 // The SIMD product (block_sparse_multiply.cpp) gives the bits of the Eigen product it replaced: each

@@ -60,6 +60,13 @@ struct ElementMatrices {
       for (int l = k; l < arity; ++l)
         set_block(e, k, l, K.template block<3, 3>(3 * k, 3 * l), K.template block<3, 3>(3 * l, 3 * k));
   }
+  // Holds m elements of `a` nodes in form f with room for their values: a force forming its set
+  // again keeps the node lists then (a set from Force::stiffness_pattern or damping_pattern has the
+  // lists but no values).
+  bool shaped(Eigen::Index m, int a, Form f) const {
+    return arity == a && form == f && count() == m &&
+           values.size() == static_cast<std::size_t>(m) * static_cast<std::size_t>(stride());
+  }
   // Sizes the arrays for m elements of `a` nodes in the given form (keeping the allocation when
   // it fits).
   void resize(Eigen::Index m, int a, Form f = Form::Dense) {

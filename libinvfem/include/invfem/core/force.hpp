@@ -81,6 +81,11 @@ class Force {
   // where the force forms only its whole set, or not in the Upper form (an empty range asks).
   virtual bool stiffness_range(std::size_t begin, std::size_t end, double* out) const { return false; }
   virtual bool damping_range(std::size_t begin, std::size_t end, double* out) const { return false; }
+  // The node lists and form of those sets, values left empty: what a matrix's pattern needs
+  // (term_assembly.hpp). The default forms the whole set and drops its values; a force that forms
+  // its matrices by ranges gives the lists without forming them. Same return as the *_matrices.
+  virtual bool stiffness_pattern(ElementMatrices& out) const { return without_values(stiffness_matrices(out), out); }
+  virtual bool damping_pattern(ElementMatrices& out) const { return without_values(damping_matrices(out), out); }
 
   // State that is not a function of the positions (plastic Fp, plastic rest angles), for
   // checkpoints. save_state is called right after an update_positions(x); restore_state reads
@@ -94,6 +99,12 @@ class Force {
   virtual void add_element_stats(ElementStats& stats) const {}
   // Per-element fields for volumetric output (e.g. det_F), at the last update_positions.
   virtual void add_cell_fields(CellFields& fields) const {}
+
+ private:
+  static bool without_values(bool given, ElementMatrices& out) {
+    std::vector<double>().swap(out.values);
+    return given;
+  }
 };
 
 }  // namespace invfem

@@ -69,6 +69,7 @@
 #include "invfem/core/newmark_step.hpp"
 #include "invfem/core/projected_cg.hpp"
 #include "invfem/core/sparse_direct.hpp"
+#include "invfem/core/term_assembly.hpp"
 
 namespace invfem {
 
@@ -96,10 +97,7 @@ struct ImplicitSettings {
 // first step from the forces' element lists, so later steps allocate nothing but small vectors.
 struct ImplicitWorkspace {
   bool ready = false;
-  std::vector<ElementMatrices> stiffness, damping;  // per force
-  // Per force; an in-order plan means its matrices are formed by ranges (Force::stiffness_range,
-  // damping_range) and added as formed, the set's values not held.
-  std::vector<ElementScatter> stiffness_scatter, damping_scatter;
+  TermAssembly stiffness{TermAssembly::Term::Stiffness}, damping{TermAssembly::Term::Damping};  // K and C
   BlockSparseMatrix A;  // M + h^2 K + h C
   BlockSparseMatrix C;  // the damping matrix at x(n) (same pattern)
   std::vector<Mat3> block_inverse;  // the block-Jacobi preconditioner

@@ -73,6 +73,9 @@ class TetSolidForce final : public Force {
   bool damping_matrices(ElementMatrices& out) const override;
   // With damping: the Upper-form C_e of tets [begin, end) (zero at strength 0).
   bool damping_range(std::size_t begin, std::size_t end, double* out) const override;
+  // The sets' node lists (the tets) and form, without forming a matrix.
+  bool stiffness_pattern(ElementMatrices& out) const override;
+  bool damping_pattern(ElementMatrices& out) const override;
   // sum_e V0 (det(Fp) Psi(Fe) + Psi_f(|F a|)) at the last update.
   double elastic_energy() const override;
   // Gershgorin bound on the current plastic rest shape (see the .cpp), fiber stiffness included.

@@ -156,6 +156,8 @@ AmgPreconditioner::AmgPreconditioner(AmgPreconditioner&&) noexcept = default;
 AmgPreconditioner& AmgPreconditioner::operator=(AmgPreconditioner&&) noexcept = default;
 
 void AmgPreconditioner::setup(const BlockSparseMatrix& A, const NodeConstraints& fixed, const Points& x) {
+  if (A.storage() != BlockSparseMatrix::Storage::Full)
+    throw std::logic_error("amg: the matrix must store both triangles (its rows are read whole)");
   if (x.rows() != A.rows()) throw std::invalid_argument("amg: the positions and the matrix differ in node count");
   auto h = std::make_unique<Hierarchy>();
   h->nodes = A.rows();

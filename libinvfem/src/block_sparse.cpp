@@ -15,7 +15,9 @@ namespace {
 constexpr std::size_t kRowGrain = 1024;
 }  // namespace
 
-BlockSparseMatrix::BlockSparseMatrix(Eigen::Index n, const std::vector<const ElementMatrices*>& elements) {
+BlockSparseMatrix::BlockSparseMatrix(Eigen::Index n, const std::vector<const ElementMatrices*>& elements,
+                                     Storage storage)
+    : storage_(storage) {
   // Each node's elements (incidence: 4 bytes a node of an element), then row i's columns are the
   // nodes of node i's elements, sorted and deduplicated, counted in a first pass and written in a
   // second. The transient is the incidence, not a list of every element block (a neighbour list of
@@ -51,7 +53,9 @@ BlockSparseMatrix::BlockSparseMatrix(Eigen::Index n, const std::vector<const Ele
               static_cast<int>(set_offset[set] + static_cast<std::size_t>(e));
     }
   }
-  // Row i's columns (node i itself and the nodes of its elements) into `row`, sorted, unique.
+  // Row i's columns (node i itself and the nodes of its elements; Upper: those from i on) into
+  // `row`, sorted, unique.
+  const bool upper = storage == Storage::Upper;
   auto columns_of = [&](std::size_t i, std::vector<int>& row) {
     row.assign(1, static_cast<int>(i));
     for (std::size_t k = incidence_start[i]; k < incidence_start[i + 1]; ++k) {
@@ -64,6 +68,7 @@ BlockSparseMatrix::BlockSparseMatrix(Eigen::Index n, const std::vector<const Ele
     }
     std::sort(row.begin(), row.end());
     row.erase(std::unique(row.begin(), row.end()), row.end());
+    if (upper) row.erase(row.begin(), std::lower_bound(row.begin(), row.end(), static_cast<int>(i)));
   };
   row_start_.assign(un + 1, 0);
   diag_.assign(un, -1);
@@ -79,6 +84,22 @@ BlockSparseMatrix::BlockSparseMatrix(Eigen::Index n, const std::vector<const Ele
     diag_[i] = row_start_[i] + static_cast<int>(std::lower_bound(row.begin(), row.end(), static_cast<int>(i)) - row.begin());
   }
   blocks_.assign(col_.size(), Mat3::Zero());
+  if (upper) {  // the blocks above the diagonal by column: rows ascend, as the loop visits them
+    lower_start_.assign(un + 1, 0);
+    for (std::size_t i = 0; i < un; ++i)
+      for (int s = diag_[i] + 1; s < row_start_[i + 1]; ++s) ++lower_start_[static_cast<std::size_t>(col_[static_cast<std::size_t>(s)]) + 1];
+    for (std::size_t i = 0; i < un; ++i) lower_start_[i + 1] += lower_start_[i];
+    lower_slot_.resize(static_cast<std::size_t>(lower_start_[un]));
+    lower_row_.resize(lower_slot_.size());
+    std::vector<int> fill(lower_start_.begin(), lower_start_.end() - 1);
+    for (std::size_t i = 0; i < un; ++i)
+      for (int s = diag_[i] + 1; s < row_start_[i + 1]; ++s) {
+        const auto k = static_cast<std::size_t>(fill[static_cast<std::size_t>(col_[static_cast<std::size_t>(s)])]++);
+        lower_slot_[k] = s;
+        lower_row_[k] = static_cast<int>(i);
+      }
+    return;
+  }
   transpose_.assign(col_.size(), -1);
   for (int i = 0; i < static_cast<int>(n); ++i)
     for (int s = row_start_[static_cast<std::size_t>(i)]; s < row_start_[static_cast<std::size_t>(i) + 1]; ++s)
@@ -99,12 +120,20 @@ void BlockSparseMatrix::set_zero() {
 void BlockSparseMatrix::multiply(const Points& x, Points& y) const {
   const std::size_t n = diag_.size();
   y.resize(static_cast<Eigen::Index>(n), 3);
+  if (storage_ == Storage::Upper) {
+    parallel_for_ranges(n, kRowGrain, [&](std::size_t begin, std::size_t end) {
+      multiply_upper_rows(lower_start_.data(), lower_slot_.data(), lower_row_.data(), row_start_.data(), col_.data(),
+                          blocks_.data(), x.data(), y.data(), begin, end);
+    });
+    return;
+  }
   parallel_for_ranges(n, kRowGrain, [&](std::size_t begin, std::size_t end) {
     multiply_block_rows(row_start_.data(), col_.data(), blocks_.data(), x.data(), y.data(), begin, end);
   });
 }
 
 void BlockSparseMatrix::mirror_lower() {
+  if (storage_ == Storage::Upper) return;
   // Columns ascend within a row: row i's blocks below the diagonal are those before its diagonal
   // block (no test per block, half the transpose_ entries read).
   parallel_for_each(diag_.size(), kRowGrain, [&](std::size_t i) {
@@ -120,7 +149,7 @@ void BlockSparseMatrix::add_to_diagonal(const Eigen::VectorXd& d) {
 }
 
 void BlockSparseMatrix::add_scaled(const BlockSparseMatrix& B, double w) {
-  if (B.row_start_ != row_start_ || B.col_ != col_)
+  if (B.storage_ != storage_ || B.row_start_ != row_start_ || B.col_ != col_)
     throw std::logic_error("block-sparse add: the matrices have different patterns");
   parallel_for_each(blocks_.size(), 16 * kRowGrain, [&](std::size_t s) { blocks_[s] += w * B.blocks_[s]; });
 }

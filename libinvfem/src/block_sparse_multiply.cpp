@@ -21,23 +21,50 @@ inline Quad load3(const double* p) {
   return q;
 }
 inline Quad splat4(double v) { return Quad{v, v, v, v}; }
+
+// s + B x for a block whose columns are c0, c1, c2, in Eigen's order (the header).
+inline Quad add_product(Quad s, Quad c0, Quad c1, Quad c2, const double* xc) {
+  const QuadMask row2 = {0, 0, -1, 0};
+  const Quad a = c0 * splat4(xc[0]), c = c1 * splat4(xc[1]), d = c2 * splat4(xc[2]);
+  const Quad rows01 = simd::sum_ab_c(a, c, d), rows2 = simd::sum_a_bc(a, c, d);
+  return s + (row2 ? rows2 : rows01);
+}
+
+inline void store3(Quad s, double* y) {
+  y[0] = s[0];
+  y[1] = s[1];
+  y[2] = s[2];
+}
 }  // namespace
 
 void multiply_block_rows(const int* row_start, const int* col, const Mat3* blocks, const double* x, double* y,
                          std::size_t begin, std::size_t end) {
-  const QuadMask row2 = {0, 0, -1, 0};
   for (std::size_t i = begin; i < end; ++i) {
     Quad s = splat4(0.0);
     for (int k = row_start[i]; k < row_start[i + 1]; ++k) {
       const double* b = blocks[static_cast<std::size_t>(k)].data();  // column-major
-      const double* xc = x + 3 * static_cast<std::size_t>(col[k]);
-      const Quad a = load3(b) * splat4(xc[0]), c = load3(b + 3) * splat4(xc[1]), d = load3(b + 6) * splat4(xc[2]);
-      const Quad rows01 = simd::sum_ab_c(a, c, d), rows2 = simd::sum_a_bc(a, c, d);
-      s = s + (row2 ? rows2 : rows01);
+      s = add_product(s, load3(b), load3(b + 3), load3(b + 6), x + 3 * static_cast<std::size_t>(col[k]));
     }
-    y[3 * i] = s[0];
-    y[3 * i + 1] = s[1];
-    y[3 * i + 2] = s[2];
+    store3(s, y + 3 * i);
+  }
+}
+
+void multiply_upper_rows(const int* lower_start, const int* lower_slot, const int* lower_row, const int* row_start,
+                         const int* col, const Mat3* blocks, const double* x, double* y, std::size_t begin,
+                         std::size_t end) {
+  for (std::size_t i = begin; i < end; ++i) {
+    Quad s = splat4(0.0);
+    for (int k = lower_start[i]; k < lower_start[i + 1]; ++k) {
+      // Block (i, j) = B^T for the stored B = (j, i): its columns are B's rows.
+      const double* b = blocks[static_cast<std::size_t>(lower_slot[k])].data();
+      s = add_product(s, Quad{b[0], b[3], b[6], 0.0}, Quad{b[1], b[4], b[7], 0.0}, Quad{b[2], b[5], b[8], 0.0},
+                      x + 3 * static_cast<std::size_t>(lower_row[k]));
+    }
+    for (int k = row_start[i]; k < row_start[i + 1]; ++k) {
+      const double* b = blocks[static_cast<std::size_t>(k)].data();
+      s = add_product(s, load3(b), load3(b + 3), load3(b + 6), x + 3 * static_cast<std::size_t>(col[k]));
+    }
+    store3(s, y + 3 * i);
   }
 }
 

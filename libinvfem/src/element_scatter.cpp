@@ -17,6 +17,15 @@ constexpr std::size_t kBlockGrain = 16 * 1024;
 constexpr std::size_t kPrefetch = 8;
 // How many elements ahead the in-order plan prefetches the matrix blocks it will add to.
 constexpr std::size_t kAhead = 8;
+
+// The slot of block (i, j), i <= j, of A. Throws when the block, or with Full storage its lower
+// partner (j, i), lies outside A's pattern.
+int upper_slot(const BlockSparseMatrix& A, int i, int j) {
+  const int s = A.find(i, j);
+  if (s < 0 || (A.storage() == BlockSparseMatrix::Storage::Full && A.find(j, i) < 0))
+    throw std::logic_error("element scatter: an element block lies outside the matrix pattern");
+  return s;
+}
 }  // namespace
 
 ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatrix& A, Plan plan)
@@ -51,10 +60,8 @@ ElementScatter::ElementScatter(const ElementMatrices& em, const BlockSparseMatri
         if (a != b && i == j && em.form == ElementMatrices::Form::Upper)
           throw std::logic_error("element scatter: element " + std::to_string(e) +
                                  " repeats a node, which the packed (Upper) form cannot hold");
-        const int s = A.find(i, j);
-        if (s < 0 || A.find(j, i) < 0)
-          throw std::logic_error("element scatter: an element block lies outside the matrix pattern");
-        if (i > j) continue;
+        if (i > j) continue;  // the transpose of block (b, a), which is checked
+        const int s = upper_slot(A, i, j);
         slot[q] = s;
         ++first_[static_cast<std::size_t>(s) + 1];
       }
@@ -87,10 +94,8 @@ void ElementScatter::build_in_order(const ElementMatrices& em, const BlockSparse
                                  " repeats a node, which the packed (Upper) form cannot hold");
         // The pair's packed block has the rows of its smaller node (element_matrices.hpp): it is
         // the matrix's block (min, max), on or above the diagonal.
-        const int s = A.find(std::min(i, j), std::max(i, j));
-        if (s < 0 || A.find(std::max(i, j), std::min(i, j)) < 0)
-          throw std::logic_error("element scatter: an element block lies outside the matrix pattern");
-        slots_[static_cast<std::size_t>(e * pairs_per_element_ + em.upper_block(k, l))] = s;
+        slots_[static_cast<std::size_t>(e * pairs_per_element_ + em.upper_block(k, l))] =
+            upper_slot(A, std::min(i, j), std::max(i, j));
       }
   buffer_.resize(kInFlight * kRange * 9 * static_cast<std::size_t>(pairs_per_element_));
 }

@@ -22,12 +22,45 @@ bool any_implicit(const std::vector<Force*>& forces) {
   return false;
 }
 
-// A p = (M - tau D + kappa K) p, with D at the forces' current state and K the implicit forces'
+// ws.C = the damping matrix of the forces that give one, at their current state; its pattern is
+// built first when the forces or the node count are new (a fracture adds nodes).
+void assemble_damping(const Body& body, const std::vector<Force*>& forces, NewmarkWorkspace& ws) {
+  if (!ws.assemble_damping) {
+    ws.assembled = false;
+    return;
+  }
+  const std::vector<const Force*> now(forces.begin(), forces.end());
+  if (now != ws.built_for || ws.C.rows() != body.x.rows()) {
+    ws.damping.learn(forces);
+    std::vector<const ElementMatrices*> sets;
+    ws.damping.append_sets(sets);
+    ws.C = BlockSparseMatrix(body.x.rows(), sets, BlockSparseMatrix::Storage::Upper);  // only multiplied
+    ws.damping.plan(forces, ws.C);
+    ws.built_for = now;
+    ws.assembled = ws.damping.elements() > 0;
+  }
+  if (!ws.assembled) return;
+  ws.C.set_zero();
+  ws.damping.add_upper(forces, 1.0, ws.C);
+}
+
+// f += D v: -C v for the forces in ws.C (at its assembly's state), add_damping_forces for the others
+// (at their current state).
+void add_damping(const std::vector<Force*>& forces, NewmarkWorkspace& ws, const Points& v, Points& f) {
+  if (ws.assembled) {
+    ws.C.multiply(v, ws.product);
+    f -= ws.product;
+  }
+  for (std::size_t k = 0; k < forces.size(); ++k)
+    if (!ws.assembled || !ws.damping.given(k)) forces[k]->add_damping_forces(v, f);
+}
+
+// A p = (M - tau D + kappa K) p, with D as add_damping takes it and K the implicit forces'
 // constant stiffness (kappa = 0: none).
-void apply_system(const Body& body, const std::vector<Force*>& forces, double tau, double kappa, const Points& p,
-                  Points& Ap) {
+void apply_system(const Body& body, const std::vector<Force*>& forces, NewmarkWorkspace& ws, double tau,
+                  double kappa, const Points& p, Points& Ap) {
   Points Dp = Points::Zero(p.rows(), 3);
-  for (const Force* force : forces) force->add_damping_forces(p, Dp);
+  add_damping(forces, ws, p, Dp);
   Ap = body.mass.asDiagonal() * p - tau * Dp;
   if (kappa == 0) return;
   Points Kp = Points::Zero(p.rows(), 3);
@@ -51,11 +84,11 @@ Points solve_rhs(const Body& body, double tau, const Points& v_in, const Points&
 }
 
 // Solve (M - tau D + kappa K) v_out = b, warm-started from v_in.
-CGResult damping_solve(const Body& body, const std::vector<Force*>& forces, double tau, double kappa,
-                       const Points& v_in, const Points& b, const NodeConstraints& constraints, const CGSettings& cg,
-                       Points& v_out) {
+CGResult damping_solve(const Body& body, const std::vector<Force*>& forces, NewmarkWorkspace& ws, double tau,
+                       double kappa, const Points& v_in, const Points& b, const NodeConstraints& constraints,
+                       const CGSettings& cg, Points& v_out) {
   const Eigen::VectorXd inv_diag = inverse_diagonal(body, forces, kappa);
-  auto apply_A = [&](const Points& p, Points& Ap) { apply_system(body, forces, tau, kappa, p, Ap); };
+  auto apply_A = [&](const Points& p, Points& Ap) { apply_system(body, forces, ws, tau, kappa, p, Ap); };
   v_out = v_in;
   return projected_cg(apply_A, b, inv_diag, constraints, v_out, cg);
 }
@@ -63,13 +96,13 @@ CGResult damping_solve(const Body& body, const std::vector<Force*>& forces, doub
 // Coulomb friction (contact_friction.hpp) for the impulse the normal constraints absorbed in the
 // solve A v = b: at a constrained node the residual J = A v - b is the constraint's impulse
 // [kg m/s]. Without it a block on a slope would feel about half its friction.
-void constraint_friction(const Body& body, const std::vector<Force*>& forces, double tau, double kappa,
-                         const Points& b, const NodeConstraints& constraints, Points& v) {
+void constraint_friction(const Body& body, const std::vector<Force*>& forces, NewmarkWorkspace& ws, double tau,
+                         double kappa, const Points& b, const NodeConstraints& constraints, Points& v) {
   bool any = false;
   for (const auto& c : constraints) any = any || (c.kind == NodeConstraint::Kind::Normal && c.friction > 0);
   if (!any) return;
   Points Av;
-  apply_system(body, forces, tau, kappa, v, Av);
+  apply_system(body, forces, ws, tau, kappa, v, Av);
   std::vector<double> impulse(constraints.size(), 0.0);
   for (std::size_t k = 0; k < constraints.size(); ++k) {
     const NodeConstraint& c = constraints[k];
@@ -81,7 +114,8 @@ void constraint_friction(const Body& body, const std::vector<Force*>& forces, do
 }  // namespace
 
 StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionProcessor* collisions,
-                       const NodeConstraints& pinned, double t, double dt, const CGSettings& cg) {
+                       const NodeConstraints& pinned, double t, double dt, const CGSettings& cg,
+                       NewmarkWorkspace& ws) {
   StepStats stats;
   const double tau = dt / 2;
   // Implicit stiffness (see the header): dt/2 dt K in line 1, (dt/2)^2 K in line 5.
@@ -90,9 +124,10 @@ StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionP
 
   // 1. Half step: elastic force explicit at x(n), damping implicit.
   const Points fe_n = elastic_and_gravity(body, forces);
+  assemble_damping(body, forces, ws);  // C at x(n)
   Points v_half;
-  stats.half_step =
-      damping_solve(body, forces, tau, kappa_half, body.v, solve_rhs(body, tau, body.v, fe_n), pinned, cg, v_half);
+  stats.half_step = damping_solve(body, forces, ws, tau, kappa_half, body.v, solve_rhs(body, tau, body.v, fe_n), pinned,
+                                  cg, v_half);
 
   // 2. Predicted positions.
   Points x_new = body.x + dt * v_half;
@@ -105,7 +140,7 @@ StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionP
   // The explicit half of the trapezoid, a(x(n), v~(n)), needs D at x(n): take it before the
   // state moves.
   Points f_old = fe_n;
-  for (const Force* force : forces) force->add_damping_forces(v_n, f_old);
+  add_damping(forces, ws, v_n, f_old);
 
   // 4. F, diagonalization, plasticity: once, at x(n+1).
   for (Force* force : forces) force->update_positions(x_new, t + dt);
@@ -113,9 +148,10 @@ StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionP
   // 5. Trapezoid: (M - dt/2 D(n+1)) v(n+1) = M v~(n) + dt/2 (f(n) + fe(n+1)).
   const Points fe_new = elastic_and_gravity(body, forces);
   const Points b = solve_rhs(body, tau, v_n, f_old + fe_new);
+  assemble_damping(body, forces, ws);  // C at x(n+1)
   Points v_new;
-  stats.trapezoid = damping_solve(body, forces, tau, kappa_trapezoid, v_n, b, constraints, cg, v_new);
-  constraint_friction(body, forces, tau, kappa_trapezoid, b, constraints, v_new);
+  stats.trapezoid = damping_solve(body, forces, ws, tau, kappa_trapezoid, v_n, b, constraints, cg, v_new);
+  constraint_friction(body, forces, ws, tau, kappa_trapezoid, b, constraints, v_new);
 
   body.x = std::move(x_new);
   body.v = std::move(v_new);

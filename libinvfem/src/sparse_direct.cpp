@@ -18,6 +18,8 @@ FilteredDirectSolver::FilteredDirectSolver(FilteredDirectSolver&&) noexcept = de
 FilteredDirectSolver& FilteredDirectSolver::operator=(FilteredDirectSolver&&) noexcept = default;
 
 void FilteredDirectSolver::analyze(const BlockSparseMatrix& A) {
+  if (A.storage() != BlockSparseMatrix::Storage::Full)
+    throw std::logic_error("direct solver: the matrix must store both triangles (its rows are read whole)");
   const Eigen::Index n = A.rows();
   const std::vector<int>& row_start = A.row_start();
   const std::vector<int>& col = A.columns();

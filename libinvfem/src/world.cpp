@@ -105,6 +105,7 @@ World::World(WorldSettings settings, std::vector<SimObject> objects,
   for (const auto& k : kinematic_) k->move_to(time_);
   for (SimObject& o : objects_) o.refresh_surface();
   implicit_.resize(objects_.size());
+  newmark_.resize(objects_.size());
 }
 
 NodeConstraints World::constraints_of(std::size_t k, double dt) const {
@@ -204,7 +205,8 @@ void World::advance_to(double t_end, FrameReport& report) {
         const NodeConstraints held = constraints_of(k, dt);
         const StepStats s =
             settings_.integrator == Integrator::ITF04
-                ? newmark_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, settings_.cg)
+                ? newmark_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, settings_.cg,
+                               newmark_[k])
                 : implicit_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, implicit_settings(o),
                                 implicit_[k]);
         report.object_seconds[k] += since(t0);
@@ -235,7 +237,10 @@ void World::advance_to(double t_end, FrameReport& report) {
       // node count differs (implicit_step.cpp).
       for (std::size_t k = 0; k < objects_.size(); ++k) {
         const bool renumbered = objects_[k].body.x.rows() != x_before_passes[k].rows();
-        if (renumbered) implicit_[k].forget_nodes();
+        if (renumbered) {
+          implicit_[k].forget_nodes();
+          newmark_[k] = NewmarkWorkspace{};  // its pattern was the old nodes'
+        }
         if (renumbered || objects_[k].body.x != x_before_passes[k])
           for (auto& f : objects_[k].forces) f->update_positions(objects_[k].body.x, time_ + dt);
       }
@@ -391,6 +396,7 @@ void World::apply_state(StateReader& in) {
   for (std::size_t k = 0; k < objects_.size(); ++k) {
     implicit_[k].normal_force = std::move(lagged[k]);
     implicit_[k].acceleration = std::move(acceleration[k]);
+    newmark_[k] = NewmarkWorkspace{};  // a pass may have rebuilt the object's elements: a new pattern
   }
 }
 

@@ -4,6 +4,7 @@
 // what a cloth sheet's membrane and bending forces give the assembly: in the forms the forces
 // write (BM_scatter_add: triangles as packed upper blocks, hinges as u and s) or all dense
 // (BM_scatter_add_dense: the baseline, as they were stored before those forms). Argument: N.
+// BM_multiply_tet_cube: the product on a tet cube's pattern in both storages (below).
 // Run with --benchmark_repetitions=5 --benchmark_report_aggregates_only=true for medians.
 #include <benchmark/benchmark.h>
 
@@ -118,7 +119,56 @@ void scatter_add(benchmark::State& state, bool dense) {
 void BM_scatter_add(benchmark::State& state) { scatter_add(state, false); }
 void BM_scatter_add_dense(benchmark::State& state) { scatter_add(state, true); }
 
+// The tet cube of `invfem bench`'s scaling units (N^3 cells of 6 tets around the cell's diagonal),
+// its pattern stored Full or Upper (the ITF04 step's damping matrix), random symmetric blocks.
+// Arguments: N (26: 105K tets, 55: 998K), storage (0 Full, 1 Upper).
+struct TetCube {
+  BlockSparseMatrix A;
+  Points x;
+  TetCube(int n, BlockSparseMatrix::Storage storage) {
+    const int m = n + 1;
+    const auto id = [m](int i, int j, int k) { return i + m * (j + m * k); };
+    ElementMatrices tets;
+    tets.arity = 4;
+    tets.form = ElementMatrices::Form::Upper;
+    tets.nodes.resize(6 * static_cast<Eigen::Index>(n) * n * n, 4);
+    const int axes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+    Eigen::Index t = 0;
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+          for (const auto& order : axes) {
+            int c[3] = {i, j, k};
+            tets.nodes(t, 0) = id(c[0], c[1], c[2]);
+            for (int s = 0; s < 3; ++s) {
+              ++c[order[s]];
+              tets.nodes(t, s + 1) = id(c[0], c[1], c[2]);
+            }
+            ++t;
+          }
+    A = BlockSparseMatrix(static_cast<Eigen::Index>(m) * m * m, {&tets}, storage);
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (invfem::Mat3& b : A.blocks()) b = invfem::Mat3::NullaryExpr([&] { return u(rng); });
+    A.mirror_lower();
+    x = Points::Random(A.rows(), 3);
+  }
+};
+
+void BM_multiply_tet_cube(benchmark::State& state) {
+  const TetCube c(static_cast<int>(state.range(0)),
+                  state.range(1) ? BlockSparseMatrix::Storage::Upper : BlockSparseMatrix::Storage::Full);
+  Points y;
+  for (auto _ : state) {
+    c.A.multiply(c.x, y);
+    benchmark::DoNotOptimize(y.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["blocks"] = static_cast<double>(c.A.block_count());
+}
+
 BENCHMARK(BM_multiply)->Arg(50)->Arg(100)->Arg(200)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_multiply_tet_cube)->Args({26, 0})->Args({26, 1})->Args({55, 0})->Args({55, 1})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_scatter_add)->Arg(50)->Arg(100)->Arg(200)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_scatter_add_dense)->Arg(50)->Arg(100)->Arg(200)->Unit(benchmark::kMicrosecond);
 

@@ -142,6 +142,7 @@ int main(int argc, char** argv) {
         force->update_positions(body.x, 0);
         const std::vector<Force*> forces{force.get()};
         ImplicitWorkspace workspace;
+        NewmarkWorkspace newmark;
         double t = 0, max_L = 0, settle = 0;
         bool finite = true;
         auto momentum = [&] {
@@ -152,7 +153,7 @@ int main(int argc, char** argv) {
         while (t < 2.0 && finite) {
           const double dt = std::min(implicit ? h : stable_time_step(body, forces), 2.0 - t + 1e-12);
           if (implicit) implicit_step(body, forces, nullptr, {}, t, dt, ImplicitSettings{}, workspace);
-          else newmark_step(body, forces, nullptr, {}, t, dt, CGSettings{});
+          else newmark_step(body, forces, nullptr, {}, t, dt, CGSettings{}, newmark);
           t += dt;
           finite = body.x.allFinite() && body.v.allFinite();
           max_L = std::max(max_L, momentum().norm());

@@ -72,6 +72,7 @@ struct Sim {
   }
   bool implicit = false;  // the implicit integrator (implicit_step.hpp) with steps of 1/100 s
   ImplicitWorkspace ws;
+  NewmarkWorkspace newmark;
   StepStats last;  // the implicit integrator's last step
   void use_implicit() {
     implicit = true;
@@ -82,7 +83,7 @@ struct Sim {
     if (implicit) {
       last = implicit_step(body, forces, collisions.get(), {}, t, dt, ImplicitSettings{}, ws);
     } else {
-      newmark_step(body, forces, collisions.get(), {}, t, dt, CGSettings{});
+      newmark_step(body, forces, collisions.get(), {}, t, dt, CGSettings{}, newmark);
     }
     t += dt;
   }
@@ -184,7 +185,8 @@ TEST(Contact, ParticleOnInclineFollowsCoulomb) {
     Body body{Points::Zero(1, 3), Points::Zero(1, 3), Eigen::VectorXd::Ones(1)};
     double t = 0;
     const double dt = 1e-3;
-    for (int s = 0; s < 1000; ++s, t += dt) newmark_step(body, {}, &rc, {}, t, dt, CGSettings{});
+    NewmarkWorkspace ws;
+    for (int s = 0; s < 1000; ++s, t += dt) newmark_step(body, {}, &rc, {}, t, dt, CGSettings{}, ws);
     const double a = 2 * Vec3(body.x.row(0).transpose()).dot(downhill);  // s = a t^2 / 2 at t = 1
     const double expected = std::max(0.0, kG * (std::sin(theta) - mu * std::cos(theta)));
     EXPECT_NEAR(a, expected, 0.02 * kG) << "mu = " << factor << " tan(theta)";

@@ -21,10 +21,12 @@
 
 #include "fd_check.hpp"
 #include "force_checks.hpp"
+#include "invfem/core/amg.hpp"
 #include "invfem/core/block_sparse.hpp"
 #include "invfem/core/edge_spring_force.hpp"
 #include "invfem/core/materials/corotated.hpp"
 #include "invfem/core/materials/neo_hookean.hpp"
+#include "invfem/core/sparse_direct.hpp"
 #include "invfem/shells/bending_force.hpp"
 #include "invfem/shells/membrane_force.hpp"
 #include "invfem/shells/shapes.hpp"
@@ -418,6 +420,47 @@ TEST(BlockSparseMatrix, OuterFormAssemblesToTheBitsOfTheDenseForm) {
   ASSERT_EQ(A.block_count(), B.block_count());
   for (std::size_t k = 0; k < A.block_count(); ++k) EXPECT_EQ(A.blocks()[k], B.blocks()[k]) << "block " << k;
   EXPECT_THROW(ElementScatter(outer, A).add(dense_form, 1.0, A), std::logic_error);
+}
+
+// Upper storage (the diagonal and the upper triangle only): half the blocks, the same stored blocks
+// as the Full matrix's upper triangle from either plan, and a product with the bits of the Full
+// matrix mirrored; nothing below the diagonal is found, add writes what add_upper writes, and the
+// readers of whole rows (the multigrid, the direct solver) refuse it.
+TEST(BlockSparseMatrix, UpperStorageMultipliesWithTheBitsOfTheMirroredFullMatrix) {
+  std::mt19937 rng(14);
+  const BarMatrices bm(rng);
+  const Eigen::Index n = bm.n;
+  const Eigen::VectorXd mass = Eigen::VectorXd::LinSpaced(n, 1.0, 2.0);
+  BlockSparseMatrix full(n, {&bm.K, &bm.C}), upper(n, {&bm.K, &bm.C}, BlockSparseMatrix::Storage::Upper);
+  EXPECT_EQ(2 * upper.block_count(), full.block_count() + static_cast<std::size_t>(n));
+  for (BlockSparseMatrix* A : {&full, &upper}) {
+    A->add_to_diagonal(mass);
+    ElementScatter(bm.K, *A, ElementScatter::Plan::InOrder).add_upper(bm.K, 0.25, *A);
+    ElementScatter(bm.C, *A).add_upper(bm.C, 0.5, *A);
+    A->mirror_lower();
+  }
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const int f = full.find(static_cast<int>(i), j), u = upper.find(static_cast<int>(i), j);
+      if (j < i) EXPECT_EQ(u, -1);
+      if (j < i || f < 0) continue;
+      ASSERT_GE(u, 0);
+      EXPECT_EQ(upper.blocks()[static_cast<std::size_t>(u)], full.blocks()[static_cast<std::size_t>(f)]);
+      EXPECT_EQ(upper.transpose_slot(static_cast<std::size_t>(u)), -1);
+    }
+  for (int trial = 0; trial < 3; ++trial) {
+    const Points p = random_points(n, 1.0, rng);
+    Points y_full, y_upper;
+    full.multiply(p, y_full);
+    upper.multiply(p, y_upper);
+    EXPECT_EQ(y_upper, y_full) << "trial " << trial;
+  }
+  BlockSparseMatrix with_add(n, {&bm.C}, BlockSparseMatrix::Storage::Upper), with_upper = with_add;
+  ElementScatter(bm.C, with_add).add(bm.C, 0.5, with_add);
+  ElementScatter(bm.C, with_upper).add_upper(bm.C, 0.5, with_upper);
+  EXPECT_EQ(with_add.blocks(), with_upper.blocks());
+  EXPECT_THROW(AmgPreconditioner().setup(upper, {}, random_points(n, 1.0, rng)), std::logic_error);
+  EXPECT_THROW(FilteredDirectSolver().analyze(upper), std::logic_error);
 }
 
 // The tets' Upper form (their ten upper blocks, packed) assembles to the same bits as the whole

@@ -220,8 +220,9 @@ TEST(Stitches, AStiffStitchTakenImplicitlyClosesAndStaysBoundedAtAnyTimeStep) {
   EXPECT_TRUE(std::isinf(stable_time_step(body, forces)));
   const double e0 = stitch.elastic_energy();
   double t = 0;
+  NewmarkWorkspace ws;
   for (int step = 0; step < 200; ++step, t += 1e-3) {
-    newmark_step(body, forces, nullptr, {}, t, 1e-3, CGSettings{});
+    newmark_step(body, forces, nullptr, {}, t, 1e-3, CGSettings{}, ws);
     const double kinetic = 0.5 * (body.mass.asDiagonal() * body.v).cwiseProduct(body.v).sum();
     ASSERT_LE(kinetic + stitch.elastic_energy(), e0 * (1 + 1e-9)) << "step " << step;
   }

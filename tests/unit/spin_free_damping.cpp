@@ -126,9 +126,10 @@ Recovery recover_mirrored_tet(DampingModel model, const IsotropicModel& elastic,
   Body body{x, Points::Zero(4, 3), lumped_masses(X, T, 1000), Vec3::Zero()};
   force.update_positions(body.x, 0);
   const std::vector<Force*> forces{&force};
+  NewmarkWorkspace ws;
   for (double t = 0; t < 0.5;) {  // recovery takes about 0.05 s
     const double dt = std::min(stable_time_step(body, forces), 0.5 - t + 1e-12);
-    newmark_step(body, forces, nullptr, {}, t, dt, CGSettings{});
+    newmark_step(body, forces, nullptr, {}, t, dt, CGSettings{}, ws);
     t += dt;
   }
   Recovery r;

@@ -17,17 +17,30 @@ namespace invfem {
 
 class BlockSparseMatrix {
  public:
+  // Full: both triangles stored (the implicit step's system, which its preconditioners and the
+  // direct solver read row by row). Upper: the diagonal and the upper triangle only, the lower
+  // implied as their transposes: about half the memory (the ITF04 step's damping matrix,
+  // newmark_step.hpp, which is only multiplied). Its product reads a row's lower blocks from the
+  // rows above it and is slower: 7.97 against 7.12 ms on the 998K-tet cube's pattern
+  // (tests/bench/bench_block_sparse, BM_multiply_tet_cube, medians of 15).
+  enum class Storage { Full, Upper };
+
   BlockSparseMatrix() = default;
   // The pattern of n nodes coupled by the given elements (each node coupled to itself always).
-  BlockSparseMatrix(Eigen::Index n, const std::vector<const ElementMatrices*>& elements);
+  BlockSparseMatrix(Eigen::Index n, const std::vector<const ElementMatrices*>& elements,
+                    Storage storage = Storage::Full);
 
   Eigen::Index rows() const { return static_cast<Eigen::Index>(row_start_.size()) - 1; }
   std::size_t block_count() const { return blocks_.size(); }
-  // Index of block (i, j) in blocks(), or -1 when (i, j) is outside the pattern.
+  Storage storage() const { return storage_; }
+  // Index of block (i, j) in blocks(), or -1 when (i, j) is outside the stored pattern (with Upper
+  // storage every i > j).
   int find(int i, int j) const;
 
   void set_zero();
-  // y = A x (n x 3), parallel over block rows.
+  // y = A x (n x 3), parallel over block rows. Row i sums its blocks in column order, with Upper
+  // storage the transposes of blocks (j, i), j < i, first: the bits of the Full product of the same
+  // matrix mirrored (mirror_lower).
   void multiply(const Points& x, Points& y) const;
   // The diagonal block of node i, and its index in blocks().
   const Mat3& diagonal(Eigen::Index i) const { return blocks_[static_cast<std::size_t>(diag_[i])]; }
@@ -38,11 +51,13 @@ class BlockSparseMatrix {
   // Throws std::logic_error when the patterns differ.
   void add_scaled(const BlockSparseMatrix& B, double w);
   // Each block below the diagonal set to the transpose of its partner above it: the lower triangle
-  // of a matrix assembled in its upper triangle and diagonal (ElementScatter::add_upper).
+  // of a matrix assembled in its upper triangle and diagonal (ElementScatter::add_upper). Nothing
+  // to do with Upper storage.
   void mirror_lower();
 
-  // The index of block (j, i) for block s = (i, j), i != j; -1 for a diagonal block.
-  int transpose_slot(std::size_t s) const { return transpose_[s]; }
+  // The index of block (j, i) for block s = (i, j), i != j; -1 for a diagonal block, and for every
+  // block with Upper storage (no partner stored).
+  int transpose_slot(std::size_t s) const { return transpose_.empty() ? -1 : transpose_[s]; }
 
   std::vector<Mat3>& blocks() { return blocks_; }
   const std::vector<Mat3>& blocks() const { return blocks_; }
@@ -53,8 +68,12 @@ class BlockSparseMatrix {
   std::vector<int> row_start_{0};  // n + 1
   std::vector<int> col_;           // block column of each block, ascending within a row
   std::vector<int> diag_;          // per row, the index of its diagonal block
-  std::vector<int> transpose_;     // per block, transpose_slot's answer
+  std::vector<int> transpose_;     // Full: per block, transpose_slot's answer (Upper: empty)
   std::vector<Mat3> blocks_;
+  Storage storage_ = Storage::Full;
+  // Upper: per row i, the blocks (j, i) above the diagonal in its column, j ascending: their slots
+  // and rows j (the product's lower half), from lower_start_[i] (n + 1 entries) on.
+  std::vector<int> lower_start_, lower_slot_, lower_row_;
 };
 
 // Where each 3x3 block of a set of element matrices lands in a BlockSparseMatrix, built once per
@@ -70,7 +89,8 @@ class BlockSparseMatrix {
 //    never held whole).
 // Either way each block's sum has a fixed order, so the bits do not depend on the thread count (the
 // two plans round differently). The lower partner of a block receives the transpose of what the
-// block receives (the element matrices being symmetric, their lower blocks are never read).
+// block receives (the element matrices being symmetric, their lower blocks are never read); with
+// Upper storage there is none, and add is add_upper.
 class ElementScatter {
  public:
   enum class Plan { Gather, InOrder };

@@ -22,6 +22,7 @@
 #include "invfem/core/collision_processor.hpp"
 #include "invfem/core/force.hpp"
 #include "invfem/core/projected_cg.hpp"
+#include "invfem/core/term_assembly.hpp"
 
 namespace invfem {
 
@@ -45,11 +46,32 @@ struct StepStats {
   double newton_residual = 0;   // implicit step: final |S grad E| / h^2 / force_scale
 };
 
+// What one body keeps between ITF04 steps: the damping matrix C = -D of the forces that give
+// damping matrices (Force::damping_matrices), assembled at each solve's state (TermAssembly) so that
+// a CG iteration of the damping solves is one block-sparse product; the other forces' damping is
+// applied matrix-free (Force::add_damping_forces). On the 1M-tet cube of `invfem bench`
+// (scaling_1m) a product of the assembled C took 5.6 ms against 23.7 for the tets' damping pass,
+// and forming C about four passes' time (0.08 to 0.12 s), so C pays from about five CG iterations a
+// solve (the cube takes 6 at 10K tets, 21 at 1M; the ITF04 scenes 12 to 27, plate_tear 2). C is stored as its upper triangle (the product
+// about 12% slower, the memory about half: the 10K cube's peak 1,030 -> 930 bytes a tet).
+// The pattern is built at the first step and again when the node count or the forces change; the
+// World also drops it when a pass renumbers the nodes or a checkpoint is restored.
+struct NewmarkWorkspace {
+  // false: every force's damping matrix-free (the reference the assembled C is tested against).
+  bool assemble_damping = true;
+  TermAssembly damping{TermAssembly::Term::Damping};
+  BlockSparseMatrix C;                // the given forces' C at the last assembly's state (n x n blocks)
+  bool assembled = false;             // C holds elements: the step uses it
+  std::vector<const Force*> built_for;  // the forces C's pattern was built for (and C.rows() the nodes)
+  Points product;                     // scratch: C p
+};
+
 // Advance `body` from t to t + dt. Precondition: every force's update_positions was last called
 // with body.x (the stepper leaves them so, ready for the next step). `pinned` are kinematic
 // nodes (Kind::Full, velocity prescribed); `collisions` may be null.
 StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionProcessor* collisions,
-                       const NodeConstraints& pinned, double t, double dt, const CGSettings& cg);
+                       const NodeConstraints& pinned, double t, double dt, const CGSettings& cg,
+                       NewmarkWorkspace& workspace);
 
 // Sum of the forces' stable steps for explicit elasticity: min over forces.
 double stable_time_step(const Body& body, const std::vector<Force*>& forces);

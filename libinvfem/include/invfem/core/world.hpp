@@ -284,6 +284,7 @@ class World {
   std::unique_ptr<CollisionProcessor> collisions_;
   std::vector<std::unique_ptr<StepPass>> passes_;
   std::vector<ImplicitWorkspace> implicit_;  // per object, for the implicit integrator
+  std::vector<NewmarkWorkspace> newmark_;    // per object, for the ITF04 step
   std::vector<std::vector<int>> attached_solid_;  // per object, per attachment group: the solid's index
 };
 

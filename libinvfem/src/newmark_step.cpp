@@ -4,10 +4,14 @@
 #include <limits>
 
 #include "invfem/core/contact_friction.hpp"
+#include "invfem/core/parallel.hpp"
 
 namespace invfem {
 
 namespace {
+
+// Rows per task of the system's element-wise pass (as projected_cg.cpp's).
+constexpr std::size_t kRowsPerTask = 4096;
 
 // f = gravity + the elastic forces at the forces' current state.
 Points elastic_and_gravity(const Body& body, const std::vector<Force*>& forces) {
@@ -22,8 +26,9 @@ bool any_implicit(const std::vector<Force*>& forces) {
   return false;
 }
 
-// ws.C = the damping matrix of the forces that give one, at their current state; its pattern is
-// built first when the forces or the node count are new (a fracture adds nodes).
+// ws.C = the damping matrix of the forces that give one, at their current state (kept when it
+// already is: ws.current); its pattern is built first when the forces or the node count are new
+// (a fracture adds nodes).
 void assemble_damping(const Body& body, const std::vector<Force*>& forces, NewmarkWorkspace& ws) {
   if (!ws.assemble_damping) {
     ws.assembled = false;
@@ -38,10 +43,12 @@ void assemble_damping(const Body& body, const std::vector<Force*>& forces, Newma
     ws.damping.plan(forces, ws.C);
     ws.built_for = now;
     ws.assembled = ws.damping.elements() > 0;
+    ws.current = false;
   }
-  if (!ws.assembled) return;
+  if (!ws.assembled || ws.current) return;
   ws.C.set_zero();
   ws.damping.add_upper(forces, 1.0, ws.C);
+  ws.current = true;
 }
 
 // f += D v: -C v for the forces in ws.C (at its assembly's state), add_damping_forces for the others
@@ -59,9 +66,20 @@ void add_damping(const std::vector<Force*>& forces, NewmarkWorkspace& ws, const 
 // constant stiffness (kappa = 0: none).
 void apply_system(const Body& body, const std::vector<Force*>& forces, NewmarkWorkspace& ws, double tau,
                   double kappa, const Points& p, Points& Ap) {
-  Points Dp = Points::Zero(p.rows(), 3);
-  add_damping(forces, ws, p, Dp);
-  Ap = body.mass.asDiagonal() * p - tau * Dp;
+  if (ws.assembled && ws.damping.all_given()) {
+    // Every force's damping is in C: M p + tau C p in one parallel pass over the rows (the bits of
+    // M p - tau (0 - C p) below).
+    ws.C.multiply(p, ws.product);
+    Ap.resize(p.rows(), 3);
+    parallel_for_ranges(static_cast<std::size_t>(p.rows()), kRowsPerTask, [&](std::size_t begin, std::size_t end) {
+      for (auto i = static_cast<Eigen::Index>(begin); i < static_cast<Eigen::Index>(end); ++i)
+        Ap.row(i) = body.mass(i) * p.row(i) + tau * ws.product.row(i);
+    });
+  } else {
+    ws.damping_product.setZero(p.rows(), 3);
+    add_damping(forces, ws, p, ws.damping_product);
+    Ap = body.mass.asDiagonal() * p - tau * ws.damping_product;
+  }
   if (kappa == 0) return;
   Points Kp = Points::Zero(p.rows(), 3);
   for (const Force* force : forces)
@@ -90,7 +108,7 @@ CGResult damping_solve(const Body& body, const std::vector<Force*>& forces, Newm
   const Eigen::VectorXd inv_diag = inverse_diagonal(body, forces, kappa);
   auto apply_A = [&](const Points& p, Points& Ap) { apply_system(body, forces, ws, tau, kappa, p, Ap); };
   v_out = v_in;
-  return projected_cg(apply_A, b, inv_diag, constraints, v_out, cg);
+  return projected_cg(apply_A, b, inv_diag, constraints, v_out, cg, ws.cg);
 }
 
 // Coulomb friction (contact_friction.hpp) for the impulse the normal constraints absorbed in the
@@ -124,7 +142,7 @@ StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionP
 
   // 1. Half step: elastic force explicit at x(n), damping implicit.
   const Points fe_n = elastic_and_gravity(body, forces);
-  assemble_damping(body, forces, ws);  // C at x(n)
+  assemble_damping(body, forces, ws);  // C at x(n): the last step's unless the forces changed since
   Points v_half;
   stats.half_step = damping_solve(body, forces, ws, tau, kappa_half, body.v, solve_rhs(body, tau, body.v, fe_n), pinned,
                                   cg, v_half);
@@ -144,6 +162,7 @@ StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionP
 
   // 4. F, diagonalization, plasticity: once, at x(n+1).
   for (Force* force : forces) force->update_positions(x_new, t + dt);
+  ws.forces_changed();
 
   // 5. Trapezoid: (M - dt/2 D(n+1)) v(n+1) = M v~(n) + dt/2 (f(n) + fe(n+1)).
   const Points fe_new = elastic_and_gravity(body, forces);

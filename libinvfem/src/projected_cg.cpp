@@ -96,8 +96,20 @@ CGResult projected_cg(const std::function<void(const Points&, Points&)>& apply_A
                       const Eigen::VectorXd& inv_diag, const NodeConstraints& constraints, Points& v,
                       const CGSettings& settings) {
   CGWorkspace ws;
-  return projected_pcg(
-      apply_A, [&](const Points& r, Points& z) { z = inv_diag.asDiagonal() * r; }, b, constraints, v, settings, ws);
+  return projected_cg(apply_A, b, inv_diag, constraints, v, settings, ws);
+}
+
+CGResult projected_cg(const std::function<void(const Points&, Points&)>& apply_A, const Points& b,
+                      const Eigen::VectorXd& inv_diag, const NodeConstraints& constraints, Points& v,
+                      const CGSettings& settings, CGWorkspace& ws) {
+  auto jacobi = [&](const Points& r, Points& z) {
+    z.resize(r.rows(), 3);
+    parallel_for_ranges(static_cast<std::size_t>(r.rows()), kRowsPerTask, [&](std::size_t begin, std::size_t end) {
+      const auto i = static_cast<Eigen::Index>(begin), m = static_cast<Eigen::Index>(end - begin);
+      z.middleRows(i, m) = inv_diag.segment(i, m).asDiagonal() * r.middleRows(i, m);
+    });
+  };
+  return projected_pcg(apply_A, jacobi, b, constraints, v, settings, ws);
 }
 
 }  // namespace invfem

@@ -241,8 +241,10 @@ void World::advance_to(double t_end, FrameReport& report) {
           implicit_[k].forget_nodes();
           newmark_[k] = NewmarkWorkspace{};  // its pattern was the old nodes'
         }
-        if (renumbered || objects_[k].body.x != x_before_passes[k])
+        if (renumbered || objects_[k].body.x != x_before_passes[k]) {
           for (auto& f : objects_[k].forces) f->update_positions(objects_[k].body.x, time_ + dt);
+          newmark_[k].forces_changed();
+        }
       }
     }
     time_ += dt;
@@ -317,6 +319,7 @@ void World::resynchronize(double time) {
     for (auto& f : o.forces) f->update_positions(o.body.x, time);
     o.refresh_surface();
   }
+  for (NewmarkWorkspace& ws : newmark_) ws.forces_changed();
   for (const auto& k : kinematic_) k->move_to(time_);
 }
 

@@ -2,7 +2,8 @@
 // matrix-free damping it replaces (Force::add_damping_forces, NewmarkWorkspace::assemble_damping
 // false): the same motion to the damping solves' tolerance, with inverted elements, ground contact
 // and friction (whose impulses read the system too), for both damping models; a force that gives no
-// damping matrices keeps its damping, matrix-free; the pattern follows the body it is used on.
+// damping matrices keeps its damping, matrix-free; the pattern follows the body it is used on; a
+// step reuses the last step's matrix until the forces change.
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -152,6 +153,41 @@ TEST(NewmarkDamping, PatternFollowsTheBody) {
   EXPECT_EQ(run.ws.C.rows(), other.X.rows());
   NewmarkWorkspace fresh;
   EXPECT_EQ(reused, step_other(fresh));
+}
+
+// A step's first solve takes the C the last step formed at the same state: the bits of forming it
+// again. After the forces change between steps (moved here), forces_changed() makes the step form it
+// anew: the bits of a fresh workspace; without the call the stale C gives another motion.
+TEST(NewmarkDamping, LastStepsMatrixIsReusedUntilTheForcesChange) {
+  const Start s;
+  const TetMaterial m = material(0.05, DampingModel::Rotated);
+  Stepper reused(s, {m}, true), formed(s, {m}, true);
+  const double dt = 0.5 * stable_time_step(reused.body, reused.forces);
+  auto step = [dt](Stepper& r, int k) { newmark_step(r.body, r.forces, &r.ground, {}, k * dt, dt, CGSettings{}, r.ws); };
+  for (int k = 0; k < 50; ++k) {
+    step(reused, k);
+    formed.ws.forces_changed();
+    step(formed, k);
+  }
+  EXPECT_TRUE(reused.ws.current);
+  EXPECT_EQ(reused.body.x, formed.body.x);
+  EXPECT_EQ(reused.body.v, formed.body.v);
+
+  // Stretched between steps 50 and 51: `reused` is told, `stale` (the same run so far) is not,
+  // `fresh` starts from that state with a new workspace.
+  Stepper stale = std::move(formed);
+  for (Stepper* r : {&reused, &stale}) {
+    r->body.x.col(0) *= 1.3;
+    for (Force* f : r->forces) f->update_positions(r->body.x, 50 * dt);
+  }
+  reused.ws.forces_changed();
+  Stepper fresh(s, {m}, true);
+  fresh.body = reused.body;
+  for (Force* f : fresh.forces) f->update_positions(fresh.body.x, 50 * dt);
+  for (int k = 50; k < 60; ++k)
+    for (Stepper* r : {&reused, &stale, &fresh}) step(*r, k);
+  EXPECT_EQ(reused.body.x, fresh.body.x);
+  EXPECT_NE(stale.body.x, reused.body.x);
 }
 
 TEST(NewmarkDamping, NoDampingAssemblesNothing) {

@@ -57,14 +57,21 @@ struct StepStats {
 // cube's peak 1,030 -> 930 bytes a tet).
 // The pattern is built at the first step and again when the node count or the forces change; the
 // World also drops it when a pass renumbers the nodes or a checkpoint is restored.
+// A step leaves C formed at the state it leaves the forces in, x(n+1), and the next step's first
+// solve, at that same state, takes it as it is (one forming a step instead of two: 10% of the 1M
+// cube's step). Whoever changes a force's state between two steps (update_positions elsewhere, a
+// plastic state, a restored checkpoint) calls forces_changed(); the World does.
 struct NewmarkWorkspace {
   // false: every force's damping matrix-free (the reference the assembled C is tested against).
   bool assemble_damping = true;
   TermAssembly damping{TermAssembly::Term::Damping};
   BlockSparseMatrix C;                // the given forces' C at the last assembly's state (n x n blocks)
   bool assembled = false;             // C holds elements: the step uses it
+  bool current = false;               // C is at the forces' current state
+  void forces_changed() { current = false; }
   std::vector<const Force*> built_for;  // the forces C's pattern was built for (and C.rows() the nodes)
-  Points product;                     // scratch: C p
+  Points product, damping_product;    // scratch: C p, and D p with matrix-free forces
+  CGWorkspace cg;                     // the damping solves' vectors
 };
 
 // Advance `body` from t to t + dt. Precondition: every force's update_positions was last called

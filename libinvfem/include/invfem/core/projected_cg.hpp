@@ -21,6 +21,11 @@ struct CGResult {
   bool converged = false;
 };
 
+// Scratch vectors of a solve, kept by a caller that solves often (no allocation per solve).
+struct CGWorkspace {
+  Points Ap, r, z, p, Sb;
+};
+
 // Solve A v = b for v (n x 3). `apply_A(p, Ap)` writes A p. `inv_diag` (n) is a Jacobi
 // preconditioner (per node, the same for x, y, z; pass the inverse masses). On entry v holds
 // the initial guess; constrained components are overwritten with their prescribed values.
@@ -28,11 +33,10 @@ struct CGResult {
 CGResult projected_cg(const std::function<void(const Points&, Points&)>& apply_A, const Points& b,
                       const Eigen::VectorXd& inv_diag, const NodeConstraints& constraints, Points& v,
                       const CGSettings& settings);
-
-// Scratch vectors of a solve, kept by a caller that solves often (no allocation per solve).
-struct CGWorkspace {
-  Points Ap, r, z, p, Sb;
-};
+// The same with the caller's scratch vectors.
+CGResult projected_cg(const std::function<void(const Points&, Points&)>& apply_A, const Points& b,
+                      const Eigen::VectorXd& inv_diag, const NodeConstraints& constraints, Points& v,
+                      const CGSettings& settings, CGWorkspace& ws);
 
 // The same with a general preconditioner: apply_P(r, z) writes z = P r for a symmetric positive
 // definite P on the free subspace (z must come out filtered: zero constrained components).

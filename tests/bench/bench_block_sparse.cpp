@@ -14,6 +14,7 @@
 
 #include "invfem/core/block_sparse.hpp"
 #include "invfem/core/element_matrices.hpp"
+#include "test_meshes.hpp"
 
 namespace {
 
@@ -126,27 +127,19 @@ struct TetCube {
   BlockSparseMatrix A;
   Points x;
   TetCube(int n, BlockSparseMatrix::Storage storage) {
-    const int m = n + 1;
-    const auto id = [m](int i, int j, int k) { return i + m * (j + m * k); };
+    // Numbered as the unit's cube (apps/src/bench/tet_cube.hpp: x fastest, then y, then z), on
+    // which the Upper product's reads of the rows above depend.
+    const invfem::test::TetMesh cube = invfem::test::cube_cells_mesh({n, n, n}, 1.0);
+    std::vector<int> id(static_cast<std::size_t>(cube.X.rows()));
+    for (Eigen::Index r = 0; r < cube.X.rows(); ++r) {
+      const Eigen::Vector3i c = cube.X.row(r).transpose().array().round().cast<int>();
+      id[static_cast<std::size_t>(r)] = c(0) + (n + 1) * (c(1) + (n + 1) * c(2));
+    }
     ElementMatrices tets;
     tets.arity = 4;
     tets.form = ElementMatrices::Form::Upper;
-    tets.nodes.resize(6 * static_cast<Eigen::Index>(n) * n * n, 4);
-    const int axes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-    Eigen::Index t = 0;
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i)
-          for (const auto& order : axes) {
-            int c[3] = {i, j, k};
-            tets.nodes(t, 0) = id(c[0], c[1], c[2]);
-            for (int s = 0; s < 3; ++s) {
-              ++c[order[s]];
-              tets.nodes(t, s + 1) = id(c[0], c[1], c[2]);
-            }
-            ++t;
-          }
-    A = BlockSparseMatrix(static_cast<Eigen::Index>(m) * m * m, {&tets}, storage);
+    tets.nodes = cube.T.unaryExpr([&](int v) { return id[static_cast<std::size_t>(v)]; });
+    A = BlockSparseMatrix(static_cast<Eigen::Index>(n + 1) * (n + 1) * (n + 1), {&tets}, storage);
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> u(-1, 1);
     for (invfem::Mat3& b : A.blocks()) b = invfem::Mat3::NullaryExpr([&] { return u(rng); });

@@ -53,8 +53,9 @@ struct StepStats {
 // (scaling_1m) a product of the assembled C took 5.6 ms against 23.7 for the tets' damping pass,
 // and forming C about four passes' time (0.08 to 0.12 s), so C pays from about five CG iterations a
 // solve (the cube takes 6 at 10K tets, 21 at 1M; the ITF04 scenes 12 to 27, plate_tear 2). C is
-// stored as its upper triangle (the product about 12% slower, the memory about half: the 10K
-// cube's peak 1,030 -> 930 bytes a tet).
+// stored as its upper triangle: its product is slower (block_sparse.hpp; the 1M cube's step 0.70
+// against 0.64 s, alternating runs) but the memory about half, which keeps the scaling units under
+// 1 KB a tet (the 10K cube's peak 1,030 -> 930 bytes a tet).
 // The pattern is built at the first step and again when the node count or the forces change; the
 // World also drops it when a pass renumbers the nodes or a checkpoint is restored.
 // A step leaves C formed at the state it leaves the forces in, x(n+1), and the next step's first

@@ -81,13 +81,15 @@ BlockSparseMatrix::BlockSparseMatrix(Eigen::Index n, const std::vector<const Ele
   for (std::size_t i = 0; i < un; ++i) {
     columns_of(i, row);
     std::copy(row.begin(), row.end(), col_.begin() + row_start_[i]);
-    diag_[i] = row_start_[i] + static_cast<int>(std::lower_bound(row.begin(), row.end(), static_cast<int>(i)) - row.begin());
+    const auto diagonal = std::lower_bound(row.begin(), row.end(), static_cast<int>(i));
+    diag_[i] = row_start_[i] + static_cast<int>(diagonal - row.begin());
   }
   blocks_.assign(col_.size(), Mat3::Zero());
   if (upper) {  // the blocks above the diagonal by column: rows ascend, as the loop visits them
     lower_start_.assign(un + 1, 0);
     for (std::size_t i = 0; i < un; ++i)
-      for (int s = diag_[i] + 1; s < row_start_[i + 1]; ++s) ++lower_start_[static_cast<std::size_t>(col_[static_cast<std::size_t>(s)]) + 1];
+      for (int s = diag_[i] + 1; s < row_start_[i + 1]; ++s)
+        ++lower_start_[static_cast<std::size_t>(col_[static_cast<std::size_t>(s)]) + 1];
     for (std::size_t i = 0; i < un; ++i) lower_start_[i + 1] += lower_start_[i];
     lower_slot_.resize(static_cast<std::size_t>(lower_start_[un]));
     lower_row_.resize(lower_slot_.size());

@@ -51,8 +51,10 @@ void TermAssembly::add_upper(const std::vector<Force*>& forces, double w, BlockS
     if (!given_[k]) continue;
     if (scatter_[k].plan() == ElementScatter::Plan::InOrder) {
       const Force& force = *forces[k];
-      scatter_[k].add_upper(
-          [this, &force](std::size_t begin, std::size_t end, double* values) { range(force, begin, end, values); }, w, A);
+      auto form = [this, &force](std::size_t begin, std::size_t end, double* values) {
+        range(force, begin, end, values);
+      };
+      scatter_[k].add_upper(form, w, A);
       continue;
     }
     matrices(*forces[k], sets_[k]);

@@ -442,7 +442,9 @@ TEST(BlockSparseMatrix, UpperStorageMultipliesWithTheBitsOfTheMirroredFullMatrix
   for (Eigen::Index i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       const int f = full.find(static_cast<int>(i), j), u = upper.find(static_cast<int>(i), j);
-      if (j < i) EXPECT_EQ(u, -1);
+      if (j < i) {
+        EXPECT_EQ(u, -1);
+      }
       if (j < i || f < 0) continue;
       ASSERT_GE(u, 0);
       EXPECT_EQ(upper.blocks()[static_cast<std::size_t>(u)], full.blocks()[static_cast<std::size_t>(f)]);

@@ -74,7 +74,8 @@ struct Stepper {
   double t = 0;
 
   // One solid per material; the solids at `hidden` give no damping matrices.
-  Stepper(const Start& s, const std::vector<TetMaterial>& materials, bool assemble, const std::vector<bool>& hidden = {}) {
+  Stepper(const Start& s, const std::vector<TetMaterial>& materials, bool assemble,
+          const std::vector<bool>& hidden = {}) {
     body = Body{s.x, s.v, lumped_masses(s.mesh.X, s.mesh.T, 1000), Vec3(0, -9.81, 0)};
     for (std::size_t k = 0; k < materials.size(); ++k) {
       solids.push_back(std::make_unique<TetSolidForce>(make_tet_rest(s.mesh.X, s.mesh.T), materials[k]));
@@ -163,7 +164,9 @@ TEST(NewmarkDamping, LastStepsMatrixIsReusedUntilTheForcesChange) {
   const TetMaterial m = material(0.05, DampingModel::Rotated);
   Stepper reused(s, {m}, true), formed(s, {m}, true);
   const double dt = 0.5 * stable_time_step(reused.body, reused.forces);
-  auto step = [dt](Stepper& r, int k) { newmark_step(r.body, r.forces, &r.ground, {}, k * dt, dt, CGSettings{}, r.ws); };
+  auto step = [dt](Stepper& r, int k) {
+    newmark_step(r.body, r.forces, &r.ground, {}, k * dt, dt, CGSettings{}, r.ws);
+  };
   for (int k = 0; k < 50; ++k) {
     step(reused, k);
     formed.ws.forces_changed();

@@ -171,10 +171,7 @@ bool TetSolidForce::damping_pattern(ElementMatrices& out) const {
 }
 
 bool TetSolidForce::damping_matrices(ElementMatrices& out) const {
-  if (material_.damping <= 0) {
-    out.resize(0, 4);
-    return true;
-  }
+  if (material_.damping <= 0) return damping_pattern(out);  // no damping: the empty set
   // At strength 0 every C_e is zero, still written: the set stays the same from call to call.
   set_nodes(rest_.tets, ElementMatrices::Form::Upper, out);
   with_damping_derivative(material_, strength_, diag_, [&](const auto& derivative) {

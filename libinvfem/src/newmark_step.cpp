@@ -34,14 +34,14 @@ void assemble_damping(const Body& body, const std::vector<Force*>& forces, Newma
     ws.assembled = false;
     return;
   }
-  const std::vector<const Force*> now(forces.begin(), forces.end());
-  if (now != ws.built_for || ws.C.rows() != body.x.rows()) {
+  if (!std::equal(forces.begin(), forces.end(), ws.built_for.begin(), ws.built_for.end()) ||
+      ws.C.rows() != body.x.rows()) {
     ws.damping.learn(forces);
     std::vector<const ElementMatrices*> sets;
     ws.damping.append_sets(sets);
     ws.C = BlockSparseMatrix(body.x.rows(), sets, BlockSparseMatrix::Storage::Upper);  // only multiplied
     ws.damping.plan(forces, ws.C);
-    ws.built_for = now;
+    ws.built_for.assign(forces.begin(), forces.end());
     ws.assembled = ws.damping.elements() > 0;
     ws.current = false;
   }

@@ -114,7 +114,7 @@ void with_damping_derivative(const TetMaterial& material, double strength, const
 
 bool TetSolidForce::stiffness_matrices(ElementMatrices& out) const {
   const FiberMaterial* fiber = material_.fiber ? &*material_.fiber : nullptr;
-  set_nodes(rest_.tets, fiber ? ElementMatrices::Form::Dense : ElementMatrices::Form::Upper, out);
+  set_nodes(rest_.tets, stiffness_form(), out);
   const IsotropicModel model = with_strength(material_.model, strength_);
   std::visit(
       [&](const auto& mdl) {
@@ -157,7 +157,7 @@ bool TetSolidForce::stiffness_range(std::size_t begin, std::size_t end, double* 
 }
 
 bool TetSolidForce::stiffness_pattern(ElementMatrices& out) const {
-  set_pattern(rest_.tets, material_.fiber ? ElementMatrices::Form::Dense : ElementMatrices::Form::Upper, out);
+  set_pattern(rest_.tets, stiffness_form(), out);
   return true;
 }
 

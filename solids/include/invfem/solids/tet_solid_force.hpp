@@ -117,6 +117,11 @@ class TetSolidForce final : public Force {
 
  private:
   void update(const Points& x, double time, bool allow_flow);
+  // The form of the stiffness set: Upper, or Dense with a fiber (its term is added to the whole
+  // element matrix).
+  ElementMatrices::Form stiffness_form() const {
+    return material_.fiber ? ElementMatrices::Form::Dense : ElementMatrices::Form::Upper;
+  }
 
   TetRest rest_;
   TetMaterial material_;

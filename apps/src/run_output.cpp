@@ -159,7 +159,7 @@ void RunOutput::write_stats(int frame, const World& world, const FrameReport& r,
   char line[2048];
   std::snprintf(line, sizeof line,
                 "{\"frame\":%d,\"time\":%.6f,\"substeps\":%d,\"cg_iterations\":%d,\"cg_converged\":%s,"
-                "\"colliding_nodes\":%d,\"inverted\":%d,\"elements\":%d,\"min_det_F\":%.9g,"
+                "\"cg_condition\":%.3g,\"colliding_nodes\":%d,\"inverted\":%d,\"elements\":%d,\"min_det_F\":%.9g,"
                 "\"yielded\":%d,\"yielded_hinges\":%d,\"newton_iterations\":%d,\"newton_capped\":%d,"
                 "\"newton_worst_residual\":%.3g,"
                 "\"self_collision\":{\"candidates\":%lld,\"proximity_impulses\":%lld,\"ccd_hits\":%lld,"
@@ -169,7 +169,7 @@ void RunOutput::write_stats(int frame, const World& world, const FrameReport& r,
                 "\"seconds\":{\"simulate\":%.6f,\"self_collision\":%.6f,\"measure\":%.6f,\"write\":%.6f,\"render\":%.6f,"
                 "\"coupling\":%.6f,\"objects\":{",
                 frame, world.time(), r.substeps, r.cg_iterations, r.cg_all_converged ? "true" : "false",
-                r.colliding_nodes, r.elements.inverted, r.elements.elements, r.elements.min_det_F, r.elements.yielded,
+                r.cg_condition, r.colliding_nodes, r.elements.inverted, r.elements.elements, r.elements.min_det_F, r.elements.yielded,
                 r.elements.yielded_hinges, r.newton_iterations, r.newton_capped, r.newton_worst_residual, r.collisions.candidates,
                 r.collisions.proximity_impulses, r.collisions.ccd_hits, r.collisions.impact_zones,
                 r.collisions.largest_zone, r.collisions.unresolved_steps, r.collisions.tangled_pairs, r.collisions.body_crossings,

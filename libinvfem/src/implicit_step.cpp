@@ -334,6 +334,7 @@ void solve_newton_system(const NodeConstraints& fixed, const Points& x, bool fir
     iterations = res.iterations;
     if (res.converged) {
       stats.cg_iterations += iterations;
+      stats.cg_condition = std::max(stats.cg_condition, res.condition);
       return;
     }
     ws.amg_engaged = multigrid = true;  // on from ws.dir under the multigrid, within the same cap
@@ -344,6 +345,7 @@ void solve_newton_system(const NodeConstraints& fixed, const Points& x, bool fir
   iterations += res.iterations;
   stats.cg_iterations += iterations;
   stats.cg_converged = stats.cg_converged && res.converged;
+  stats.cg_condition = std::max(stats.cg_condition, res.condition);
   if (multigrid) {  // prepare_multigrid's staleness figures
     ws.amg_cg += res.iterations;
     ++ws.amg_solves;

@@ -87,13 +87,17 @@ void apply_system(const Body& body, const std::vector<Force*>& forces, NewmarkWo
   Ap += kappa * Kp;
 }
 
-// The Jacobi preconditioner of that system: 1 / (m + kappa diag K) per node (damping left out).
-Eigen::VectorXd inverse_diagonal(const Body& body, const std::vector<Force*>& forces, double kappa) {
-  if (kappa == 0) return body.mass.cwiseInverse();
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(body.mass.size());
+// The Jacobi preconditioner of that system into `inverse`: 1 / (m + kappa diag K) per node (damping
+// left out: the lumped masses precondition it, CGResult::condition measures how well).
+void inverse_diagonal(const Body& body, const std::vector<Force*>& forces, double kappa, Eigen::VectorXd& inverse) {
+  if (kappa == 0) {
+    inverse = body.mass.cwiseInverse();
+    return;
+  }
+  inverse.setZero(body.mass.size());
   for (const Force* force : forces)
-    if (force->implicit_stiffness()) force->add_stiffness_diagonal(d);
-  return (body.mass + kappa * d).cwiseInverse();
+    if (force->implicit_stiffness()) force->add_stiffness_diagonal(inverse);
+  inverse = (body.mass + kappa * inverse).cwiseInverse();
 }
 
 // The right-hand side M v_in + tau f of the implicit solves.
@@ -105,10 +109,10 @@ Points solve_rhs(const Body& body, double tau, const Points& v_in, const Points&
 CGResult damping_solve(const Body& body, const std::vector<Force*>& forces, NewmarkWorkspace& ws, double tau,
                        double kappa, const Points& v_in, const Points& b, const NodeConstraints& constraints,
                        const CGSettings& cg, Points& v_out) {
-  const Eigen::VectorXd inv_diag = inverse_diagonal(body, forces, kappa);
+  inverse_diagonal(body, forces, kappa, ws.inverse_diagonal);
   auto apply_A = [&](const Points& p, Points& Ap) { apply_system(body, forces, ws, tau, kappa, p, Ap); };
   v_out = v_in;
-  return projected_cg(apply_A, b, inv_diag, constraints, v_out, cg, ws.cg);
+  return projected_cg(apply_A, b, ws.inverse_diagonal, constraints, v_out, cg, ws.cg);
 }
 
 // Coulomb friction (contact_friction.hpp) for the impulse the normal constraints absorbed in the
@@ -176,6 +180,7 @@ StepStats newmark_step(Body& body, const std::vector<Force*>& forces, CollisionP
   body.v = std::move(v_new);
   stats.cg_iterations = stats.half_step.iterations + stats.trapezoid.iterations;
   stats.cg_converged = stats.half_step.converged && stats.trapezoid.converged;
+  stats.cg_condition = std::max(stats.half_step.condition, stats.trapezoid.condition);
   return stats;
 }
 

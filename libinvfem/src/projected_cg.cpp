@@ -1,6 +1,10 @@
 #include "invfem/core/projected_cg.hpp"
 
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "invfem/core/parallel.hpp"
 
@@ -55,6 +59,8 @@ CGResult projected_pcg(const std::function<void(const Points&, Points&)>& apply_
   const double tol = settings.relative_tolerance * b_norm + 1e-300;
 
   CGResult res;
+  ws.alpha.clear();
+  ws.beta.clear();
   apply_P(r, z);
   p = z;
   double rz = points_dot(r, z);
@@ -69,6 +75,7 @@ CGResult projected_pcg(const std::function<void(const Points&, Points&)>& apply_
     const double pAp = points_dot(p, Ap);
     if (!(pAp > 0)) break;  // not SPD on the free subspace (or p = 0): stop with what we have
     const double alpha = rz / pAp;
+    ws.alpha.push_back(alpha);
     parallel_for_ranges(static_cast<std::size_t>(n), kRowsPerTask, [&](std::size_t begin, std::size_t end) {
       const auto i = static_cast<Eigen::Index>(begin), m = static_cast<Eigen::Index>(end - begin);
       v.middleRows(i, m) += alpha * p.middleRows(i, m);
@@ -83,13 +90,30 @@ CGResult projected_pcg(const std::function<void(const Points&, Points&)>& apply_
     apply_P(r, z);
     const double rz_new = points_dot(r, z);
     const double beta = rz_new / rz;
+    ws.beta.push_back(beta);
     parallel_for_ranges(static_cast<std::size_t>(n), kRowsPerTask, [&](std::size_t begin, std::size_t end) {
       const auto i = static_cast<Eigen::Index>(begin), m = static_cast<Eigen::Index>(end - begin);
       p.middleRows(i, m) = z.middleRows(i, m) + beta * p.middleRows(i, m);
     });
     rz = rz_new;
   }
+  res.condition = lanczos_condition(ws.alpha, ws.beta);
   return res;
+}
+
+double lanczos_condition(const std::vector<double>& alpha, const std::vector<double>& beta) {
+  const auto k = static_cast<Eigen::Index>(alpha.size());
+  if (k == 0) return 0;
+  Eigen::VectorXd diagonal(k), off(std::max<Eigen::Index>(k - 1, 0));
+  for (Eigen::Index j = 0; j < k; ++j) {
+    const auto uj = static_cast<std::size_t>(j);
+    diagonal(j) = 1 / alpha[uj] + (j > 0 ? beta[uj - 1] / alpha[uj - 1] : 0.0);
+    if (j + 1 < k) off(j) = std::sqrt(beta[uj]) / alpha[uj];
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig;
+  eig.computeFromTridiagonal(diagonal, off, Eigen::EigenvaluesOnly);
+  const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
+  return lambda(0) > 0 ? lambda(k - 1) / lambda(0) : std::numeric_limits<double>::infinity();
 }
 
 CGResult projected_cg(const std::function<void(const Points&, Points&)>& apply_A, const Points& b,

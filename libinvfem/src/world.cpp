@@ -212,6 +212,7 @@ void World::advance_to(double t_end, FrameReport& report) {
         report.object_seconds[k] += since(t0);
         report.cg_iterations += s.cg_iterations;
         report.cg_all_converged = report.cg_all_converged && s.cg_converged;
+        report.cg_condition = std::max(report.cg_condition, s.cg_condition);
         report.colliding_nodes += s.colliding_nodes;
         report.newton_iterations += s.newton_iterations;
         if (!s.newton_converged) {

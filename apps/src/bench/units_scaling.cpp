@@ -1,8 +1,9 @@
 // The scaling units: the generated cube (tet_cube.hpp) at about 10K, 100K and 1M tets, resting on
 // a ground plane, stepped as a scene. The figure is seconds per step; the note gives the time per
 // tet and step (flat when the cost is linear in size), the damping solve's CG iterations a step
-// and the time per tet and iteration (flat when each iteration's work is linear in size), and the
-// peak memory per tet.
+// and the time per tet and iteration (flat when each iteration's work is linear in size), the
+// largest condition estimate of those solves (CGResult::condition: their count grows as its square
+// root), and the peak memory per tet.
 #include <malloc.h>
 #include <tbb/task_arena.h>
 
@@ -87,6 +88,7 @@ UnitResult scaling(const RunOptions& o, const std::string& name, int cells) {
     tets = world.objects().at(0).tets.rows();
     int step = 0;
     long cg_iterations = 0, steps = 0;  // over the timed steps
+    double condition = 0;               // the largest CG condition estimate of the timed steps
     auto advance = [&] {
       FrameReport report;
       const auto t0 = Clock::now();
@@ -94,11 +96,13 @@ UnitResult scaling(const RunOptions& o, const std::string& name, int cells) {
       const double s = seconds_since(t0) / std::max(1, report.substeps);
       if (!world.state_is_finite()) throw std::runtime_error(strf("non-finite state at step %d", step));
       cg_iterations += report.cg_iterations;
+      condition = std::max(condition, report.cg_condition);
       steps += report.substeps;
       return s;
     };
     advance();  // warm-up: first touch of the step's arrays
     cg_iterations = steps = 0;
+    condition = 0;
     const int runs = o.quick ? kMinRuns : 9;
     for (int run = 0; run < runs; ++run) {
       r.samples.push_back(advance());
@@ -113,9 +117,10 @@ UnitResult scaling(const RunOptions& o, const std::string& name, int cells) {
     const double cg_per_step = static_cast<double>(cg_iterations) / static_cast<double>(std::max(1L, steps));
     r.note = count_text(tets) + " tets, " + count_text(world.objects().at(0).body.x.rows()) + " nodes; " +
              strf("median %.3g us per tet and step, %d threads; %.1f CG iterations a step (%.3g ns per tet and "
-                  "iteration, the step's other work included); %.0f B/tet peak RSS growth (scene build + steps)",
+                  "iteration, the step's other work included), CG condition estimate %.3g; %.0f B/tet peak RSS "
+                  "growth (scene build + steps)",
                   1e6 * median / tets, tbb::this_task_arena::max_concurrency(), cg_per_step,
-                  1e9 * median / tets / std::max(1.0, cg_per_step), bytes_per_tet) + r.note;
+                  1e9 * median / tets / std::max(1.0, cg_per_step), condition, bytes_per_tet) + r.note;
   }
   return r;
 }

@@ -41,6 +41,7 @@ struct StepStats {
   int colliding_nodes = 0;
   int cg_iterations = 0;        // every CG iteration of the step
   bool cg_converged = true;     // every CG solve met its tolerance
+  double cg_condition = 0;      // the largest of the step's CG condition estimates (CGResult::condition)
   int newton_iterations = 0;    // implicit step: Newton iterations (0 for the ITF04 step)
   bool newton_converged = true; // implicit step: the stopping rule was met within the cap
   double newton_residual = 0;   // implicit step: final |S grad E| / h^2 / force_scale
@@ -73,6 +74,7 @@ struct NewmarkWorkspace {
   std::vector<const Force*> built_for;  // the forces C's pattern was built for (and C.rows() the nodes)
   Points product, damping_product;    // scratch: C p, and D p with matrix-free forces
   CGWorkspace cg;                     // the damping solves' vectors
+  Eigen::VectorXd inverse_diagonal;   // their Jacobi preconditioner (n)
 };
 
 // Advance `body` from t to t + dt. Precondition: every force's update_positions was last called

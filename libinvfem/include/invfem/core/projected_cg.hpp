@@ -4,6 +4,7 @@
 // runs on the free subspace only. Used for the implicit damping solves of ITF04 section 9,
 // whose matrix M - tau D is SPD.
 #include <functional>
+#include <vector>
 
 #include "invfem/core/node_constraint.hpp"
 #include "invfem/core/types.hpp"
@@ -19,12 +20,26 @@ struct CGResult {
   int iterations = 0;
   double residual = 0;  // final |r|
   bool converged = false;
+  // An estimate of the condition number of the preconditioned matrix (P A on the free subspace):
+  // lambda_max / lambda_min of the Lanczos tridiagonal T that CG's coefficients define (Saad 2003,
+  // "Iterative Methods for Sparse Linear Systems", section 6.7.3): T(j, j) = 1 / alpha_j +
+  // beta_(j-1) / alpha_(j-1), T(j, j+1) = sqrt(beta_j) / alpha_j. T's extreme eigenvalues lie
+  // inside P A's spectrum and approach its ends as the iterations go on, so this is a lower bound
+  // of the condition number, close to it once a solve has taken more than a few iterations. CG
+  // needs about sqrt(kappa) / 2 ln(2 / tol) iterations: the estimate tells a count that grows
+  // with the mesh's resolution from one that grows with a bad preconditioner or a stiff state.
+  // 0 when no iteration ran.
+  double condition = 0;
 };
 
 // Scratch vectors of a solve, kept by a caller that solves often (no allocation per solve).
 struct CGWorkspace {
   Points Ap, r, z, p, Sb;
+  std::vector<double> alpha, beta;  // the iterations' coefficients (CGResult::condition)
 };
+
+// The condition estimate of CGResult::condition from k coefficients alpha and k - 1 beta.
+double lanczos_condition(const std::vector<double>& alpha, const std::vector<double>& beta);
 
 // Solve A v = b for v (n x 3). `apply_A(p, Ap)` writes A p. `inv_diag` (n) is a Jacobi
 // preconditioner (per node, the same for x, y, z; pass the inverse masses). On entry v holds

@@ -198,6 +198,7 @@ struct FrameReport {
   ElementStats elements;                         // tets only
   int substeps = 0, cg_iterations = 0, colliding_nodes = 0;
   bool cg_all_converged = true;
+  double cg_condition = 0;  // the largest CG condition estimate of the frame's steps (CGResult::condition)
   // Implicit integrator: Newton iterations, and the object steps whose Newton stopped at its
   // iteration cap (or without descent) above the tolerance, with the worst final residual.
   int newton_iterations = 0, newton_capped = 0;

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "invfem/core/parallel.hpp"
 
@@ -107,13 +106,17 @@ double lanczos_condition(const std::vector<double>& alpha, const std::vector<dou
   Eigen::VectorXd diagonal(k), off(std::max<Eigen::Index>(k - 1, 0));
   for (Eigen::Index j = 0; j < k; ++j) {
     const auto uj = static_cast<std::size_t>(j);
+    // A preconditioner that is not positive definite makes r z negative somewhere: no estimate.
+    if (!(alpha[uj] > 0 && std::isfinite(alpha[uj])) || (j > 0 && !(beta[uj - 1] >= 0 && std::isfinite(beta[uj - 1]))))
+      return 0;
     diagonal(j) = 1 / alpha[uj] + (j > 0 ? beta[uj - 1] / alpha[uj - 1] : 0.0);
     if (j + 1 < k) off(j) = std::sqrt(beta[uj]) / alpha[uj];
   }
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig;
   eig.computeFromTridiagonal(diagonal, off, Eigen::EigenvaluesOnly);
   const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
-  return lambda(0) > 0 ? lambda(k - 1) / lambda(0) : std::numeric_limits<double>::infinity();
+  const double ratio = lambda(k - 1) / lambda(0);
+  return lambda(0) > 0 && std::isfinite(ratio) ? ratio : 0;
 }
 
 CGResult projected_cg(const std::function<void(const Points&, Points&)>& apply_A, const Points& b,

@@ -64,6 +64,9 @@ TEST(ProjectedCG, LanczosConditionOfKnownCoefficients) {
   EXPECT_DOUBLE_EQ(lanczos_condition({1.0, 1.0, 1.0}, {0.0, 0.0}), 1.0);
   EXPECT_DOUBLE_EQ(lanczos_condition({0.5}, {}), 1.0);
   EXPECT_EQ(lanczos_condition({}, {}), 0.0);
+  // Not from a positive definite P A: no estimate, never inf or NaN (stats.jsonl writes it).
+  EXPECT_EQ(lanczos_condition({1.0, -0.5}, {0.2}), 0.0);
+  EXPECT_EQ(lanczos_condition({1.0, 0.5}, {-0.2}), 0.0);
   // Two steps: T = [[1/a0, sqrt(b0)/a0], [sqrt(b0)/a0, 1/a1 + b0/a0]].
   const double a0 = 0.5, a1 = 0.25, b0 = 0.3;
   Eigen::Matrix2d T;

@@ -28,7 +28,8 @@ struct CGResult {
   // of the condition number, close to it once a solve has taken more than a few iterations. CG
   // needs about sqrt(kappa) / 2 ln(2 / tol) iterations: the estimate tells a count that grows
   // with the mesh's resolution from one that grows with a bad preconditioner or a stiff state.
-  // 0 when no iteration ran.
+  // 0 when no iteration ran, and when the coefficients are not those of a positive definite P A
+  // (a preconditioner that is not SPD: r z <= 0).
   double condition = 0;
 };
 

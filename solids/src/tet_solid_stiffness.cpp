@@ -45,7 +45,7 @@ void set_pattern(const Tets& tets, ElementMatrices::Form form, ElementMatrices& 
   out.arity = 4;
   out.form = form;
   out.nodes = tets;
-  std::vector<double>().swap(out.values);
+  out.release_values();
 }
 
 // Element e's rest shape for Fe (header): the shape gradients of Dm^-1 Fp^-1 and the volume

@@ -67,6 +67,9 @@ struct ElementMatrices {
     return arity == a && form == f && count() == m &&
            values.size() == static_cast<std::size_t>(m) * static_cast<std::size_t>(stride());
   }
+  // Frees the values, the node lists and form kept: the set Force::stiffness_pattern and
+  // damping_pattern give.
+  void release_values() { std::vector<double>().swap(values); }
   // Sizes the arrays for m elements of `a` nodes in the given form (keeping the allocation when
   // it fits).
   void resize(Eigen::Index m, int a, Form f = Form::Dense) {

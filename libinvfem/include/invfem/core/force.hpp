@@ -102,7 +102,7 @@ class Force {
 
  private:
   static bool without_values(bool given, ElementMatrices& out) {
-    std::vector<double>().swap(out.values);
+    out.release_values();
     return given;
   }
 };

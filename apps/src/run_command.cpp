@@ -205,6 +205,12 @@ int run_command(const std::vector<std::string>& raw) {
                       r.newton_capped, r.newton_worst_residual);
         newton += capped;
       }
+      if (r.motion_limited_steps > 0) {
+        char split[160];
+        std::snprintf(split, sizeof split, "  (%d steps shortened: %.3g m of motion in a step, limit %.3g m)",
+                      r.motion_limited_steps, r.largest_step_motion, r.step_motion_limit);
+        newton += split;
+      }
       const FrameReport::Collisions& sc = r.collisions;
       if (sc.candidates > 0) {
         char self[200];

@@ -279,6 +279,8 @@ struct SolverSpec {
   // A frame that would take more steps stops the run (exit 1) instead of running for days; the
   // run prints its step size and estimate at the start when a frame needs over 1000.
   int max_substeps_per_frame = 100000;
+  // [m] motion-bounded steps (WorldSettings::max_step_motion); 0: the colliders' limits only.
+  double max_step_motion = 0;
 };
 
 // The self-collision layer (collisions/self_collision_pass.hpp), run after every step on every

@@ -124,6 +124,10 @@ double GearSurface::phi(const Vec3& x, double) const {
   return std::hypot(std::max(d2, 0.0), std::max(dz, 0.0)) + std::min(std::max(d2, dz), 0.0);
 }
 
+double GearSurface::step_motion_limit() const {
+  return 0.5 * std::min(p_.thickness, p_.outer_radius - p_.root_radius);
+}
+
 Vec3 GearSurface::normal(const Vec3& x, double) const {
   Vec2 n;
   const double d2 = planar(x.x(), x.y(), n);

@@ -39,6 +39,12 @@ void RigidCollisions::begin_object(const SimObject& object) {
   }
 }
 
+double RigidCollisions::step_motion_limit() const {
+  double limit = std::numeric_limits<double>::infinity();
+  for (const RigidCollider& c : colliders_) limit = std::min(limit, c.surface->step_motion_limit());
+  return limit;
+}
+
 void RigidCollisions::solids_stepped(const std::vector<SimObject>& objects, double, double) {
   solid_surfaces_.resize(couplings_.size());
   surface_versions_.resize(couplings_.size(), 0);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <limits>
 #include <stdexcept>
 
 #include "invfem/collisions/candidates/tangles.hpp"
@@ -27,6 +28,21 @@ void validate(const SelfCollisionSettings& s) {
 
 SelfCollisionPass::SelfCollisionPass(SelfCollisionSettings settings) : settings_(std::move(settings)) {
   validate(settings_);
+}
+
+double SelfCollisionPass::step_motion_limit(const std::vector<SimObject>& objects) const {
+  std::vector<double> lengths;
+  for (const SimObject& o : objects) {
+    if (std::find(settings_.excluded.begin(), settings_.excluded.end(), o.name) != settings_.excluded.end()) continue;
+    const TriangleSurface& s = o.material_surface();
+    for (Eigen::Index t = 0; t < s.tris.rows(); ++t)
+      for (int e = 0; e < 3; ++e)
+        lengths.push_back((s.x.row(s.tris(t, e)) - s.x.row(s.tris(t, (e + 1) % 3))).norm());
+  }
+  if (lengths.empty()) return std::numeric_limits<double>::infinity();
+  const auto median = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
+  std::nth_element(lengths.begin(), median, lengths.end());
+  return *median > 0 ? kStepMotionEdges * *median : std::numeric_limits<double>::infinity();
 }
 
 void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const StepPassInput& step) {

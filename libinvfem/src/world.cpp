@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <set>
 #include <stdexcept>
 #include <utility>
@@ -160,8 +161,44 @@ ImplicitSettings World::implicit_settings(const SimObject& o) const {
   return s;
 }
 
+double World::step_motion_limit() const {
+  double limit = settings_.max_step_motion;
+  for (const auto& p : passes_) limit = std::min(limit, p->step_motion_limit(objects_));
+  return limit;
+}
+
+bool World::motion_bounded() const {
+  if (std::isfinite(step_motion_limit()) || (collisions_ && std::isfinite(collisions_->step_motion_limit()))) return true;
+  for (const auto& k : kinematic_)
+    if (std::isfinite(k->step_motion_limit())) return true;
+  return false;
+}
+
+StepMotion World::step_motion(double dt, double limit, const std::vector<Points>& kinematic_start) {
+  StepMotion worst;
+  auto consider = [&](double motion, double bound) {
+    if (motion / bound > worst.ratio) worst = {motion / bound, motion, bound};
+  };
+  const double node_limit = collisions_ ? std::min(limit, collisions_->step_motion_limit()) : limit;
+  for (const SimObject& o : objects_) {
+    const double speed = o.body.v.rows() > 0 ? o.body.v.rowwise().norm().maxCoeff() : 0.0;
+    consider(speed * dt + 0.5 * o.body.gravity.norm() * dt * dt, node_limit);
+  }
+  for (std::size_t k = 0; k < kinematic_.size(); ++k) {
+    kinematic_[k]->move_to(time_ + dt);
+    const TriangleSurface* s = kinematic_[k]->surface();
+    if (s && s->x.rows() > 0 && s->x.rows() == kinematic_start[k].rows())
+      consider((s->x - kinematic_start[k]).rowwise().norm().maxCoeff(),
+               std::min(limit, kinematic_[k]->step_motion_limit()));
+  }
+  return worst;
+}
+
 void World::advance_to(double t_end, FrameReport& report) {
   const std::vector<ObjectKind> stage_order = {ObjectKind::Solid, ObjectKind::Cloth};
+  const double motion_limit = step_motion_limit();
+  const bool bounded = motion_bounded();
+  double bounded_dt = std::numeric_limits<double>::infinity();  // the frame's shortened step, once one was
   std::vector<Points> x_start, kinematic_start, x_before_passes;
   long long taken = 0;
   for (ImplicitWorkspace& ws : implicit_) ws.restart_preconditioner();
@@ -173,18 +210,43 @@ void World::advance_to(double t_end, FrameReport& report) {
   // step (ITF04's scheme takes a variable dt).
   while (time_ < t_end - 1e-12 * std::max(1.0, t_end)) {
     const double left = t_end - time_;
-    double dt = std::min(step_size(), left);
+    double dt = std::min({step_size(), left, bounded_dt});
     const double steps = std::ceil(left / dt - 1e-9);  // +inf for dt = 0
     if (settings_.max_substeps > 0 && static_cast<double>(taken) + steps > static_cast<double>(settings_.max_substeps))
       throw SubstepLimitError(dt, static_cast<double>(taken) + steps, settings_.max_substeps);
     dt = left / steps;
-    ++taken;
     report.colliding_nodes = 0;
+    if (!passes_.empty() || bounded) {
+      kinematic_start.clear();
+      for (const auto& k : kinematic_) kinematic_start.push_back(k->surface() ? k->surface()->x : Points());
+    }
+    if (bounded) {
+      // Motion-bounded steps (WorldSettings::max_step_motion): equal shorter steps over what is
+      // left of the frame, each moving at most the limit. A motion that does not shrink with the
+      // step (a discontinuous body) stops after a few tries at the substep limit.
+      const StepMotion first = step_motion(dt, motion_limit, kinematic_start);
+      StepMotion m = first;
+      for (int tries = 0; m.ratio > 1 && tries < 32; ++tries) {
+        const double shorter = std::ceil(left / (dt * std::min(0.9, 1 / m.ratio)) - 1e-9);
+        if (settings_.max_substeps > 0 &&
+            static_cast<double>(taken) + shorter > static_cast<double>(settings_.max_substeps))
+          throw SubstepLimitError(left / shorter, static_cast<double>(taken) + shorter, settings_.max_substeps);
+        dt = left / shorter;
+        m = step_motion(dt, motion_limit, kinematic_start);
+      }
+      if (first.ratio > 1) {
+        bounded_dt = dt;  // the frame's later steps start from it (each is checked again)
+        ++report.motion_limited_steps;
+        if (report.step_motion_limit == 0 || first.ratio > report.largest_step_motion / report.step_motion_limit) {
+          report.largest_step_motion = first.motion;
+          report.step_motion_limit = first.limit;
+        }
+      }
+    }
+    ++taken;
     if (!passes_.empty()) {
       x_start.clear();
       for (const auto& o : objects_) x_start.push_back(o.body.x);
-      kinematic_start.clear();
-      for (const auto& k : kinematic_) kinematic_start.push_back(k->surface() ? k->surface()->x : Points());
     }
     // 1. Kinematic bodies.
     for (const auto& k : kinematic_) k->move_to(time_ + dt);

@@ -6,6 +6,8 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <functional>
+#include <limits>
+#include <memory>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -95,6 +97,17 @@ void add_rect(std::vector<Vec3>& s, const Vec3& a, const Vec3& e1, double lu, co
 }
 
 }  // namespace
+
+TEST(ImplicitSurface, StepMotionLimitIsHalfTheThinnestPart) {
+  EXPECT_DOUBLE_EQ(SphereSurface(Vec3::Zero(), 0.3).step_motion_limit(), 0.3);
+  EXPECT_DOUBLE_EQ(BoxSurface(Vec3(0.5, 0.1, 2)).step_motion_limit(), 0.1);
+  EXPECT_DOUBLE_EQ(CappedCylinderSurface(0.2, 0.05).step_motion_limit(), 0.05);
+  GearParams g;  // thickness 0.3, teeth 0.1 high
+  EXPECT_DOUBLE_EQ(GearSurface(g).step_motion_limit(), 0.05);
+  EXPECT_EQ(PlaneSurface(Vec3::Zero(), Vec3::UnitY()).step_motion_limit(), std::numeric_limits<double>::infinity());
+  const MovingSurface moving(std::make_shared<SphereSurface>(Vec3::Zero(), 0.4), Motion{});
+  EXPECT_DOUBLE_EQ(moving.step_motion_limit(), 0.4);
+}
 
 TEST(Sphere, PhiAndNormalMatchSampledSurface) {
   const Vec3 c(0.3, -0.2, 0.5);

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <random>
 #include <set>
 #include <string>
@@ -753,6 +754,19 @@ SimObject sheet_object(const std::string& name, int n, double width, double heig
   return o;
 }
 }  // namespace
+
+TEST(SelfCollisionPass, BoundsAStepsMotionToEightMedianEdgesOfItsSurfaces) {
+  // Two 4 x 4 grids: edges 0.25 and 0.15 m along the axes, their diagonals longer.
+  std::vector<SimObject> objects;
+  objects.push_back(sheet_object("lower", 4, 1.0, 0.0));
+  objects.push_back(sheet_object("upper", 4, 0.6, 0.02));
+  EXPECT_NEAR(SelfCollisionPass({}).step_motion_limit(objects), 8 * 0.25, 1e-12);
+  SelfCollisionSettings without_lower;
+  without_lower.excluded = {"lower"};
+  EXPECT_NEAR(SelfCollisionPass(without_lower).step_motion_limit(objects), 8 * 0.15, 1e-12);
+  without_lower.excluded = {"lower", "upper"};
+  EXPECT_EQ(SelfCollisionPass(without_lower).step_motion_limit(objects), std::numeric_limits<double>::infinity());
+}
 
 TEST(SelfCollisionPass, StopsASheetTunnellingThroughAnotherAndConservesMomentum) {
   std::vector<SimObject> objects;

@@ -3,6 +3,7 @@
 // with its rollback on a stream that does not fit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -206,6 +207,103 @@ TEST(World, SubstepLimitStopsAdvanceBeforeItsSteps) {
   EXPECT_EQ(r2.substeps, 0);
   EXPECT_DOUBLE_EQ(world.time(), 0.5);
   EXPECT_EQ(world.objects()[0].body.x, x);
+}
+
+// A one-triangle body sliding along x at `speed` [m/s].
+class SlidingBody final : public KinematicBody {
+ public:
+  explicit SlidingBody(double speed) : speed_(speed) {
+    surface_.x.resize(3, 3);
+    surface_.tris.resize(1, 3);
+    surface_.tris << 0, 1, 2;
+    move_to(0);
+  }
+  const std::string& name() const override { return name_; }
+  void move_to(double t) override {
+    surface_.x << 0, 0, 0, 1, 0, 0, 0, 0, 1;
+    surface_.x.col(0).array() += speed_ * t;
+    times.push_back(t);
+  }
+  const TriangleSurface* surface() const override { return &surface_; }
+  std::vector<double> times;  // of every move_to
+
+ private:
+  std::string name_ = "slider";
+  double speed_;
+  TriangleSurface surface_;
+};
+
+TEST(World, MotionBoundedStepsSplitAStepInWhichABodyMovesTooFar) {
+  // 100 m/s in steps of 0.01 s: 1 m a step against a limit of 6 cm, so steps of at most 0.6 ms,
+  // 34 over the frame (equal ones over what is left: rounding may add one).
+  auto body = std::make_shared<SlidingBody>(100.0);
+  std::vector<SimObject> objects;
+  objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+  objects.back().body.gravity = Vec3::Zero();
+  WorldSettings settings;
+  settings.max_dt = 0.01;
+  settings.max_step_motion = 0.06;
+  World world(settings, std::move(objects), {body}, nullptr);
+  EXPECT_DOUBLE_EQ(world.step_motion_limit(), 0.06);
+  FrameReport r;
+  world.advance_to(0.02, r);
+  EXPECT_GE(r.substeps, 34);
+  EXPECT_LE(r.substeps, 35);
+  EXPECT_EQ(r.motion_limited_steps, 1);  // the first step's length is kept for the frame's others
+  EXPECT_NEAR(r.largest_step_motion, 1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(world.time(), 0.02);
+  EXPECT_NEAR(world.kinematic_bodies()[0]->surface()->x(0, 0), 2.0, 1e-12);
+  // Every step the world took moved the body at most the limit: the times it was placed at, less
+  // the probe of the first step at its full length (0.01 s), are at most 0.6 ms apart.
+  std::vector<double> placed = body->times;
+  const auto probe = std::find(placed.begin(), placed.end(), 0.01);
+  ASSERT_NE(probe, placed.end());
+  placed.erase(probe);
+  for (std::size_t k = 1; k < placed.size(); ++k) EXPECT_LE(placed[k] - placed[k - 1], 0.0006 + 1e-15) << k;
+}
+
+TEST(World, MotionBoundedStepsSplitAStepInWhichANodeWouldTravelTooFar) {
+  // A node at 10 m/s travels 10 cm in a 0.01 s step: 1 cm a step needs 10 steps.
+  std::vector<SimObject> objects;
+  objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+  objects.back().body.gravity = Vec3::Zero();
+  objects.back().body.v.row(1) = Vec3(0, 0, 10).transpose();
+  WorldSettings settings;
+  settings.max_dt = 0.01;
+  settings.max_step_motion = 0.01;
+  World world(settings, std::move(objects), {}, nullptr);
+  FrameReport r;
+  world.advance_to(0.01, r);
+  EXPECT_GE(r.substeps, 10);
+  EXPECT_GE(r.motion_limited_steps, 1);
+  EXPECT_NEAR(r.largest_step_motion, 0.1, 1e-12);
+  // Without a limit the same frame is one step.
+  std::vector<SimObject> again;
+  again.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+  again.back().body.gravity = Vec3::Zero();
+  again.back().body.v.row(1) = Vec3(0, 0, 10).transpose();
+  settings.max_step_motion = std::numeric_limits<double>::infinity();
+  World free(settings, std::move(again), {}, nullptr);
+  FrameReport r2;
+  free.advance_to(0.01, r2);
+  EXPECT_EQ(r2.substeps, 1);
+  EXPECT_EQ(r2.motion_limited_steps, 0);
+  EXPECT_EQ(r2.largest_step_motion, 0);
+}
+
+TEST(World, MotionBoundedStepsRespectTheSubstepLimit) {
+  auto body = std::make_shared<SlidingBody>(100.0);
+  std::vector<SimObject> objects;
+  objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+  WorldSettings settings;
+  settings.max_dt = 0.01;
+  settings.max_step_motion = 1e-4;  // 10,000 steps a step
+  settings.max_substeps = 500;
+  World world(settings, std::move(objects), {body}, nullptr);
+  FrameReport r;
+  EXPECT_THROW(world.advance_to(0.01, r), SubstepLimitError);
+  EXPECT_EQ(r.substeps, 0);
+  EXPECT_DOUBLE_EQ(world.time(), 0.0);
 }
 
 TEST(World, SaveRestoreRoundTripsAndABadStreamLeavesTheWorldUnchanged) {

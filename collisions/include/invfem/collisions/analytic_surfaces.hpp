@@ -4,6 +4,8 @@
 // inside a box or cylinder, a box edge seen from outside is fine) the gradient of one of the
 // nearest features is returned. Constructors throw std::invalid_argument for non-finite or
 // non-positive sizes.
+#include <algorithm>
+
 #include "invfem/collisions/implicit_surface.hpp"
 
 namespace invfem {
@@ -14,6 +16,7 @@ class SphereSurface final : public ImplicitSurface {
   double phi(const Vec3& x, double t) const override;
   // At the center (no gradient) returns +z.
   Vec3 normal(const Vec3& x, double t) const override;
+  double step_motion_limit() const override { return radius_; }
 
  private:
   Vec3 center_;
@@ -26,6 +29,7 @@ class BoxSurface final : public ImplicitSurface {
   explicit BoxSurface(const Vec3& half_extents);
   double phi(const Vec3& x, double t) const override;
   Vec3 normal(const Vec3& x, double t) const override;
+  double step_motion_limit() const override { return h_.minCoeff(); }
 
  private:
   Vec3 h_;
@@ -37,6 +41,7 @@ class CappedCylinderSurface final : public ImplicitSurface {
   CappedCylinderSurface(double radius, double half_height);
   double phi(const Vec3& x, double t) const override;
   Vec3 normal(const Vec3& x, double t) const override;
+  double step_motion_limit() const override { return std::min(r_, hh_); }
 
  private:
   double r_;

@@ -81,6 +81,8 @@ class BodySequence final : public KinematicBody {
   void move_to(double t) override;
   const TriangleSurface* surface() const override { return &surface_; }
   bool surface_is_shape() const override { return true; }
+  // query_radius - offset: a node the body passes deeper than that in a step reads as outside.
+  double step_motion_limit() const override { return settings_.mesh.query_radius - settings_.mesh.offset; }
 
   // For RigidCollisions: the collision shape (as of the last move_to) and its friction.
   std::shared_ptr<const ImplicitSurface> implicit() const { return mesh_; }

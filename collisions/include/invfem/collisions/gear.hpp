@@ -42,6 +42,8 @@ class GearSurface final : public ImplicitSurface {
 
   double phi(const Vec3& x, double t) const override;
   Vec3 normal(const Vec3& x, double t) const override;
+  // Half the thinner of the gear's thickness and its teeth's height.
+  double step_motion_limit() const override;
 
   // The profile radius r(theta) and its derivative dr/dtheta.
   double tooth_radius(double theta) const;

@@ -3,6 +3,7 @@
 // outside; the normal is the outward unit gradient of phi. Bodies move kinematically, so
 // every query takes the time t.
 #include <cstdint>
+#include <limits>
 
 #include "invfem/core/types.hpp"
 
@@ -27,6 +28,12 @@ class ImplicitSurface {
   // Changes whenever phi(., t) may have changed for a given t (a deforming mesh refit); surfaces
   // that are functions of time alone keep 0. Queries are const and safe from several threads.
   virtual std::uint64_t version() const { return 0; }
+  // The farthest [m] a point may move against this surface in one step and still be found on the
+  // side it came from: half the shape's thinnest part for an analytic shape (a point moving
+  // further could pass through it unseen). The world splits a step whose motion would exceed it
+  // (WorldSettings::max_step_motion). Infinity (the default) for a half-space, which no motion
+  // passes through, and for a mesh, whose triangles the self-collision layer's CCD meets.
+  virtual double step_motion_limit() const { return std::numeric_limits<double>::infinity(); }
 };
 
 // A static half-space: everything below the plane through `point` with outward `normal`.

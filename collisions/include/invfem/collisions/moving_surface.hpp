@@ -21,6 +21,7 @@ class MovingSurface final : public ImplicitSurface {
   // The body's, at X (rigid maps keep distances).
   double clearance(const Vec3& x, double t) const override;
   std::uint64_t version() const override { return body_->version(); }
+  double step_motion_limit() const override { return body_->step_motion_limit(); }
 
   const Motion& motion() const { return motion_; }
   const ImplicitSurface& body() const { return *body_; }

@@ -31,6 +31,7 @@ class RigidBody final : public KinematicBody {
   // Not thread-safe on the first read after a move_to (it poses the cached surface then).
   const TriangleSurface* surface() const override;
   bool surface_is_shape() const override { return surface_is_shape_; }
+  double step_motion_limit() const override { return implicit_->step_motion_limit(); }
 
   const std::shared_ptr<const ImplicitSurface>& implicit() const { return implicit_; }
   double friction() const { return friction_; }

@@ -46,6 +46,9 @@ class RigidCollisions final : public CollisionProcessor {
   // Builds (first call) or refits each coupled solid's MeshSurface at t_new. Throws
   // std::invalid_argument when a coupling names no solid of `objects`.
   void solids_stepped(const std::vector<SimObject>& objects, double t_new, double dt) override;
+  // The smallest of every collider's ImplicitSurface::step_motion_limit (a coupled solid's
+  // surface is a mesh: none).
+  double step_motion_limit() const override;
 
   // For each node with phi(x~) < 0:
   //  - project x~ to the surface (dx_N = -phi along N);

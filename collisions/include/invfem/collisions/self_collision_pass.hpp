@@ -82,6 +82,11 @@ class SelfCollisionPass final : public StepPass {
  public:
   explicit SelfCollisionPass(SelfCollisionSettings settings);
   void after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport& report) override;
+  // kStepMotionEdges median edge lengths of the taking-part surfaces: the broad phase's candidates
+  // per vertex grow with the square of its sweep in edges, and a step swept across a whole garment
+  // (a body frame that jumps, steps of half a second) otherwise takes minutes and gigabytes.
+  double step_motion_limit(const std::vector<SimObject>& objects) const override;
+  static constexpr double kStepMotionEdges = 8;
   // Checkpoints: what carries over from one step to the next (the last step's end end_, whether
   // it let pairs go, the tangles' ages, the recovering tets), so a resumed run continues as the
   // one never stopped would. A checkpoint written before this state was kept (an empty blob)

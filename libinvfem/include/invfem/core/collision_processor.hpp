@@ -4,6 +4,7 @@
 #include "invfem/core/node_constraint.hpp"
 #include "invfem/core/types.hpp"
 
+#include <limits>
 #include <vector>
 
 namespace invfem {
@@ -28,6 +29,10 @@ class CollisionProcessor {
   // the trapezoid solve then holds fixed. Returns the number of colliding nodes. skip (one flag
   // per node, or null): nodes flagged non-zero are left as they are and get no constraint (the
   // implicit step's nodes already held, whose answer it would not use).
+  // The farthest [m] a node may move in one step and still have its contact with every collider
+  // found (the thinnest analytic collider's half thickness): the world splits a step whose nodes
+  // would move further. Infinity by default (nothing a step could pass through).
+  virtual double step_motion_limit() const { return std::numeric_limits<double>::infinity(); }
   virtual int process(const Points& x_old, Points& x_new, Points& v, double t_new, double dt,
                       NodeConstraints& constraints, const std::vector<char>* skip = nullptr) = 0;
 };

@@ -21,6 +21,7 @@
 // step has no stability limit: its dt is max_dt (a frame or a fraction of one).
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -136,6 +137,10 @@ class KinematicBody {
   // whose collisions are exact elsewhere (an analytic sphere or gear: its tessellation lies off
   // the true surface, which vertices touch, and would read as crossings).
   virtual bool surface_is_shape() const { return true; }
+  // The farthest [m] the body's surface may move in one step for its collisions to be found (a
+  // mesh body: its query depth, below which a node it passes reads as outside); the world splits
+  // a step in which it would move further. Infinity by default.
+  virtual double step_motion_limit() const { return std::numeric_limits<double>::infinity(); }
 };
 
 struct FrameReport;
@@ -159,6 +164,12 @@ class StepPass {
  public:
   virtual ~StepPass() = default;
   virtual void after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport& report) = 0;
+  // The farthest [m] anything may move in one step among these objects for the pass to do its
+  // work within bounds (World::advance_to splits a step that would move further); infinity: none.
+  virtual double step_motion_limit(const std::vector<SimObject>& objects) const {
+    (void)objects;
+    return std::numeric_limits<double>::infinity();
+  }
   // Checkpoints (World::save_state): a pass that changes the objects' topology (fracture,
   // solids/fracture_pass.hpp) saves what rebuilds it. restore_state runs before the objects'
   // own states are read and may resize the objects (their nodes, forces, surface); a pass
@@ -180,6 +191,14 @@ struct WorldSettings {
   // frame); 0: no limit. A stiff or light ITF04 scene (young 1e12, density 1e-12, poisson near
   // 0.5) can otherwise need millions of CFL-limited steps a frame and run for days.
   long long max_substeps = 0;
+  // Motion-bounded steps [m]: a step in which a node would travel (|v| dt + |g| dt^2 / 2 from its
+  // velocity at the step's start) further than the smallest of this, the passes' and the
+  // collision processor's step_motion_limit(), or a kinematic body's surface would move further
+  // than the smallest of this, the passes' and its own, is split into equal shorter steps: a
+  // fast limb or a jumping body frame cannot carry cloth through a collider or through itself
+  // between two steps, and the self-collision layer's candidate sets stay those of a bounded
+  // sweep. Infinity: the passes', colliders' and bodies' limits only.
+  double max_step_motion = std::numeric_limits<double>::infinity();
 };
 
 // advance_to would take more than WorldSettings::max_substeps steps to reach its end time. Thrown
@@ -221,6 +240,16 @@ struct FrameReport {
   // as colliders for the cloths (one-way coupling, stage 2b).
   std::vector<double> object_seconds;
   double coupling_seconds = 0;
+  // Motion-bounded steps (WorldSettings::max_step_motion): the frame's steps that were shortened
+  // because something would have moved further than its limit in them, and of the one furthest
+  // past its limit, that motion [m] at the step's first length and the limit (0 when none was).
+  int motion_limited_steps = 0;
+  double largest_step_motion = 0, step_motion_limit = 0;
+};
+
+// A step's motion (World::step_motion) and the limit it is judged by; ratio = motion / limit.
+struct StepMotion {
+  double ratio = 0, motion = 0, limit = 0;
 };
 
 class World {
@@ -250,6 +279,9 @@ class World {
   // The steps advance_to(time() + duration) would take at step_size() (a double: a degenerate
   // stiffness can ask for more than any integer holds, or +inf).
   double substeps_for(double duration) const;
+  // The motion-bounded steps' common limit [m]: the smallest of WorldSettings::max_step_motion
+  // and the passes' step_motion_limit() (the colliders and bodies may bound further).
+  double step_motion_limit() const;
   // Energies and element figures at the current state.
   void measure(FrameReport& report) const;
   // What is not finite in the current state, "" when nothing is: the first object whose
@@ -270,6 +302,13 @@ class World {
 
  private:
   void resynchronize(double time);
+  // True when some limit of the motion-bounded steps is finite.
+  bool motion_bounded() const;
+  // What would move furthest past its limit in a step of length dt from time_ (objects: their
+  // nodes' |v| dt + |g| dt^2 / 2 against `limit` and the collision processor's; kinematic bodies,
+  // moved to time_ + dt: their surfaces' vertices from `kinematic_start` against `limit` and their
+  // own).
+  StepMotion step_motion(double dt, double limit, const std::vector<Points>& kinematic_start);
   // Pins and attachments of object k for a step of length dt from the current state.
   NodeConstraints constraints_of(std::size_t k, double dt) const;
   // settings_.implicit for object o: ImplicitSettings::preconditioner Auto is block Jacobi for a

@@ -167,8 +167,8 @@ double World::step_motion_limit() const {
   return limit;
 }
 
-bool World::motion_bounded() const {
-  if (std::isfinite(step_motion_limit()) || (collisions_ && std::isfinite(collisions_->step_motion_limit()))) return true;
+bool World::motion_bounded(double limit) const {
+  if (std::isfinite(limit) || (collisions_ && std::isfinite(collisions_->step_motion_limit()))) return true;
   for (const auto& k : kinematic_)
     if (std::isfinite(k->step_motion_limit())) return true;
   return false;
@@ -197,7 +197,7 @@ StepMotion World::step_motion(double dt, double limit, const std::vector<Points>
 void World::advance_to(double t_end, FrameReport& report) {
   const std::vector<ObjectKind> stage_order = {ObjectKind::Solid, ObjectKind::Cloth};
   const double motion_limit = step_motion_limit();
-  const bool bounded = motion_bounded();
+  const bool bounded = motion_bounded(motion_limit);
   double bounded_dt = std::numeric_limits<double>::infinity();  // the frame's shortened step, once one was
   std::vector<Points> x_start, kinematic_start, x_before_passes;
   long long taken = 0;

@@ -23,16 +23,16 @@ class CollisionProcessor {
   virtual void solids_stepped(const std::vector<SimObject>& objects, double t_new, double dt) {
     (void)objects, (void)t_new, (void)dt;
   }
+  // The farthest [m] a node may move in one step and still have its contact with every collider
+  // found (the thinnest analytic collider's half thickness): the world splits a step whose nodes
+  // would move further. Infinity by default (nothing a step could pass through).
+  virtual double step_motion_limit() const { return std::numeric_limits<double>::infinity(); }
   // x_old: x(n); x_new: the predicted x~(n+1), projected in place to x(n+1); v: v(n), modified in
   // place to v~(n) (normal velocity of the object where approaching, friction with the
   // dx_N/dt term). Appends one Kind::Normal constraint per colliding node, whose normal velocity
   // the trapezoid solve then holds fixed. Returns the number of colliding nodes. skip (one flag
   // per node, or null): nodes flagged non-zero are left as they are and get no constraint (the
   // implicit step's nodes already held, whose answer it would not use).
-  // The farthest [m] a node may move in one step and still have its contact with every collider
-  // found (the thinnest analytic collider's half thickness): the world splits a step whose nodes
-  // would move further. Infinity by default (nothing a step could pass through).
-  virtual double step_motion_limit() const { return std::numeric_limits<double>::infinity(); }
   virtual int process(const Points& x_old, Points& x_new, Points& v, double t_new, double dt,
                       NodeConstraints& constraints, const std::vector<char>* skip = nullptr) = 0;
 };

@@ -302,8 +302,8 @@ class World {
 
  private:
   void resynchronize(double time);
-  // True when some limit of the motion-bounded steps is finite.
-  bool motion_bounded() const;
+  // True when some limit of the motion-bounded steps is finite (`limit`: step_motion_limit()).
+  bool motion_bounded(double limit) const;
   // What would move furthest past its limit in a step of length dt from time_ (objects: their
   // nodes' |v| dt + |g| dt^2 / 2 against `limit` and the collision processor's; kinematic bodies,
   // moved to time_ + dt: their surfaces' vertices from `kinematic_start` against `limit` and their

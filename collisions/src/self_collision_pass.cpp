@@ -30,10 +30,14 @@ SelfCollisionPass::SelfCollisionPass(SelfCollisionSettings settings) : settings_
   validate(settings_);
 }
 
+bool SelfCollisionPass::excluded(const std::string& name) const {
+  return std::find(settings_.excluded.begin(), settings_.excluded.end(), name) != settings_.excluded.end();
+}
+
 double SelfCollisionPass::step_motion_limit(const std::vector<SimObject>& objects) const {
   std::vector<double> lengths;
   for (const SimObject& o : objects) {
-    if (std::find(settings_.excluded.begin(), settings_.excluded.end(), o.name) != settings_.excluded.end()) continue;
+    if (excluded(o.name)) continue;
     const TriangleSurface& s = o.material_surface();
     for (Eigen::Index t = 0; t < s.tris.rows(); ++t)
       for (int e = 0; e < 3; ++e)
@@ -47,9 +51,6 @@ double SelfCollisionPass::step_motion_limit(const std::vector<SimObject>& object
 
 void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const StepPassInput& step) {
   const double dt = step.dt;
-  auto excluded = [&](const std::string& name) {
-    return std::find(settings_.excluded.begin(), settings_.excluded.end(), name) != settings_.excluded.end();
-  };
   // Per object, the body node of each of its collision vertices (-1: an embedded vertex) and its
   // embedding. A cut solid takes part with its embedded material surface (SimObject::embedded,
   // MBF04 2.3): its vertices are points of element copies, then the nodes they lie in

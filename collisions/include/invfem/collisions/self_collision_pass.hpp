@@ -96,6 +96,8 @@ class SelfCollisionPass final : public StepPass {
   const SelfCollisionSettings& settings() const { return settings_; }
 
  private:
+  // The object or body of this name does not take part (SelfCollisionSettings::excluded).
+  bool excluded(const std::string& name) const;
   // Gathers the taking-part surfaces into mesh_ (topology built at the first step and again when
   // an object's topology_version changes, world.hpp; positions every step). A solid takes part
   // with its boundary SimObject::surface, or once cut (fracture) with its embedded material

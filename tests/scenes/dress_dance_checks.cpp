@@ -39,10 +39,19 @@ TEST(DressDance, TheBodyIsTheDancersFrames) {
 TEST(DressDance, TheDressHangsOnTheDancer) {
   // Without the body the dress falls 17 mm a frame (dress_rest); on the dancer's shoulders its
   // straps stay put and its centroid sinks only as it settles.
+  // The quick run's 3 frames hold them to the world; over the whole dance the dancer crouches and
+  // rises (her top is 25 mm lower at its end), so there they are measured against her.
   const TriangleSurface first = frame("dress", 0), last = frame("dress", kLastFrame);
-  const double sink = first.x.col(1).mean() - last.x.col(1).mean();
+#ifdef INVFEM_WHOLE_DANCE
+  const TriangleSurface body_first = frame("body", 0), body_last = frame("body", kLastFrame);
+  const double body_sink = body_first.x.col(1).mean() - body_last.x.col(1).mean();
+  const double body_top_drop = body_first.x.col(1).maxCoeff() - body_last.x.col(1).maxCoeff();
+#else
+  const double body_sink = 0, body_top_drop = 0;
+#endif
+  const double sink = first.x.col(1).mean() - last.x.col(1).mean() - body_sink;
   EXPECT_LT(sink, 0.01);
-  EXPECT_LT(first.x.col(1).maxCoeff() - last.x.col(1).maxCoeff(), 0.005) << "the straps slid down";
+  EXPECT_LT(first.x.col(1).maxCoeff() - last.x.col(1).maxCoeff() - body_top_drop, 0.005) << "the straps slid down";
   const Csv csv = read_csv(kOut / "energies.csv");
   ASSERT_EQ(csv.rows(), static_cast<std::size_t>(kLastFrame + 1));
   expect_all_finite(csv);

@@ -211,6 +211,7 @@ int run_command(const std::vector<std::string>& raw) {
                       r.motion_limited_steps, r.largest_step_motion, r.step_motion_limit);
         newton += split;
       }
+      if (r.retried_steps > 0) newton += "  (" + std::to_string(r.retried_steps) + " steps retried at half length)";
       const FrameReport::Collisions& sc = r.collisions;
       if (sc.candidates > 0) {
         char self[200];

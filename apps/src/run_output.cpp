@@ -162,7 +162,7 @@ void RunOutput::write_stats(int frame, const World& world, const FrameReport& r,
                 "\"cg_condition\":%.3g,\"colliding_nodes\":%d,\"inverted\":%d,\"elements\":%d,\"min_det_F\":%.9g,"
                 "\"yielded\":%d,\"yielded_hinges\":%d,\"newton_iterations\":%d,\"newton_capped\":%d,"
                 "\"newton_worst_residual\":%.3g,\"motion_limited_steps\":%d,\"largest_step_motion\":%.3g,"
-                "\"step_motion_limit\":%.3g,"
+                "\"step_motion_limit\":%.3g,\"retried_steps\":%d,"
                 "\"self_collision\":{\"candidates\":%lld,\"proximity_impulses\":%lld,\"ccd_hits\":%lld,"
                 "\"impact_zones\":%d,\"largest_zone\":%d,\"unresolved_steps\":%d,\"tangled_pairs\":%lld,\"body_crossings\":%lld,"
                 "\"collider_projections\":%lld,"
@@ -172,7 +172,7 @@ void RunOutput::write_stats(int frame, const World& world, const FrameReport& r,
                 frame, world.time(), r.substeps, r.cg_iterations, r.cg_all_converged ? "true" : "false",
                 r.cg_condition, r.colliding_nodes, r.elements.inverted, r.elements.elements, r.elements.min_det_F, r.elements.yielded,
                 r.elements.yielded_hinges, r.newton_iterations, r.newton_capped, r.newton_worst_residual, r.motion_limited_steps,
-                r.largest_step_motion, r.step_motion_limit, r.collisions.candidates,
+                r.largest_step_motion, r.step_motion_limit, r.retried_steps, r.collisions.candidates,
                 r.collisions.proximity_impulses, r.collisions.ccd_hits, r.collisions.impact_zones,
                 r.collisions.largest_zone, r.collisions.unresolved_steps, r.collisions.tangled_pairs, r.collisions.body_crossings,
                 r.collisions.collider_projections, r.collisions.seam_impulses, r.collisions.limited_vertices, t.simulate, r.collisions.seconds, t.measure,

@@ -486,7 +486,8 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
 
   const Fields solver = root.object_or_empty("solver");
   solver.reject_unknown({"integrator", "linear", "preconditioner", "cfl", "max_dt", "cg_tolerance", "cg_max_iterations",
-                         "newton_tolerance", "newton_max_iterations", "max_substeps_per_frame", "max_step_motion"});
+                         "newton_tolerance", "newton_max_iterations", "max_substeps_per_frame", "max_step_motion",
+                         "max_step_retries"});
   s.solver.integrator = solver.string("integrator", "");
   if (!s.solver.integrator.empty() && s.solver.integrator != "itf04" && s.solver.integrator != "implicit")
     solver.fail("integrator", "\"itf04\" or \"implicit\"");
@@ -506,6 +507,7 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   s.solver.max_substeps_per_frame =
       solver.integer("max_substeps_per_frame", s.solver.max_substeps_per_frame, 1, 2147483647);
   s.solver.max_step_motion = solver.number_in("max_step_motion", s.solver.max_step_motion, 0, 1e3);
+  s.solver.max_step_retries = solver.integer("max_step_retries", s.solver.max_step_retries, 0, 10);
 
   const Fields sc = root.object_or_empty("self_collision");
   sc.reject_unknown({"enabled", "thickness", "ccd_distance", "friction", "impulse_passes", "max_zone_iterations",
@@ -811,7 +813,8 @@ nlohmann::json to_json(const Scene& s) {
                  {"newton_tolerance", s.solver.newton_tolerance},
                  {"newton_max_iterations", s.solver.newton_max_iterations},
                  {"max_substeps_per_frame", s.solver.max_substeps_per_frame},
-                 {"max_step_motion", s.solver.max_step_motion}};
+                 {"max_step_motion", s.solver.max_step_motion},
+                 {"max_step_retries", s.solver.max_step_retries}};
   j["self_collision"] = {{"enabled", s.self_collision.enabled},
                          {"thickness", s.self_collision.thickness},
                          {"ccd_distance", s.self_collision.ccd_distance},

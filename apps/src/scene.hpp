@@ -281,6 +281,7 @@ struct SolverSpec {
   int max_substeps_per_frame = 100000;
   // [m] motion-bounded steps (WorldSettings::max_step_motion); 0: the colliders' limits only.
   double max_step_motion = 0;
+  int max_step_retries = 3;  // WorldSettings::max_step_retries
 };
 
 // The self-collision layer (collisions/self_collision_pass.hpp), run after every step on every

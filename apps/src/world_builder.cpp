@@ -91,6 +91,7 @@ World build_world(const Scene& scene) {
   settings.max_dt = scene.solver.max_dt;
   settings.max_substeps = scene.solver.max_substeps_per_frame;
   if (scene.solver.max_step_motion > 0) settings.max_step_motion = scene.solver.max_step_motion;
+  settings.max_step_retries = scene.solver.max_step_retries;
   settings.cg = CGSettings{scene.solver.cg_tolerance, scene.solver.cg_max_iterations};
   settings.integrator = scene.solver.integrator == "implicit" ? Integrator::Implicit : Integrator::ITF04;
   settings.implicit.linear = scene.solver.linear == "direct" ? LinearSolver::Direct : LinearSolver::CG;

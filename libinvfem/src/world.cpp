@@ -201,6 +201,7 @@ void World::advance_to(double t_end, FrameReport& report) {
   double bounded_dt = std::numeric_limits<double>::infinity();  // the frame's shortened step, once one was
   std::vector<Points> x_start, kinematic_start, x_before_passes;
   long long taken = 0;
+  int halvings = 0;  // the frame's retried steps so far (WorldSettings::max_step_retries)
   for (ImplicitWorkspace& ws : implicit_) ws.restart_preconditioner();
   report.object_seconds.resize(objects_.size(), 0.0);
   auto since = [](std::chrono::steady_clock::time_point t0) {
@@ -244,6 +245,14 @@ void World::advance_to(double t_end, FrameReport& report) {
       }
     }
     ++taken;
+    // A step that may be retried starts from a snapshot of the world and of the report.
+    const bool may_retry = !passes_.empty() && halvings < settings_.max_step_retries;
+    StateWriter before;
+    FrameReport report_before;
+    if (may_retry) {
+      save_state(before);
+      report_before = report;
+    }
     if (!passes_.empty()) {
       x_start.clear();
       for (const auto& o : objects_) x_start.push_back(o.body.x);
@@ -308,6 +317,25 @@ void World::advance_to(double t_end, FrameReport& report) {
           for (auto& f : objects_[k].forces) f->update_positions(objects_[k].body.x, time_ + dt);
           newmark_[k].forces_changed();
         }
+      }
+      // Retried steps: back to the step's start, the rest of the frame in steps of half this one
+      // (within the substep limit); the report keeps the failed try's seconds only.
+      const double half = dt / 2;
+      const bool within_limit = settings_.max_substeps == 0 ||
+                                static_cast<double>(taken - 1) + std::ceil(left / half - 1e-9) <=
+                                    static_cast<double>(settings_.max_substeps);
+      if (may_retry && within_limit && report.collisions.unresolved_steps > report_before.collisions.unresolved_steps) {
+        report_before.object_seconds = report.object_seconds;
+        report_before.coupling_seconds = report.coupling_seconds;
+        report_before.collisions.seconds = report.collisions.seconds;
+        report = std::move(report_before);
+        ++report.retried_steps;
+        StateReader back(before.bytes());
+        restore_state(back, time_);
+        --taken;
+        ++halvings;
+        bounded_dt = half;
+        continue;
       }
     }
     time_ += dt;

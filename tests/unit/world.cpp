@@ -305,6 +305,79 @@ TEST(World, MotionBoundedStepsRespectTheSubstepLimit) {
   EXPECT_DOUBLE_EQ(world.time(), 0.0);
 }
 
+// A pass that reports every step longer than `longest` [s] unresolved (as the self-collision
+// layer's fail-safe does when it gives up) and moves nothing.
+class FailingLongStepsPass final : public StepPass {
+ public:
+  explicit FailingLongStepsPass(double longest) : longest_(longest) {}
+  void after_step(std::vector<SimObject>&, const StepPassInput& step, FrameReport& report) override {
+    dts.push_back(step.dt);
+    if (step.dt > longest_) ++report.collisions.unresolved_steps;
+  }
+  std::vector<double> dts;  // of every try
+
+ private:
+  double longest_;
+};
+
+TEST(World, AStepAPassLeavesUnresolvedIsRetriedAtHalfItsLength) {
+  // Steps of 0.01 s fail above 3 ms: 10 ms and 5 ms fail, 2.5 ms steps stand (4 of them).
+  auto pass = std::make_unique<FailingLongStepsPass>(0.003);
+  FailingLongStepsPass* seen = pass.get();
+  World world = make_world();
+  world.add_pass(std::move(pass));
+  FrameReport r;
+  world.advance_to(0.01, r);
+  EXPECT_EQ(r.retried_steps, 2);
+  EXPECT_EQ(r.collisions.unresolved_steps, 0);  // the failed tries do not count
+  EXPECT_EQ(r.substeps, 4);
+  EXPECT_DOUBLE_EQ(world.time(), 0.01);
+  const std::vector<double> tries = {0.01, 0.005, 0.0025, 0.0025, 0.0025, 0.0025};
+  ASSERT_EQ(seen->dts.size(), tries.size());
+  for (std::size_t k = 0; k < tries.size(); ++k) EXPECT_NEAR(seen->dts[k], tries[k], 1e-15) << k;
+  // The retried frame ends bit for bit where steps of 2.5 ms from the start end.
+  std::vector<SimObject> objects;
+  objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+  objects.push_back(make_object("solid", ObjectKind::Solid, 1.0));
+  WorldSettings quarter;
+  quarter.max_dt = 0.0025;
+  World direct(quarter, std::move(objects), {std::make_shared<LoggingBody>()}, nullptr);
+  FrameReport r2;
+  direct.advance_to(0.01, r2);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(direct.objects()[k].body.x, world.objects()[k].body.x) << k;
+    EXPECT_EQ(direct.objects()[k].body.v, world.objects()[k].body.v) << k;
+  }
+}
+
+TEST(World, RetriedStepsStopAtTheirLimitAndTheLastTryStands) {
+  auto pass = std::make_unique<FailingLongStepsPass>(0.003);
+  std::vector<SimObject> objects;
+  objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+  WorldSettings settings;
+  settings.max_dt = 0.01;
+  settings.max_step_retries = 1;  // 10 ms fails, then two 5 ms steps fail and stand
+  World world(settings, std::move(objects), {}, nullptr);
+  world.add_pass(std::move(pass));
+  FrameReport r;
+  world.advance_to(0.01, r);
+  EXPECT_EQ(r.retried_steps, 1);
+  EXPECT_EQ(r.substeps, 2);
+  EXPECT_EQ(r.collisions.unresolved_steps, 2);
+  // Never retried past the substep limit: with room for one step only, the failed step stands.
+  settings.max_step_retries = 3;
+  settings.max_substeps = 1;
+  std::vector<SimObject> one;
+  one.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+  World tight(settings, std::move(one), {}, nullptr);
+  tight.add_pass(std::make_unique<FailingLongStepsPass>(0.003));
+  FrameReport t;
+  tight.advance_to(0.01, t);
+  EXPECT_EQ(t.retried_steps, 0);
+  EXPECT_EQ(t.substeps, 1);
+  EXPECT_EQ(t.collisions.unresolved_steps, 1);
+}
+
 TEST(World, SaveRestoreRoundTripsAndABadStreamLeavesTheWorldUnchanged) {
   World world = make_world();
   FrameReport r;

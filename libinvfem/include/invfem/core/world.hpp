@@ -199,6 +199,12 @@ struct WorldSettings {
   // between two steps, and the self-collision layer's candidate sets stay those of a bounded
   // sweep. Infinity: the passes', colliders' and bodies' limits only.
   double max_step_motion = std::numeric_limits<double>::infinity();
+  // Retried steps: a step after which a pass reports a collision it could not resolve
+  // (FrameReport::Collisions::unresolved_steps) is taken again from its start as two steps of
+  // half its length, up to this many halvings of a frame's steps; the last try's result stands.
+  // A shorter step gives the self-collision layer a smaller sweep to order, so a tangle from one
+  // pinched step is met before it forms rather than frozen in a rigid zone. 0: never retried.
+  int max_step_retries = 3;
 };
 
 // advance_to would take more than WorldSettings::max_substeps steps to reach its end time. Thrown
@@ -245,6 +251,9 @@ struct FrameReport {
   // past its limit, that motion [m] at the step's first length and the limit (0 when none was).
   int motion_limited_steps = 0;
   double largest_step_motion = 0, step_motion_limit = 0;
+  // Retried steps (WorldSettings::max_step_retries): steps taken again at half their length
+  // because a pass left them unresolved; the figures above count the tries that stood.
+  int retried_steps = 0;
 };
 
 // A step's motion (World::step_motion) and the limit it is judged by; ratio = motion / limit.

@@ -7,7 +7,7 @@
 // random numbers, so nothing else is needed. Binary in the machine's byte order, written
 // atomically; a truncated, damaged or foreign file is rejected.
 //
-// Format (version 4; README "Checkpoints"): "INVFEMCK", u32 version, u64 scene hash, i64 frame,
+// Format (version 5; README "Checkpoints and resume"): "INVFEMCK", u32 version, u64 scene hash, i64 frame,
 // f64 time, the energies CSV and the world state (each a u64 length and its bytes), u64 FNV-1a
 // checksum of every byte before it, "INVFEMCK". Older versions (2: no checksum; 3: no step pass
 // states in the world state) are refused.

@@ -266,8 +266,8 @@ struct SolverSpec {
   // Default: implicit when the scene has a cloth, else itf04.
   std::string integrator;
   // implicit: how the Newton systems are solved, "cg" (block-Jacobi PCG) | "direct" (sparse LDL^T,
-  // core/sparse_direct.hpp). CG is the default: the direct solve measured slower on the cloth
-  // drapes and the dress, faster on the stiff half torus shell (README "Benchmarks").
+  // core/sparse_direct.hpp). CG is the default: the direct solve is slower on the cloth drapes
+  // and the dress, faster on a stiff shell that CG barely solves.
   std::string linear = "cg";
   std::string preconditioner = "auto";  // auto | block_jacobi | amg (implicit integrator, CG)
   double cfl = 0.5;

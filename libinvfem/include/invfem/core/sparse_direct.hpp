@@ -19,11 +19,8 @@
 // row/column 3 i + c for node i, component c), filled through an index map built by analyze(), so
 // refilling it allocates nothing (Eigen's factorize() still permutes K into a temporary).
 //
-// Cost, measured (README "Benchmarks"): a factorization per Newton iteration costs more than CG's
-// iterations on the cloth drapes and the dress, so CG stays the default (solver.linear); a stiff
-// shell that CG barely solves (the half torus) runs four times faster direct. CHOLMOD's
-// supernodal LL^T was tried in its place (faster than SimplicialLDLT, still slower than CG on the
-// drapes and the dress) and not adopted.
+// A factorization per Newton iteration costs more than CG's iterations on the cloth drapes and
+// the dress, so CG stays the default (solver.linear); a stiff shell that CG barely solves gains.
 #include <memory>
 #include <vector>
 

@@ -350,15 +350,20 @@ TEST(World, AStepAPassLeavesUnresolvedIsRetriedAtHalfItsLength) {
   }
 }
 
-TEST(World, RetriedStepsStopAtTheirLimitAndTheLastTryStands) {
-  auto pass = std::make_unique<FailingLongStepsPass>(0.003);
+// One cloth with a FailingLongStepsPass(0.003).
+World failing_cloth_world(const WorldSettings& settings) {
   std::vector<SimObject> objects;
   objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+  World world(settings, std::move(objects), {}, nullptr);
+  world.add_pass(std::make_unique<FailingLongStepsPass>(0.003));
+  return world;
+}
+
+TEST(World, RetriedStepsStopAtTheirLimitAndTheLastTryStands) {
   WorldSettings settings;
   settings.max_dt = 0.01;
   settings.max_step_retries = 1;  // 10 ms fails, then two 5 ms steps fail and stand
-  World world(settings, std::move(objects), {}, nullptr);
-  world.add_pass(std::move(pass));
+  World world = failing_cloth_world(settings);
   FrameReport r;
   world.advance_to(0.01, r);
   EXPECT_EQ(r.retried_steps, 1);
@@ -367,10 +372,7 @@ TEST(World, RetriedStepsStopAtTheirLimitAndTheLastTryStands) {
   // Never retried past the substep limit: with room for one step only, the failed step stands.
   settings.max_step_retries = 3;
   settings.max_substeps = 1;
-  std::vector<SimObject> one;
-  one.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
-  World tight(settings, std::move(one), {}, nullptr);
-  tight.add_pass(std::make_unique<FailingLongStepsPass>(0.003));
+  World tight = failing_cloth_world(settings);
   FrameReport t;
   tight.advance_to(0.01, t);
   EXPECT_EQ(t.retried_steps, 0);

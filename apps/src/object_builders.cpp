@@ -259,7 +259,7 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
     params.inversion_direction = to_vec(spec.inversion_direction).normalized();
   }
   if (!spec.stitches.from_mesh) g.stitches.clear();
-  params.stitch = StitchParams{spec.stitches.stiffness, spec.stitches.damping};
+  params.stitch = StitchParams{spec.stitches.stiffness, spec.stitches.damping, spec.stitches.closing_speed};
   for (std::size_t k = 0; k < spec.stitches.list.size(); ++k) {
     const auto& s = spec.stitches.list[k];
     const std::vector<int> v = checked_vertices({s.vertices.begin(), s.vertices.end()}, n,

@@ -178,6 +178,7 @@ struct StitchSpec {
   std::vector<Extra> list;
   double stiffness = 1e3;                   // [N/m]
   double damping = 0;                       // [N s/m]
+  double closing_speed = 0;                 // [m/s] sewing: rest lengths close from the start gaps; 0: closed
 };
 
 // Pinned vertices, chosen by index list, box (rest positions) or group, held still or moved.

@@ -71,11 +71,12 @@ AttachmentSpec parse_attachment(const Fields& f) {
 }
 
 StitchSpec parse_stitches(const Fields& f) {
-  f.reject_unknown({"from_mesh", "list", "stiffness", "damping"});
+  f.reject_unknown({"from_mesh", "list", "stiffness", "damping", "closing_speed"});
   StitchSpec s;
   s.from_mesh = f.boolean("from_mesh", s.from_mesh);
   s.stiffness = f.number_in("stiffness", s.stiffness, 1e-6, 1e9);
   s.damping = f.number_in("damping", s.damping, 0, 1e6);
+  s.closing_speed = f.number_in("closing_speed", s.closing_speed, 0, 100);
   if (f.has("list")) {
     const auto& v = f.raw("list");
     if (!v.is_array()) f.fail("list", "an array of [i, j, k, r] stitches");
@@ -203,7 +204,8 @@ nlohmann::json cloth_json(const ClothSpec& c) {
                                  {"thickness", m.thickness}, {"damping", m.damping},
                                  {"bending_stiffness", m.bending_stiffness}, {"bending_damping", m.bending_damping}}},
                    {"stitches", {{"from_mesh", c.stitches.from_mesh}, {"list", stitch_list_json(c.stitches)},
-                                 {"stiffness", c.stitches.stiffness}, {"damping", c.stitches.damping}}},
+                                 {"stiffness", c.stitches.stiffness}, {"damping", c.stitches.damping},
+                                 {"closing_speed", c.stitches.closing_speed}}},
                    {"pin_vertices", c.pin_vertices},
                    {"pin_boxes", pin_boxes_json(c.pin_boxes)}};
   if (!c.mesh.empty())

@@ -59,7 +59,7 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   std::vector<Weld> welds;  // in nodes; in surface vertices once the surface exists
   for (const Stitch& st : stitches) welds.push_back(stitch_weld(st));
   if (!stitches.empty()) {
-    stitch = std::make_unique<StitchForce>(std::move(stitches), std::move(lengths), x0.rows(), p.stitch, what);
+    stitch = std::make_unique<StitchForce>(std::move(stitches), std::move(lengths), x0.rows(), p.stitch, what, o.body.x);
     stitch->update_positions(o.body.x, 0.0);
   }
   o.forces.push_back(std::move(in_plane));

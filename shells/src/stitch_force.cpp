@@ -19,6 +19,9 @@ using Mat33 = Eigen::Matrix3d;
 
 std::array<double, 3> weights(const Stitch& s) { return {1.0, -(1.0 - s.r), -s.r}; }
 
+// A closing stitch (rest length L > 0) no longer than L is slack: a thread does not push.
+bool slack(double L, const Vec3& C) { return L > 0 && !(C.norm() > L); }
+
 // f (n x 3) += per-stitch forces (columns = forces on i, j, k), sequentially in stitch order.
 void scatter_stitch_forces(const std::vector<Stitch>& stitches, const std::vector<Mat33>& G, Points& f) {
   for (std::size_t s = 0; s < stitches.size(); ++s) {
@@ -30,7 +33,7 @@ void scatter_stitch_forces(const std::vector<Stitch>& stitches, const std::vecto
 }  // namespace
 
 StitchForce::StitchForce(std::vector<Stitch> stitches, std::vector<double> seam_lengths, Eigen::Index n_nodes,
-                         const StitchParams& params, const std::string& what)
+                         const StitchParams& params, const std::string& what, const Points& start)
     : what_(what), n_nodes_(n_nodes), params_(params), stitches_(std::move(stitches)), length_(std::move(seam_lengths)) {
   if (length_.size() != stitches_.size())
     throw std::invalid_argument(what + ": " + std::to_string(length_.size()) + " seam lengths for " +
@@ -43,6 +46,12 @@ StitchForce::StitchForce(std::vector<Stitch> stitches, std::vector<double> seam_
     throw std::invalid_argument(what + ": stitch stiffness must be finite and > 0, got " + std::to_string(params.stiffness));
   if (!(std::isfinite(params.damping) && params.damping >= 0))
     throw std::invalid_argument(what + ": stitch damping must be finite and >= 0, got " + std::to_string(params.damping));
+  if (!(std::isfinite(params.closing_speed) && params.closing_speed >= 0))
+    throw std::invalid_argument(what + ": stitch closing speed must be finite and >= 0, got " +
+                                std::to_string(params.closing_speed));
+  if (params.closing_speed > 0 && start.rows() != n_nodes)
+    throw std::invalid_argument(what + ": sewing needs the start positions of all " + std::to_string(n_nodes) +
+                                " nodes, got " + std::to_string(start.rows()));
   for (std::size_t s = 0; s < stitches_.size(); ++s) {
     const Stitch& t = stitches_[s];
     for (int v : {t.i, t.j, t.k})
@@ -58,14 +67,17 @@ StitchForce::StitchForce(std::vector<Stitch> stitches, std::vector<double> seam_
                                   ", outside [0, 1]");
   }
   gap_.assign(stitches_.size(), Vec3::Zero());
+  rest_.assign(stitches_.size(), 0.0);
+  if (params.closing_speed > 0) opening_ = stitch_gaps(stitches_, start);
 }
 
-void StitchForce::update_positions(const Points& x, double /*time*/) {
+void StitchForce::update_positions(const Points& x, double time) {
   if (x.rows() != n_nodes_)
     throw std::invalid_argument(what_ + ": positions have " + std::to_string(x.rows()) + " rows, expected " +
                                 std::to_string(n_nodes_));
   parallel_for_each(stitches_.size(), kGrain, [&](std::size_t s) {
     gap_[s] = stitch_gap(stitches_[s], x);
+    if (!opening_.empty()) rest_[s] = std::max(0.0, opening_[s] - params_.closing_speed * time);
   });
 }
 
@@ -73,7 +85,11 @@ void StitchForce::add_elastic_forces(Points& f) const {
   std::vector<Mat33> G(stitches_.size());
   parallel_for_each(stitches_.size(), kGrain, [&](std::size_t s) {
     const auto w = weights(stitches_[s]);
-    const Vec3 dE = spring_energy_gradient(params_.stiffness * length_[s], 0.0, gap_[s]);  // k_s C
+    if (slack(rest_[s], gap_[s])) {
+      G[s].setZero();
+      return;
+    }
+    const Vec3 dE = spring_energy_gradient(params_.stiffness * length_[s], rest_[s], gap_[s]);  // k_s C at L_s = 0
     for (int a = 0; a < 3; ++a) G[s].col(a) = -w[a] * dE;
   });
   scatter_stitch_forces(stitches_, G, f);
@@ -87,14 +103,20 @@ void StitchForce::add_damping_forces(const Points& v, Points& f) const {
     const auto w = weights(t);
     const Vec3 rate = (w[0] * v.row(t.i) + w[1] * v.row(t.j) + w[2] * v.row(t.k)).transpose();
     const double c = params_.damping * length_[s];
-    for (int a = 0; a < 3; ++a) G[s].col(a) = -c * w[a] * rate;
+    if (rest_[s] == 0) {
+      for (int a = 0; a < 3; ++a) G[s].col(a) = -c * w[a] * rate;
+    } else {
+      const Vec3 damped = c * (spring_damping_direction(rest_[s], gap_[s]) * rate);
+      for (int a = 0; a < 3; ++a) G[s].col(a) = -w[a] * damped;
+    }
   });
   scatter_stitch_forces(stitches_, G, f);
 }
 
 double StitchForce::elastic_energy() const {
   double sum = 0;
-  for (std::size_t s = 0; s < gap_.size(); ++s) sum += spring_energy(params_.stiffness * length_[s], 0.0, gap_[s]);
+  for (std::size_t s = 0; s < gap_.size(); ++s)
+    if (!slack(rest_[s], gap_[s])) sum += spring_energy(params_.stiffness * length_[s], rest_[s], gap_[s]);
   return sum;
 }
 
@@ -105,7 +127,14 @@ void StitchForce::add_stiffness_product(const Points& p, Points& Kp) const {
     const auto w = weights(t);
     const Vec3 c = (w[0] * p.row(t.i) + w[1] * p.row(t.j) + w[2] * p.row(t.k)).transpose();
     const double k = params_.stiffness * length_[s];
-    for (int a = 0; a < 3; ++a) G[s].col(a) = k * w[a] * c;
+    if (rest_[s] == 0) {
+      for (int a = 0; a < 3; ++a) G[s].col(a) = k * w[a] * c;
+    } else if (slack(rest_[s], gap_[s])) {
+      G[s].setZero();
+    } else {
+      const Vec3 Hc = spring_energy_hessian(k, rest_[s], gap_[s], true) * c;
+      for (int a = 0; a < 3; ++a) G[s].col(a) = w[a] * Hc;
+    }
   });
   scatter_stitch_forces(stitches_, G, Kp);
 }
@@ -124,9 +153,9 @@ void StitchForce::add_stiffness_diagonal(Eigen::VectorXd& d) const {
 namespace {
 // Per stitch (nodes i, j, k) the 9x9 matrix (w w^T) kron (coeff_s I3) (core/spring.hpp, rest length
 // 0): the stiffness with coeff = k_s, the damping with coeff = c_s (the zero-length spring and its
-// dashpot act alike on x, y and z).
+// dashpot act alike on x, y and z); a stitch still closing takes the kernel's matrices at L_s.
 void stitch_matrices(const std::vector<Stitch>& stitches, const std::vector<double>& length, double per_metre,
-                     ElementMatrices& out) {
+                     const std::vector<double>& rest, const std::vector<Vec3>& gap, bool stiffness, ElementMatrices& out) {
   const auto m = static_cast<Eigen::Index>(stitches.size());
   if (!out.shaped(m, 3, ElementMatrices::Form::Dense)) {
     out.resize(m, 3);
@@ -136,15 +165,20 @@ void stitch_matrices(const std::vector<Stitch>& stitches, const std::vector<doub
     }
   }
   for (Eigen::Index s = 0; s < m; ++s) {
-    const double c = per_metre * length[static_cast<std::size_t>(s)];
-    out.matrix<9>(s) = spring_element_matrix<3>(weights(stitches[static_cast<std::size_t>(s)]),
-                                                spring_energy_hessian(c, 0.0, Vec3::Zero(), false));
+    const auto t = static_cast<std::size_t>(s);
+    const double c = per_metre * length[t];
+    // A stitch still closing (L_s > 0): the kernel's PSD-clamped Hessian, or its dashpot c D.
+    const Mat3 H = rest[t] == 0                   ? spring_energy_hessian(c, 0.0, Vec3::Zero(), false)
+                   : !stiffness                   ? Mat3(c * spring_damping_direction(rest[t], gap[t]))
+                   : slack(rest[t], gap[t])       ? Mat3(Mat3::Zero())
+                                                  : spring_energy_hessian(c, rest[t], gap[t], true);
+    out.matrix<9>(s) = spring_element_matrix<3>(weights(stitches[t]), H);
   }
 }
 }  // namespace
 
 bool StitchForce::stiffness_matrices(ElementMatrices& out) const {
-  stitch_matrices(stitches_, length_, params_.stiffness, out);
+  stitch_matrices(stitches_, length_, params_.stiffness, rest_, gap_, true, out);
   return true;
 }
 
@@ -153,7 +187,7 @@ bool StitchForce::damping_matrices(ElementMatrices& out) const {
     out.resize(0, 3);
     return true;
   }
-  stitch_matrices(stitches_, length_, params_.damping, out);
+  stitch_matrices(stitches_, length_, params_.damping, rest_, gap_, false, out);
   return true;
 }
 

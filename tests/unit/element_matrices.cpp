@@ -231,6 +231,23 @@ TEST(ElementMatrices, StitchStiffnessIsMinusForceJacobian) {
   expect_damping_matrix_matches_force(f, 5, rng);
 }
 
+TEST(ElementMatrices, ClosingStitchStiffnessIsMinusForceJacobianAndSemidefiniteSlack) {
+  // Sewing (closing_speed > 0): rest lengths L_s = g_s - speed t. At t = 0.1 s, 5 mm of every
+  // opening is closed: stretched past L_s where the stitches moved apart; slack (no force, no
+  // stiffness) where they came together.
+  std::mt19937 rng(11);
+  const Points start = random_points(5, 0.1, rng);
+  StitchForce f({{0, 1, 2, 0.3}, {3, 4, 1, 0.0}}, {0.05, 0.1}, 5, StitchParams{5e3, 10, 0.05}, "stitches", start);
+  Points apart = start;
+  apart.row(0) += (start.row(0) - 0.7 * start.row(1) - 0.3 * start.row(2));  // stitch 0's gap doubled
+  apart.row(3) += (start.row(3) - start.row(4));
+  f.update_positions(apart, 0.1);
+  expect_stiffness_is_minus_force_jacobian(f, apart);
+  expect_damping_matrix_matches_force(f, 5, rng);
+  f.update_positions(start, 0.0);
+  expect_matrices_sound_at(f, Points(0.5 * start + 0.5 * start.colwise().mean().replicate(5, 1)), rng);
+}
+
 // The survey's baselines (baselines.cpp): the corotated tet and the mass-spring edge springs.
 TEST(ElementMatrices, CorotatedTetStiffnessIsMinusForceJacobianAndSemidefiniteInverted) {
   std::mt19937 rng(9);

@@ -5,12 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <random>
 
 #include "fd_check.hpp"
 #include "force_checks.hpp"
 #include "invfem/core/materials/lame.hpp"
+#include "invfem/core/implicit_step.hpp"
 #include "invfem/core/newmark_step.hpp"
 #include "invfem/core/pins.hpp"
 #include "invfem/core/world.hpp"
@@ -203,6 +205,61 @@ TEST(Stitches, ForceIsMinusEnergyGradientAndTheStiffnessIsItsDerivative) {
   test::expect_symmetric_dissipative_damping(f, n, rng);
   EXPECT_THROW(StitchForce({{0, 0, 1, 0.5}}, {0.01}, n, StitchParams{}), std::invalid_argument);
   EXPECT_THROW(StitchForce({{0, 1, 9, 0.5}}, {0.01}, n, StitchParams{}), std::invalid_argument);
+}
+
+TEST(Stitches, ASewnSeamClosesAtItsClosingSpeed) {
+  // Sewing: rest lengths start at the gaps of the start positions and shrink at the closing
+  // speed; a stitch at its rest length feels nothing, and at 0 it is the zero-length spring.
+  const Eigen::Index n = 6;
+  std::mt19937 rng(12);
+  const Points start = random_points(n, 0.1, rng);
+  std::vector<Stitch> st = {{0, 1, 2, 0.3}, {3, 4, 5, 1.0}, {5, 0, 1, 0.0}};
+  StitchForce sewing(st, {0.01, 0.02, 0.015}, n, StitchParams{2e3, 0.5, 0.2}, "stitches", start);
+  const std::vector<double> g = stitch_gaps(st, start);
+  sewing.update_positions(start, 0.0);
+  for (std::size_t s = 0; s < st.size(); ++s) EXPECT_EQ(sewing.rest_lengths()[s], g[s]);
+  EXPECT_LT(elastic_forces_at(sewing, start).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_EQ(sewing.elastic_energy(), 0);
+  // Panels that meet before their schedule are not pushed apart: a thread only pulls.
+  const Points closer = 0.5 * start + 0.5 * start.colwise().mean().replicate(n, 1);
+  EXPECT_EQ(elastic_forces_at(sewing, closer).cwiseAbs().maxCoeff(), 0);
+  sewing.update_positions(start, 0.1);  // 2 cm closed
+  for (std::size_t s = 0; s < st.size(); ++s) EXPECT_NEAR(sewing.rest_lengths()[s], std::max(0.0, g[s] - 0.02), 1e-15);
+  // The energy's gradient at rest lengths L_s > 0 (the check reads the force at time 0).
+  const fd::Result r = check_force_is_minus_gradient(sewing, Points(start + random_points(n, 0.03, rng)), 0.01);
+  EXPECT_TRUE(r.pass) << r.report;
+  test::expect_symmetric_dissipative_damping(sewing, n, rng);
+  // Past the largest gap's time every stitch is the closed one, bit for bit.
+  StitchForce closed(st, {0.01, 0.02, 0.015}, n, StitchParams{2e3, 0.5});
+  const double late = *std::max_element(g.begin(), g.end()) / 0.2 + 1;
+  sewing.update_positions(start, late);
+  closed.update_positions(start, late);
+  EXPECT_EQ(elastic_forces_at(sewing, start, late), elastic_forces_at(closed, start, late));
+  EXPECT_EQ(sewing.elastic_energy(), closed.elastic_energy());
+  EXPECT_THROW(StitchForce(st, {0.01, 0.02, 0.015}, n, StitchParams{2e3, 0, -1}, "s", start), std::invalid_argument);
+  EXPECT_THROW(StitchForce(st, {0.01, 0.02, 0.015}, n, StitchParams{2e3, 0, 0.2}), std::invalid_argument);
+}
+
+TEST(Stitches, TwoParticlesSewnAtAClosingSpeedMeetWithoutOvershoot) {
+  // Two free particles 10 cm apart, sewn at 0.1 m/s by a stiff stitch (implicit integrator): the
+  // gap follows the rest length down (within 1 mm) and closes after 1 s.
+  Body body;
+  body.x.resize(3, 3);
+  body.x << 0, 0, 0, 0.1, 0, 0, 0.1, 0, 0;
+  body.v = Points::Zero(3, 3);
+  body.mass = Eigen::VectorXd::Constant(3, 1e-3);
+  body.gravity.setZero();
+  StitchForce stitch({{0, 1, 2, 0.0}}, {1.0}, 3, StitchParams{1e4, 1.0, 0.1}, "stitch", body.x);
+  stitch.update_positions(body.x, 0);
+  const std::vector<Force*> forces = {&stitch};
+  ImplicitWorkspace ws;
+  double t = 0;
+  for (int step = 0; step < 150; ++step, t += 0.01) {
+    implicit_step(body, forces, nullptr, {}, t, 0.01, ImplicitSettings{}, ws);
+    const double gap = (body.x.row(0) - body.x.row(1)).norm();
+    ASSERT_NEAR(gap, std::max(0.0, 0.1 - 0.1 * (t + 0.01)), 1e-3) << "step " << step;
+  }
+  EXPECT_LT((body.x.row(0) - body.x.row(1)).norm(), 1e-4);
 }
 
 TEST(Stitches, AStiffStitchTakenImplicitlyClosesAndStaysBoundedAtAnyTimeStep) {

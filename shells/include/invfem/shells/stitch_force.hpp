@@ -15,6 +15,13 @@
 // Springs rather than welds: a stitch may land inside an edge (306 of the C-IPC dress's 851 do),
 // the file's vertex numbering is kept for the output, and an open seam (a garment still to be
 // sewn) closes under the same force.
+// Sewing (StitchParams::closing_speed > 0): a seam open at the start closes at a controlled rate.
+// Each stitch's rest length is L_s(t) = max(0, g_s - closing_speed t), g_s its gap at the start,
+// with the spring kernel's energy k_s/2 (|C| - L_s)^2 where taut (|C| > L_s) and none where slack:
+// a thread pulls and never pushes (two panels that meet before their schedule are not pushed
+// apart), and the energy stays C1. The panels are drawn together at that speed instead of flung
+// by the whole gap's force; from the moment L_s reaches 0 the stitch is the zero-length spring
+// above, bit for bit.
 #include <string>
 #include <vector>
 
@@ -47,17 +54,20 @@ inline Weld stitch_weld(const Stitch& s) {
 }
 
 struct StitchParams {
-  double stiffness = 5e3;  // per metre of seam [N/m^2] > 0
-  double damping = 0;      // per metre of seam [N s/m^2] >= 0
+  double stiffness = 5e3;    // per metre of seam [N/m^2] > 0
+  double damping = 0;        // per metre of seam [N s/m^2] >= 0
+  double closing_speed = 0;  // [m/s] >= 0: sewing (see above); 0: every stitch closed from the start
 };
 
 class StitchForce final : public Force {
  public:
-  // seam_lengths: l_s [m] > 0 per stitch (seam_lengths() below). Throws std::invalid_argument
-  // naming `what` and the stitch for an index outside [0, n_nodes), i equal to j or k, r outside
-  // [0, 1], a length that is not > 0, or bad parameters.
+  // seam_lengths: l_s [m] > 0 per stitch (seam_lengths() below). start: the positions at time 0
+  // (#nodes x 3), whose gaps are the seams' openings when params.closing_speed > 0 (unused
+  // otherwise). Throws std::invalid_argument naming `what` and the stitch for an index outside
+  // [0, n_nodes), i equal to j or k, r outside [0, 1], a length that is not > 0, bad parameters,
+  // or start positions of another size when sewing.
   StitchForce(std::vector<Stitch> stitches, std::vector<double> seam_lengths, Eigen::Index n_nodes,
-              const StitchParams& params, const std::string& what = "stitches");
+              const StitchParams& params, const std::string& what = "stitches", const Points& start = Points());
 
   void update_positions(const Points& x, double time) override;
   void add_elastic_forces(Points& f) const override;
@@ -72,14 +82,18 @@ class StitchForce final : public Force {
   bool damping_matrices(ElementMatrices& out) const override;
 
   const std::vector<Stitch>& stitches() const { return stitches_; }
+  // L_s per stitch at the last update [m] (all 0 without sewing).
+  const std::vector<double>& rest_lengths() const { return rest_; }
 
  private:
   std::string what_;
   Eigen::Index n_nodes_;
   StitchParams params_;
   std::vector<Stitch> stitches_;
-  std::vector<double> length_;  // l_s per stitch
-  std::vector<Vec3> gap_;       // C per stitch at the last update
+  std::vector<double> length_;   // l_s per stitch
+  std::vector<double> opening_;  // g_s per stitch: its gap at the start when sewing, else empty
+  std::vector<double> rest_;     // L_s per stitch at the last update
+  std::vector<Vec3> gap_;        // C per stitch at the last update
 };
 
 // l_s per stitch: half the summed rest length of the boundary edges (edges of one triangle) at

@@ -211,6 +211,12 @@ int run_command(const std::vector<std::string>& raw) {
                       r.motion_limited_steps, r.largest_step_motion, r.step_motion_limit);
         newton += split;
       }
+      if (r.elements.open_stitches > 0) {
+        char seams[160];
+        std::snprintf(seams, sizeof seams, "  (stitches open: %d of %d, widest %.1f mm)", r.elements.open_stitches,
+                      r.elements.stitches, 1e3 * r.elements.widest_stitch_gap);
+        newton += seams;
+      }
       if (r.retried_steps > 0) newton += "  (" + std::to_string(r.retried_steps) + " steps retried at half length)";
       const FrameReport::Collisions& sc = r.collisions;
       if (sc.candidates > 0) {

@@ -100,7 +100,7 @@ RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World&
       pvd_[o.name] = std::make_unique<PvdWriter>((dir_ / (o.name + ".pvd")).string());
       for (int f = 0; f < first_frame; ++f)
         if (std::filesystem::exists(dir_ / "frames" / o.name / (frame_name(f) + ".vtu")))
-          pvd_[o.name]->add(f / fps, o.name + "/" + frame_name(f) + ".vtu");
+          pvd_[o.name]->add(f / fps, "frames/" + o.name + "/" + frame_name(f) + ".vtu");
     }
     if (formats_.count("usd")) {
       usd_[o.name] = std::make_unique<UsdaAnimationWriter>((dir_ / "frames" / (o.name + ".usda")).string(), o.name,
@@ -138,7 +138,7 @@ void RunOutput::write_frame(int frame, const World& world, const FrameReport& r)
       for (const auto& f : o.forces) f->add_cell_fields(fields.cell_scalars);
       fields.point_vectors["velocity"] = o.body.v;
       write_vtu(base.string() + ".vtu", o.body.x, o.tets, fields);
-      it->second->add(world.time(), o.name + "/" + frame_name(frame) + ".vtu");
+      it->second->add(world.time(), "frames/" + o.name + "/" + frame_name(frame) + ".vtu");  // from OUT/
     }
   }
   // Kinematic bodies, placed at this frame's time: for previews and for the user's own renders.
@@ -160,7 +160,7 @@ void RunOutput::write_stats(int frame, const World& world, const FrameReport& r,
   std::snprintf(line, sizeof line,
                 "{\"frame\":%d,\"time\":%.6f,\"substeps\":%d,\"cg_iterations\":%d,\"cg_converged\":%s,"
                 "\"cg_condition\":%.3g,\"colliding_nodes\":%d,\"inverted\":%d,\"elements\":%d,\"min_det_F\":%.9g,"
-                "\"yielded\":%d,\"yielded_hinges\":%d,\"newton_iterations\":%d,\"newton_capped\":%d,"
+                "\"yielded\":%d,\"yielded_hinges\":%d,\"open_stitches\":%d,\"widest_stitch_gap\":%.6g,\"newton_iterations\":%d,\"newton_capped\":%d,"
                 "\"newton_worst_residual\":%.3g,\"motion_limited_steps\":%d,\"largest_step_motion\":%.3g,"
                 "\"step_motion_limit\":%.3g,\"retried_steps\":%d,"
                 "\"self_collision\":{\"candidates\":%lld,\"proximity_impulses\":%lld,\"ccd_hits\":%lld,"
@@ -171,7 +171,7 @@ void RunOutput::write_stats(int frame, const World& world, const FrameReport& r,
                 "\"coupling\":%.6f,\"objects\":{",
                 frame, world.time(), r.substeps, r.cg_iterations, r.cg_all_converged ? "true" : "false",
                 r.cg_condition, r.colliding_nodes, r.elements.inverted, r.elements.elements, r.elements.min_det_F, r.elements.yielded,
-                r.elements.yielded_hinges, r.newton_iterations, r.newton_capped, r.newton_worst_residual, r.motion_limited_steps,
+                r.elements.yielded_hinges, r.elements.open_stitches, r.elements.widest_stitch_gap, r.newton_iterations, r.newton_capped, r.newton_worst_residual, r.motion_limited_steps,
                 r.largest_step_motion, r.step_motion_limit, r.retried_steps, r.collisions.candidates,
                 r.collisions.proximity_impulses, r.collisions.ccd_hits, r.collisions.impact_zones,
                 r.collisions.largest_zone, r.collisions.unresolved_steps, r.collisions.tangled_pairs, r.collisions.body_crossings,

@@ -191,6 +191,15 @@ bool StitchForce::damping_matrices(ElementMatrices& out) const {
   return true;
 }
 
+void StitchForce::add_element_stats(ElementStats& stats) const {
+  stats.stitches += static_cast<int>(gap_.size());
+  for (const Vec3& C : gap_) {
+    const double g = C.norm();
+    if (g > kStitchTolerance) ++stats.open_stitches;
+    stats.widest_stitch_gap = std::max(stats.widest_stitch_gap, g);
+  }
+}
+
 std::vector<double> stitch_gaps(const std::vector<Stitch>& stitches, const Points& x) {
   std::vector<double> out;
   out.reserve(stitches.size());

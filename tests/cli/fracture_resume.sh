@@ -34,6 +34,11 @@ usd="$work/reference/frames/slab.usda"
 if ! grep -q "faceVertexIndices.timeSamples" "$usd" || [ "$(sed -n '/faceVertexCounts.timeSamples/,/}/p' "$usd" | grep -c '^ *[0-9]*: \[')" -lt 2 ]; then
   echo "FAIL: $usd has no time-varying topology"; fail=1
 fi
+# The ParaView series: OUT/slab.pvd names every VTU frame by a path that exists from OUT.
+pvd="$work/reference/slab.pvd"
+listed=$(grep -o 'file="[^"]*"' "$pvd" | sed 's/file="//; s/"$//')
+if [ "$(echo "$listed" | grep -c .)" -ne 13 ]; then echo "FAIL: $pvd lists $(echo "$listed" | grep -c .) frames, expected 13"; fail=1; fi
+for f in $listed; do [ -f "$work/reference/$f" ] || { echo "FAIL: $pvd names $f, which does not exist"; fail=1; }; done
 cp -r "$work/reference" "$work/resumed"
 rm "$work/resumed/checkpoints/0009.ckpt" "$work/resumed/checkpoints/0012.ckpt"
 rm "$work/resumed/frames/slab/"00{07,08,09,10,11,12}.*

@@ -220,6 +220,13 @@ TEST(Stitches, ASewnSeamClosesAtItsClosingSpeed) {
   for (std::size_t s = 0; s < st.size(); ++s) EXPECT_EQ(sewing.rest_lengths()[s], g[s]);
   EXPECT_LT(elastic_forces_at(sewing, start).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_EQ(sewing.elastic_energy(), 0);
+  // The frame's figures: every stitch counted, those past 1 mm open, the widest gap.
+  ElementStats stats;
+  sewing.add_element_stats(stats);
+  EXPECT_EQ(stats.stitches, 3);
+  EXPECT_EQ(stats.open_stitches, static_cast<int>(std::count_if(g.begin(), g.end(), [](double x) { return x > 1e-3; })));
+  EXPECT_GT(stats.open_stitches, 0);
+  EXPECT_EQ(stats.widest_stitch_gap, *std::max_element(g.begin(), g.end()));
   // Panels that meet before their schedule are not pushed apart: a thread only pulls.
   const Points closer = 0.5 * start + 0.5 * start.colwise().mean().replicate(n, 1);
   EXPECT_EQ(elastic_forces_at(sewing, closer).cwiseAbs().maxCoeff(), 0);

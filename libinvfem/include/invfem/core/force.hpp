@@ -22,7 +22,13 @@ struct ElementStats {
   double rest_volume = 0; // [m^3]
   int yielded = 0;          // tets and triangles whose plastic state flowed in the last update
   int yielded_hinges = 0;   // hinges whose rest angle flowed in the last update
+  // Seams: stitches, those open wider than kStitchTolerance, and the widest gap [m].
+  int stitches = 0, open_stitches = 0;
+  double widest_stitch_gap = 0;
 };
+
+// [m] a stitch within this is closed: woven seams hold to about a millimetre.
+inline constexpr double kStitchTolerance = 1e-3;
 
 // Per-element output fields (VTU cell data): name -> one value per element.
 using CellFields = std::map<std::string, Eigen::VectorXd>;

@@ -80,6 +80,8 @@ class StitchForce final : public Force {
   // The implicit integrator's 9x9 per stitch: k_s (w w^T kron I3) and c_s (w w^T kron I3).
   bool stiffness_matrices(ElementMatrices& out) const override;
   bool damping_matrices(ElementMatrices& out) const override;
+  // The stitches, those open wider than kStitchTolerance and the widest gap.
+  void add_element_stats(ElementStats& stats) const override;
 
   const std::vector<Stitch>& stitches() const { return stitches_; }
   // L_s per stitch at the last update [m] (all 0 without sewing).

@@ -49,6 +49,11 @@ std::string read_file(const std::filesystem::path& p) {
   ss << in.rdbuf();
   return ss.str();
 }
+
+// An object's VTU frame as its ParaView series (OUT/<object>.pvd) names it, from OUT/.
+std::string vtu_entry(const std::string& object, int frame) {
+  return "frames/" + object + "/" + RunOutput::frame_name(frame) + ".vtu";
+}
 }  // namespace
 
 std::set<std::string> parse_formats(const std::string& list) {
@@ -100,7 +105,7 @@ RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World&
       pvd_[o.name] = std::make_unique<PvdWriter>((dir_ / (o.name + ".pvd")).string());
       for (int f = 0; f < first_frame; ++f)
         if (std::filesystem::exists(dir_ / "frames" / o.name / (frame_name(f) + ".vtu")))
-          pvd_[o.name]->add(f / fps, "frames/" + o.name + "/" + frame_name(f) + ".vtu");
+          pvd_[o.name]->add(f / fps, vtu_entry(o.name, f));
     }
     if (formats_.count("usd")) {
       usd_[o.name] = std::make_unique<UsdaAnimationWriter>((dir_ / "frames" / (o.name + ".usda")).string(), o.name,
@@ -138,7 +143,7 @@ void RunOutput::write_frame(int frame, const World& world, const FrameReport& r)
       for (const auto& f : o.forces) f->add_cell_fields(fields.cell_scalars);
       fields.point_vectors["velocity"] = o.body.v;
       write_vtu(base.string() + ".vtu", o.body.x, o.tets, fields);
-      it->second->add(world.time(), "frames/" + o.name + "/" + frame_name(frame) + ".vtu");  // from OUT/
+      it->second->add(world.time(), vtu_entry(o.name, frame));
     }
   }
   // Kinematic bodies, placed at this frame's time: for previews and for the user's own renders.

@@ -207,12 +207,18 @@ void World::advance_to(double t_end, FrameReport& report) {
   auto since = [](std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
+  // The number of equal steps of at most dt over what is `left` of the frame (+inf for dt = 0),
+  // and whether `steps` more after `before` taken stay within the substep limit.
+  auto steps_over = [](double left, double dt) { return std::ceil(left / dt - 1e-9); };
+  auto within_limit = [&](long long before, double steps) {
+    return settings_.max_substeps <= 0 ||
+           static_cast<double>(before) + steps <= static_cast<double>(settings_.max_substeps);
+  };
   // The length of equal steps of at most dt over what is `left` of the frame; SubstepLimitError
   // (before any of them is taken) when they would pass the substep limit.
   auto equal_steps = [&](double left, double dt) {
-    const double steps = std::ceil(left / dt - 1e-9);  // +inf for dt = 0
-    if (settings_.max_substeps > 0 && static_cast<double>(taken) + steps > static_cast<double>(settings_.max_substeps))
-      throw SubstepLimitError(dt, static_cast<double>(taken) + steps, settings_.max_substeps);
+    const double steps = steps_over(left, dt);
+    if (!within_limit(taken, steps)) throw SubstepLimitError(dt, static_cast<double>(taken) + steps, settings_.max_substeps);
     return left / steps;
   };
   // Land exactly on t_end: the steps of a frame are equal, each within every object's stable
@@ -321,10 +327,8 @@ void World::advance_to(double t_end, FrameReport& report) {
       // Retried steps: back to the step's start, the rest of the frame in steps of half this one
       // (within the substep limit); the report keeps the failed try's seconds only.
       const double half = dt / 2;
-      const bool within_limit = settings_.max_substeps == 0 ||
-                                static_cast<double>(taken - 1) + std::ceil(left / half - 1e-9) <=
-                                    static_cast<double>(settings_.max_substeps);
-      if (may_retry && within_limit && report.collisions.unresolved_steps > report_before.collisions.unresolved_steps) {
+      if (may_retry && within_limit(taken - 1, steps_over(left, half)) &&
+          report.collisions.unresolved_steps > report_before.collisions.unresolved_steps) {
         report_before.object_seconds = report.object_seconds;
         report_before.coupling_seconds = report.coupling_seconds;
         report_before.collisions.seconds = report.collisions.seconds;

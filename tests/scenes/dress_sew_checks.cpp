@@ -15,13 +15,10 @@ const std::filesystem::path kOut = INVFEM_SCENE_DIR;
 constexpr int kLastFrame = 3;  // the scene's quick "frames"
 constexpr double kClosed = 0.3 * kLastFrame / 25.0;  // [m] closing_speed x the quick run's time
 
-std::vector<double> gaps_at(int f, const std::vector<Stitch>& stitches) {
-  return stitch_gaps(stitches, read_obj_surface((kOut / "frames/dress" / frame_file(f)).string()).x);
-}
-
 TEST(DressSew, SeamsCloseOnTheirSchedule) {
-  const Garment g = load_garment(std::string(INVFEM_SHARED_DATA) + "/cloth/dress_knife_stage_cipc.obj");
-  const std::vector<double> start = gaps_at(0, g.stitches), end = gaps_at(kLastFrame, g.stitches);
+  const Garment g = load_dress(INVFEM_SHARED_DATA);
+  const std::vector<double> start = dress_stitch_gaps(kOut, "dress", g.stitches, 0);
+  const std::vector<double> end = dress_stitch_gaps(kOut, "dress", g.stitches, kLastFrame);
   // The stage's seams are open (the widest 291 mm); after the quick run the widest has closed by
   // at least half its schedule, and no stitch has opened by more than 1 mm (a thread only pulls).
   const double widest0 = *std::max_element(start.begin(), start.end());

@@ -16,7 +16,7 @@
 
 #include "bench/bench_unit.hpp"
 #include "cli_args.hpp"
-#include "invfem/core/atomic_file.hpp"
+#include "invfem/core/io/atomic_file.hpp"
 #include "json_fields.hpp"
 
 namespace invfem::app {

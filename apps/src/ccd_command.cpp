@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "cli_args.hpp"
-#include "invfem/collisions/ccd/ccd.hpp"
+#include "invfem/collisions/self_collision/ccd/ccd.hpp"
 #include "input_check.hpp"
 #include "json_fields.hpp"
 

@@ -7,7 +7,7 @@
 #include <iterator>
 #include <map>
 
-#include "invfem/core/atomic_file.hpp"
+#include "invfem/core/io/atomic_file.hpp"
 #include "input_check.hpp"
 #include "json_fields.hpp"
 #include "run_output.hpp"

@@ -17,7 +17,7 @@
 #include <string>
 #include <string_view>
 
-#include "invfem/core/world.hpp"
+#include "invfem/core/integrate/world.hpp"
 #include "scene.hpp"
 
 namespace invfem::app {

@@ -3,12 +3,12 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "invfem/collisions/analytic_surfaces.hpp"
-#include "invfem/collisions/body_sequence.hpp"
-#include "invfem/collisions/gear.hpp"
-#include "invfem/collisions/mesh_surface.hpp"
-#include "invfem/collisions/moving_surface.hpp"
-#include "invfem/core/surface_io.hpp"
+#include "invfem/collisions/colliders/analytic_surfaces.hpp"
+#include "invfem/collisions/colliders/body_sequence.hpp"
+#include "invfem/collisions/colliders/gear.hpp"
+#include "invfem/collisions/colliders/mesh_surface.hpp"
+#include "invfem/collisions/colliders/moving_surface.hpp"
+#include "invfem/core/io/surface_io.hpp"
 #include "json_fields.hpp"
 #include "object_builders.hpp"
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "invfem/collisions/rigid_body.hpp"
-#include "invfem/collisions/rigid_collisions.hpp"
+#include "invfem/collisions/colliders/rigid_body.hpp"
+#include "invfem/collisions/colliders/rigid_collisions.hpp"
 #include "scene.hpp"
 
 namespace invfem::app {

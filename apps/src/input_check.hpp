@@ -1,12 +1,12 @@
 #pragma once
-// The command line's side of the shared input-file check (invfem/core/input_file.hpp): every file
+// The command line's side of the shared input-file check (invfem/core/io/input_file.hpp): every file
 // the user names (scene, checkpoint, welds, queries) is checked before it is opened, and a
 // problem is bad input (exit 2) worded "<path>: cannot open the <what>: <problem>". And the
 // output folder a command writes into is checked once, before any work.
 #include <filesystem>
 #include <string>
 
-#include "invfem/core/input_file.hpp"
+#include "invfem/core/io/input_file.hpp"
 #include "json_fields.hpp"
 
 namespace invfem::app {

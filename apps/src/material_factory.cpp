@@ -1,6 +1,6 @@
 #include "material_factory.hpp"
 
-#include "invfem/core/materials/lame.hpp"
+#include "invfem/core/math/materials/lame.hpp"
 #include "json_fields.hpp"
 
 namespace invfem::app {

@@ -2,7 +2,7 @@
 // Scene material -> core model and TetMaterial.
 #include <optional>
 
-#include "invfem/core/edge_spring_force.hpp"
+#include "invfem/core/integrate/edge_spring_force.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 #include "scene.hpp"
 

@@ -7,10 +7,10 @@
 #include <optional>
 #include <sstream>
 
-#include "invfem/core/mesh_error.hpp"
-#include "invfem/core/pins.hpp"
-#include "invfem/core/plasticity_control.hpp"
-#include "invfem/core/surface_io.hpp"
+#include "invfem/core/io/mesh_error.hpp"
+#include "invfem/core/integrate/pins.hpp"
+#include "invfem/core/math/plasticity_control.hpp"
+#include "invfem/core/io/surface_io.hpp"
 #include "collider_builders.hpp"
 #include "invfem/shells/cloth_object.hpp"
 #include "invfem/shells/garment.hpp"

@@ -1,7 +1,7 @@
 #pragma once
 // Scene specs -> simulated objects, through the solids and shells libraries. Mesh loading errors
 // become InputErrors that name the object and the file.
-#include "invfem/core/world.hpp"
+#include "invfem/core/integrate/world.hpp"
 #include "invfem/solids/tet_mesh.hpp"
 #include "scene.hpp"
 

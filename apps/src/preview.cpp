@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "invfem/renders/mesh_renderer.hpp"
-#include "invfem/core/obj_file.hpp"
+#include "invfem/core/io/obj_file.hpp"
 #include "collider_builders.hpp"
 #include "run_output.hpp"
 

@@ -8,7 +8,7 @@
 #include <iostream>
 #include <memory>
 
-#include "invfem/core/mesh_error.hpp"
+#include "invfem/core/io/mesh_error.hpp"
 
 #include "checkpoint.hpp"
 #include "cli_args.hpp"

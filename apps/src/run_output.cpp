@@ -4,12 +4,12 @@
 #include <fstream>
 #include <sstream>
 
-#include "invfem/core/atomic_file.hpp"
-#include "invfem/core/obj_writer.hpp"
-#include "invfem/core/ply_writer.hpp"
-#include "invfem/core/usd_writer.hpp"
-#include "invfem/core/vtu_writer.hpp"
-#include "invfem/core/obj_file.hpp"
+#include "invfem/core/io/atomic_file.hpp"
+#include "invfem/core/io/obj_writer.hpp"
+#include "invfem/core/io/ply_writer.hpp"
+#include "invfem/core/io/usd_writer.hpp"
+#include "invfem/core/io/vtu_writer.hpp"
+#include "invfem/core/io/obj_file.hpp"
 #include "json_fields.hpp"
 #include "welds_file.hpp"
 

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <set>
 
-#include "invfem/collisions/body_sequence.hpp"
+#include "invfem/collisions/colliders/body_sequence.hpp"
 #include "invfem/solids/scramble.hpp"
 #include "input_check.hpp"
 #include "json_fields.hpp"

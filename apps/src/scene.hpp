@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/scalar_track.hpp"
+#include "invfem/core/math/scalar_track.hpp"
 
 namespace invfem::app {
 

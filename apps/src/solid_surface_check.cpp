@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "invfem/collisions/certificate/intersection_count.hpp"
-#include "invfem/core/mesh_error.hpp"
+#include "invfem/core/io/mesh_error.hpp"
 
 namespace invfem::app {
 

@@ -14,7 +14,7 @@
 //     inside tests ignore the sign).
 #include <string>
 
-#include "invfem/core/surface_check.hpp"
+#include "invfem/core/geometry/surface_check.hpp"
 #include "invfem/solids/bcc_mesher.hpp"
 
 namespace invfem::app {

@@ -4,9 +4,9 @@
 #include <iostream>
 
 #include "cli_args.hpp"
-#include "invfem/collisions/body_sequence.hpp"
-#include "invfem/core/mesh_error.hpp"
-#include "invfem/core/surface_io.hpp"
+#include "invfem/collisions/colliders/body_sequence.hpp"
+#include "invfem/core/io/mesh_error.hpp"
+#include "invfem/core/io/surface_io.hpp"
 #include "invfem/solids/bcc_mesher.hpp"
 #include "invfem/solids/tet_mesh_writer.hpp"
 #include "json_fields.hpp"

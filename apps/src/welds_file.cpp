@@ -7,7 +7,7 @@
 #include <limits>
 #include <sstream>
 
-#include "invfem/core/obj_file.hpp"
+#include "invfem/core/io/obj_file.hpp"
 #include "input_check.hpp"
 #include "json_fields.hpp"
 

@@ -4,9 +4,9 @@
 #include <limits>
 
 #include "collider_builders.hpp"
-#include "invfem/collisions/rigid_collisions.hpp"
-#include "invfem/core/attachment_embedding.hpp"
-#include "invfem/collisions/self_collision_pass.hpp"
+#include "invfem/collisions/colliders/rigid_collisions.hpp"
+#include "invfem/core/integrate/attachment_embedding.hpp"
+#include "invfem/collisions/self_collision/self_collision_pass.hpp"
 #include "invfem/solids/fracture_pass.hpp"
 #include "json_fields.hpp"
 #include "object_builders.hpp"

@@ -5,7 +5,7 @@
 // The step, the stage order and the energies are the core World's; apps only maps scene fields.
 #include <string>
 
-#include "invfem/core/world.hpp"
+#include "invfem/core/integrate/world.hpp"
 #include "scene.hpp"
 
 namespace invfem::app {

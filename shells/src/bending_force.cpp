@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "invfem/core/parallel.hpp"
+#include "invfem/core/math/parallel.hpp"
 
 namespace invfem {
 

@@ -11,7 +11,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "invfem/core/parallel.hpp"
+#include "invfem/core/math/parallel.hpp"
 #include "invfem/shells/bending_force.hpp"
 
 namespace invfem {

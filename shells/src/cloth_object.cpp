@@ -1,7 +1,7 @@
 #include "invfem/shells/cloth_object.hpp"
 
-#include "invfem/core/pins.hpp"
-#include "invfem/core/triangle_kernel.hpp"
+#include "invfem/core/integrate/pins.hpp"
+#include "invfem/core/math/triangle_kernel.hpp"
 
 namespace invfem {
 

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <filesystem>
 
-#include "invfem/core/mesh_error.hpp"
-#include "invfem/core/obj_file.hpp"
-#include "invfem/core/surface_io.hpp"
+#include "invfem/core/io/mesh_error.hpp"
+#include "invfem/core/io/obj_file.hpp"
+#include "invfem/core/io/surface_io.hpp"
 
 namespace invfem {
 

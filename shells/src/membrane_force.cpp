@@ -9,9 +9,9 @@
 #include <limits>
 #include <stdexcept>
 
-#include "invfem/core/diagonalize_batch.hpp"
-#include "invfem/core/parallel.hpp"
-#include "invfem/core/surface.hpp"
+#include "invfem/core/math/diagonalize_batch.hpp"
+#include "invfem/core/math/parallel.hpp"
+#include "invfem/core/geometry/surface.hpp"
 
 namespace invfem {
 

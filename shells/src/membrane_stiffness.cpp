@@ -8,9 +8,9 @@
 // inversion test carries its negative s2 into the same formulas.
 // Damping: P_d is linear in F_dot (the rotated damping with U, V frozen); its 6x6 derivative is
 // read off by applying it to the six unit 3x2 matrices: symmetric PSD, as the map is.
-#include "invfem/core/elasticity.hpp"
-#include "invfem/core/element_matrices.hpp"
-#include "invfem/core/parallel.hpp"
+#include "invfem/core/math/elasticity.hpp"
+#include "invfem/core/math/element_matrices.hpp"
+#include "invfem/core/math/parallel.hpp"
 #include "invfem/shells/membrane_force.hpp"
 
 namespace invfem {

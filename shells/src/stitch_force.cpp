@@ -7,9 +7,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "invfem/core/parallel.hpp"
-#include "invfem/core/spring.hpp"
-#include "invfem/core/surface.hpp"
+#include "invfem/core/math/parallel.hpp"
+#include "invfem/core/math/spring.hpp"
+#include "invfem/core/geometry/surface.hpp"
 
 namespace invfem {
 

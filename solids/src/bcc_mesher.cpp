@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "invfem/solids/boundary.hpp"
-#include "invfem/core/mesh_error.hpp"
+#include "invfem/core/io/mesh_error.hpp"
 
 namespace invfem {
 namespace {

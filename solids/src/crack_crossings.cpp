@@ -5,7 +5,7 @@
 
 #include <Eigen/Geometry>
 
-#include "invfem/core/embedded_surface.hpp"
+#include "invfem/core/geometry/embedded_surface.hpp"
 #include "invfem/solids/embedded_crack_surface.hpp"
 
 namespace invfem {

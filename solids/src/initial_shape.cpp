@@ -4,7 +4,7 @@
 #include <cctype>
 #include <filesystem>
 
-#include "invfem/core/obj_file.hpp"
+#include "invfem/core/io/obj_file.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
 
 namespace invfem {

@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "invfem/core/pins.hpp"
+#include "invfem/core/integrate/pins.hpp"
 #include "invfem/solids/boundary.hpp"
 #include "invfem/solids/mass.hpp"
 

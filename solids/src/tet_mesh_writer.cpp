@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "invfem/core/atomic_file.hpp"
+#include "invfem/core/io/atomic_file.hpp"
 
 namespace invfem {
 namespace {

@@ -10,11 +10,11 @@
 #include <stdexcept>
 #include <string>
 
-#include "invfem/core/elasticity.hpp"
-#include "invfem/core/parallel.hpp"
-#include "invfem/core/plasticity_control.hpp"
-#include "invfem/core/rotated_damping.hpp"
-#include "invfem/core/spin_free_damping.hpp"
+#include "invfem/core/math/elasticity.hpp"
+#include "invfem/core/math/parallel.hpp"
+#include "invfem/core/math/plasticity_control.hpp"
+#include "invfem/core/math/rotated_damping.hpp"
+#include "invfem/core/math/spin_free_damping.hpp"
 
 namespace invfem {
 

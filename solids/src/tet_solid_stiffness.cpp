@@ -17,11 +17,11 @@
 #include <stdexcept>
 #include <string>
 
-#include "invfem/core/elasticity.hpp"
-#include "invfem/core/element_matrices.hpp"
-#include "invfem/core/parallel.hpp"
-#include "invfem/core/rotated_damping.hpp"
-#include "invfem/core/spin_free_damping.hpp"
+#include "invfem/core/math/elasticity.hpp"
+#include "invfem/core/math/element_matrices.hpp"
+#include "invfem/core/math/parallel.hpp"
+#include "invfem/core/math/rotated_damping.hpp"
+#include "invfem/core/math/spin_free_damping.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 
 namespace invfem {

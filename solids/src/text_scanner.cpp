@@ -1,6 +1,6 @@
 #include "text_scanner.hpp"
 
-#include "invfem/core/text_file.hpp"
+#include "invfem/core/io/text_file.hpp"
 
 #include <cctype>
 #include <charconv>

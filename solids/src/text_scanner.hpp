@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-#include "invfem/core/mesh_error.hpp"
+#include "invfem/core/io/mesh_error.hpp"
 
 namespace invfem::detail {
 

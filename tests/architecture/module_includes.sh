@@ -37,7 +37,7 @@ if [ "${1:-}" = "--self-test" ]; then
   tmp=$(mktemp -d)
   trap 'rm -rf "$tmp"' EXIT
   mkdir -p "$tmp/solids/src" "$tmp/shells/src"
-  echo '#include "invfem/core/surface.hpp"' > "$tmp/shells/src/ok.cpp"
+  echo '#include "invfem/core/geometry/surface.hpp"' > "$tmp/shells/src/ok.cpp"
   check "$tmp" >/dev/null || { echo "self-test: a clean tree was flagged"; exit 1; }
   echo '#include "invfem/shells/bending_force.hpp"' > "$tmp/solids/src/planted.cpp"
   if check "$tmp" >/dev/null; then echo "self-test: the planted violation was not caught"; exit 1; fi

@@ -12,8 +12,8 @@
 #include <random>
 #include <vector>
 
-#include "invfem/core/block_sparse.hpp"
-#include "invfem/core/element_matrices.hpp"
+#include "invfem/core/solve/block_sparse.hpp"
+#include "invfem/core/math/element_matrices.hpp"
 #include "test_meshes.hpp"
 
 namespace {

@@ -11,7 +11,7 @@
 
 #include <filesystem>
 
-#include "invfem/collisions/body_sequence.hpp"
+#include "invfem/collisions/colliders/body_sequence.hpp"
 
 using namespace invfem;
 

@@ -9,9 +9,9 @@
 #include <random>
 #include <vector>
 
-#include "invfem/core/diagonalize.hpp"
-#include "invfem/core/diagonalize_batch.hpp"
-#include "invfem/core/materials/rotated_linear.hpp"
+#include "invfem/core/math/diagonalize.hpp"
+#include "invfem/core/math/diagonalize_batch.hpp"
+#include "invfem/core/math/materials/rotated_linear.hpp"
 
 namespace {
 

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/ply_writer.hpp"
+#include "invfem/core/io/ply_writer.hpp"
 
 namespace fs = std::filesystem;
 

@@ -27,10 +27,10 @@
 #include <typeinfo>
 #include <vector>
 
-#include "invfem/core/surface_io.hpp"
-#include "invfem/core/mesh_error.hpp"
-#include "invfem/core/obj_writer.hpp"
-#include "invfem/core/obj_file.hpp"
+#include "invfem/core/io/surface_io.hpp"
+#include "invfem/core/io/mesh_error.hpp"
+#include "invfem/core/io/obj_writer.hpp"
+#include "invfem/core/io/obj_file.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
 #include "json_fields.hpp"

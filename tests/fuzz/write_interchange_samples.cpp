@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <iostream>
 
-#include "invfem/core/ply_writer.hpp"
-#include "invfem/core/usd_writer.hpp"
-#include "invfem/core/vtu_writer.hpp"
+#include "invfem/core/io/ply_writer.hpp"
+#include "invfem/core/io/usd_writer.hpp"
+#include "invfem/core/io/vtu_writer.hpp"
 
 using namespace invfem;
 

@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "invfem/core/closest_point.hpp"
+#include "invfem/core/geometry/closest_point.hpp"
 #include "scene_output.hpp"
 
 namespace invfem::test {

@@ -4,7 +4,7 @@
 // scene_cloth_on_moving_box_check certifies every frame free of intersections, the box included.
 #include <gtest/gtest.h>
 
-#include "invfem/core/obj_file.hpp"
+#include "invfem/core/io/obj_file.hpp"
 #include "scene_output.hpp"
 
 namespace invfem::test {

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "garment_checks.hpp"
-#include "invfem/core/obj_file.hpp"
+#include "invfem/core/io/obj_file.hpp"
 
 namespace invfem::test {
 namespace {

@@ -17,8 +17,8 @@
 
 #include "invfem/renders/image.hpp"
 #include "invfem/renders/image_compare.hpp"
-#include "invfem/core/obj_writer.hpp"
-#include "invfem/core/obj_file.hpp"
+#include "invfem/core/io/obj_writer.hpp"
+#include "invfem/core/io/obj_file.hpp"
 
 namespace invfem::test {
 

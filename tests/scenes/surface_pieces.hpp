@@ -6,7 +6,7 @@
 #include <tuple>
 #include <vector>
 
-#include "invfem/core/surface.hpp"
+#include "invfem/core/geometry/surface.hpp"
 
 namespace invfem::test {
 

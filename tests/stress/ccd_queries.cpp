@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "ccd_queries.hpp"
-#include "invfem/collisions/ccd/ccd.hpp"
+#include "invfem/collisions/self_collision/ccd/ccd.hpp"
 
 using namespace invfem;
 

@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/implicit_step.hpp"
-#include "invfem/core/newmark_step.hpp"
+#include "invfem/core/integrate/implicit_step.hpp"
+#include "invfem/core/integrate/newmark_step.hpp"
 #include "invfem/solids/mass.hpp"
 #include "invfem/solids/scramble.hpp"
 #include "invfem/solids/tet_solid_force.hpp"

@@ -36,10 +36,10 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/materials/lame.hpp"
-#include "invfem/core/parallel.hpp"
-#include "invfem/core/surface_io.hpp"
-#include "invfem/core/world.hpp"
+#include "invfem/core/math/materials/lame.hpp"
+#include "invfem/core/math/parallel.hpp"
+#include "invfem/core/io/surface_io.hpp"
+#include "invfem/core/integrate/world.hpp"
 #include "invfem/solids/bcc_mesher.hpp"
 #include "invfem/solids/scramble.hpp"
 #include "invfem/solids/solid_object.hpp"

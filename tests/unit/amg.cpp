@@ -7,7 +7,7 @@
 
 #include <random>
 
-#include "invfem/core/amg.hpp"
+#include "invfem/core/solve/amg.hpp"
 #include "newton_system.hpp"
 
 namespace {

@@ -18,9 +18,9 @@
 
 #include "fd_check.hpp"
 #include "force_checks.hpp"
-#include "invfem/core/edge_spring_force.hpp"
-#include "invfem/core/elasticity.hpp"
-#include "invfem/core/spring.hpp"
+#include "invfem/core/integrate/edge_spring_force.hpp"
+#include "invfem/core/math/elasticity.hpp"
+#include "invfem/core/math/spring.hpp"
 #include "invfem/shells/membrane_force.hpp"
 #include "invfem/shells/shapes.hpp"
 #include "invfem/solids/tet_solid_force.hpp"

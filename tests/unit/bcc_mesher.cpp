@@ -11,11 +11,11 @@
 #include <random>
 #include <string>
 
-#include "invfem/core/surface_io.hpp"
+#include "invfem/core/io/surface_io.hpp"
 #include "invfem/solids/bcc_mesher.hpp"
 #include "invfem/solids/inside_test.hpp"
-#include "invfem/core/obj_writer.hpp"
-#include "invfem/core/obj_file.hpp"
+#include "invfem/core/io/obj_writer.hpp"
+#include "invfem/core/io/obj_file.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
 #include "invfem/solids/tet_mesh_writer.hpp"

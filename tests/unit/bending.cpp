@@ -12,7 +12,7 @@
 #include "force_checks.hpp"
 #include "invfem/shells/bending_force.hpp"
 #include "invfem/shells/hinge.hpp"
-#include "invfem/core/surface_io.hpp"
+#include "invfem/core/io/surface_io.hpp"
 #include "invfem/shells/shapes.hpp"
 
 using namespace invfem;

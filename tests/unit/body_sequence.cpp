@@ -9,11 +9,11 @@
 #include <cstdio>
 #include <sstream>
 
-#include "invfem/collisions/body_sequence.hpp"
-#include "invfem/collisions/rigid_body.hpp"
-#include "invfem/collisions/rigid_collisions.hpp"
-#include "invfem/collisions/self_collision_pass.hpp"
-#include "invfem/core/mesh_error.hpp"
+#include "invfem/collisions/colliders/body_sequence.hpp"
+#include "invfem/collisions/colliders/rigid_body.hpp"
+#include "invfem/collisions/colliders/rigid_collisions.hpp"
+#include "invfem/collisions/self_collision/self_collision_pass.hpp"
+#include "invfem/core/io/mesh_error.hpp"
 #include "invfem/shells/cloth_object.hpp"
 #include "invfem/shells/shapes.hpp"
 #include "temp_dir.hpp"

@@ -9,9 +9,9 @@
 #include <cmath>
 
 #include "ccd_queries.hpp"
-#include "invfem/collisions/ccd/ccd.hpp"
-#include "invfem/collisions/distance/edge_edge.hpp"
-#include "invfem/collisions/distance/point_triangle.hpp"
+#include "invfem/collisions/self_collision/ccd/ccd.hpp"
+#include "invfem/collisions/self_collision/distance/edge_edge.hpp"
+#include "invfem/collisions/self_collision/distance/point_triangle.hpp"
 
 using namespace invfem;
 using namespace invfem::collisions;

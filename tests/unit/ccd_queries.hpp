@@ -25,7 +25,7 @@
 #include <random>
 #include <string>
 
-#include "invfem/core/types.hpp"
+#include "invfem/core/math/types.hpp"
 
 namespace invfem::test {
 

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <random>
 
-#include "invfem/collisions/distance/edge_edge.hpp"
-#include "invfem/collisions/distance/point_triangle.hpp"
-#include "invfem/core/closest_point.hpp"
+#include "invfem/collisions/self_collision/distance/edge_edge.hpp"
+#include "invfem/collisions/self_collision/distance/point_triangle.hpp"
+#include "invfem/core/geometry/closest_point.hpp"
 
 using namespace invfem;
 using namespace invfem::collisions;

@@ -17,13 +17,13 @@
 #include <string>
 #include <vector>
 
-#include "invfem/collisions/analytic_surfaces.hpp"
-#include "invfem/collisions/mesh_surface.hpp"
-#include "invfem/collisions/moving_surface.hpp"
-#include "invfem/collisions/rigid_body.hpp"
-#include "invfem/collisions/rigid_collisions.hpp"
-#include "invfem/core/implicit_step.hpp"
-#include "invfem/core/newmark_step.hpp"
+#include "invfem/collisions/colliders/analytic_surfaces.hpp"
+#include "invfem/collisions/colliders/mesh_surface.hpp"
+#include "invfem/collisions/colliders/moving_surface.hpp"
+#include "invfem/collisions/colliders/rigid_body.hpp"
+#include "invfem/collisions/colliders/rigid_collisions.hpp"
+#include "invfem/core/integrate/implicit_step.hpp"
+#include "invfem/core/integrate/newmark_step.hpp"
 #include "invfem/solids/mass.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 #include "test_meshes.hpp"

@@ -7,7 +7,7 @@
 #include <random>
 #include <stdexcept>
 
-#include "invfem/core/rotated_damping.hpp"
+#include "invfem/core/math/rotated_damping.hpp"
 #include "random_matrices.hpp"
 
 namespace {

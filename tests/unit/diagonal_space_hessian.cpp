@@ -11,9 +11,9 @@
 #include <Eigen/Geometry>
 #include <random>
 
-#include "invfem/core/diagonal_space_hessian.hpp"
-#include "invfem/core/elasticity.hpp"
-#include "invfem/core/element_matrices.hpp"
+#include "invfem/core/math/diagonal_space_hessian.hpp"
+#include "invfem/core/math/elasticity.hpp"
+#include "invfem/core/math/element_matrices.hpp"
 #include "random_matrices.hpp"
 
 namespace {

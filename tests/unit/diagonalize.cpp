@@ -1,5 +1,5 @@
 // Tests of the invertible diagonalization (ITF04 section 5, reference/svd3x3.md sections A, C, D).
-#include "invfem/core/diagonalize.hpp"
+#include "invfem/core/math/diagonalize.hpp"
 
 #include <gtest/gtest.h>
 

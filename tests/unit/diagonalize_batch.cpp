@@ -1,7 +1,7 @@
 // Tests of the batched invertible diagonalization (diagonalize_batch.hpp): the degenerate cases
 // of diagonalize's tests (diagonalize_cases.hpp), a million random F in batches of awkward sizes
 // against the reference diagonalize, bit-identical results whatever the batch, and the errors.
-#include "invfem/core/diagonalize_batch.hpp"
+#include "invfem/core/math/diagonalize_batch.hpp"
 
 #include <gtest/gtest.h>
 

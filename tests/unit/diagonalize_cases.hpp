@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/diagonalize.hpp"
-#include "invfem/core/materials/rotated_linear.hpp"
+#include "invfem/core/math/diagonalize.hpp"
+#include "invfem/core/math/materials/rotated_linear.hpp"
 
 namespace invfem::diagonalize_test {
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "fd_check.hpp"
-#include "invfem/core/elasticity.hpp"
+#include "invfem/core/math/elasticity.hpp"
 
 namespace {
 

@@ -9,8 +9,8 @@
 #include <random>
 #include <vector>
 
-#include "invfem/core/diagonal_space_hessian.hpp"
-#include "invfem/core/element_matrices.hpp"
+#include "invfem/core/math/diagonal_space_hessian.hpp"
+#include "invfem/core/math/element_matrices.hpp"
 #include "random_matrices.hpp"
 
 namespace invfem {

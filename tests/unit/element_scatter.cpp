@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "force_checks.hpp"
-#include "invfem/core/block_sparse.hpp"
-#include "invfem/core/materials/neo_hookean.hpp"
+#include "invfem/core/solve/block_sparse.hpp"
+#include "invfem/core/math/materials/neo_hookean.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 #include "test_meshes.hpp"
 

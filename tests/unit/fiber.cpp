@@ -10,7 +10,7 @@
 #include <random>
 
 #include "fd_check.hpp"
-#include "invfem/core/materials/fiber.hpp"
+#include "invfem/core/math/materials/fiber.hpp"
 
 namespace {
 

@@ -8,7 +8,7 @@
 #include <random>
 
 #include "fd_check.hpp"
-#include "invfem/core/force.hpp"
+#include "invfem/core/integrate/force.hpp"
 
 namespace invfem::test {
 

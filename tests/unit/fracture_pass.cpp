@@ -5,9 +5,9 @@
 
 #include <memory>
 
-#include "invfem/core/materials/lame.hpp"
-#include "invfem/core/rigid_motion.hpp"
-#include "invfem/core/world.hpp"
+#include "invfem/core/math/materials/lame.hpp"
+#include "invfem/core/geometry/rigid_motion.hpp"
+#include "invfem/core/integrate/world.hpp"
 #include "invfem/solids/fracture_pass.hpp"
 #include "invfem/solids/solid_object.hpp"
 #include "test_meshes.hpp"

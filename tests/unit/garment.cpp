@@ -8,8 +8,8 @@
 #include <numeric>
 #include <string>
 
-#include "invfem/core/mesh_error.hpp"
-#include "invfem/core/triangle_kernel.hpp"
+#include "invfem/core/io/mesh_error.hpp"
+#include "invfem/core/math/triangle_kernel.hpp"
 #include "invfem/shells/cloth_object.hpp"
 #include "invfem/shells/garment.hpp"
 #include "temp_dir.hpp"

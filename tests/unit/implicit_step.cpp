@@ -9,8 +9,8 @@
 #include <random>
 
 #include "force_checks.hpp"
-#include "invfem/core/implicit_step.hpp"
-#include "invfem/core/materials/neo_hookean.hpp"
+#include "invfem/core/integrate/implicit_step.hpp"
+#include "invfem/core/math/materials/neo_hookean.hpp"
 #include "invfem/shells/bending_force.hpp"
 #include "invfem/shells/membrane_force.hpp"
 #include "invfem/shells/shapes.hpp"

@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "invfem/collisions/analytic_surfaces.hpp"
-#include "invfem/collisions/gear.hpp"
-#include "invfem/collisions/moving_surface.hpp"
-#include "invfem/core/rigid_motion.hpp"
+#include "invfem/collisions/colliders/analytic_surfaces.hpp"
+#include "invfem/collisions/colliders/gear.hpp"
+#include "invfem/collisions/colliders/moving_surface.hpp"
+#include "invfem/core/geometry/rigid_motion.hpp"
 
 using namespace invfem;
 

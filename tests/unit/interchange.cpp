@@ -15,12 +15,12 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/surface_io.hpp"
+#include "invfem/core/io/surface_io.hpp"
 #include "invfem/shells/shapes.hpp"
-#include "invfem/core/ply_writer.hpp"
+#include "invfem/core/io/ply_writer.hpp"
 #include "invfem/solids/tet_mesh.hpp"
-#include "invfem/core/usd_writer.hpp"
-#include "invfem/core/vtu_writer.hpp"
+#include "invfem/core/io/usd_writer.hpp"
+#include "invfem/core/io/vtu_writer.hpp"
 #include "xml_check.hpp"
 #include "temp_dir.hpp"
 

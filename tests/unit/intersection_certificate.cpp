@@ -13,7 +13,7 @@
 #include "invfem/collisions/certificate/exact_predicates.hpp"
 #include "invfem/collisions/certificate/intersection_count.hpp"
 #include "invfem/collisions/certificate/triangle_intersection.hpp"
-#include "invfem/core/obj_file.hpp"
+#include "invfem/core/io/obj_file.hpp"
 #include "invfem/shells/shapes.hpp"
 
 namespace invfem::certificate {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "fd_check.hpp"
-#include "invfem/core/materials/model.hpp"
+#include "invfem/core/math/materials/model.hpp"
 
 namespace {
 

@@ -7,11 +7,11 @@
 #include <stdexcept>
 
 #include "fd_check.hpp"
-#include "invfem/core/materials/lame.hpp"
-#include "invfem/core/triangle_kernel.hpp"
+#include "invfem/core/math/materials/lame.hpp"
+#include "invfem/core/math/triangle_kernel.hpp"
 #include "force_checks.hpp"
 #include "invfem/shells/membrane_force.hpp"
-#include "invfem/core/surface_io.hpp"
+#include "invfem/core/io/surface_io.hpp"
 #include "invfem/shells/shapes.hpp"
 
 using namespace invfem;

@@ -11,9 +11,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "invfem/collisions/mesh_surface.hpp"
-#include "invfem/core/obj_writer.hpp"
-#include "invfem/core/obj_file.hpp"
+#include "invfem/collisions/colliders/mesh_surface.hpp"
+#include "invfem/core/io/obj_writer.hpp"
+#include "invfem/core/io/obj_file.hpp"
 
 using namespace invfem;
 

@@ -11,10 +11,10 @@
 #include <vector>
 
 #include "force_checks.hpp"
-#include "invfem/collisions/analytic_surfaces.hpp"
-#include "invfem/collisions/rigid_collisions.hpp"
-#include "invfem/core/newmark_step.hpp"
-#include "invfem/core/materials/neo_hookean.hpp"
+#include "invfem/collisions/colliders/analytic_surfaces.hpp"
+#include "invfem/collisions/colliders/rigid_collisions.hpp"
+#include "invfem/core/integrate/newmark_step.hpp"
+#include "invfem/core/math/materials/neo_hookean.hpp"
 #include "invfem/solids/mass.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 #include "test_meshes.hpp"

@@ -1,7 +1,7 @@
 // The strict garment OBJ reader (core/obj_file.hpp): vt layouts of C-IPC and ARCSim, polygons,
 // relative indices, groups, uninterpreted lines, line ends, every documented error with its file
 // and line, and the shared garments.
-#include "invfem/core/obj_file.hpp"
+#include "invfem/core/io/obj_file.hpp"
 #include "temp_dir.hpp"
 
 #include <gtest/gtest.h>

@@ -8,14 +8,14 @@
 #include <algorithm>
 #include <memory>
 
-#include "invfem/collisions/analytic_surfaces.hpp"
-#include "invfem/collisions/collision_mesh.hpp"
-#include "invfem/collisions/response/impact_zones.hpp"
-#include "invfem/collisions/response/pair_impulse.hpp"
-#include "invfem/collisions/rigid_collisions.hpp"
-#include "invfem/core/attachment_embedding.hpp"
-#include "invfem/core/materials/lame.hpp"
-#include "invfem/core/world.hpp"
+#include "invfem/collisions/colliders/analytic_surfaces.hpp"
+#include "invfem/collisions/self_collision/collision_mesh.hpp"
+#include "invfem/collisions/self_collision/response/impact_zones.hpp"
+#include "invfem/collisions/self_collision/response/pair_impulse.hpp"
+#include "invfem/collisions/colliders/rigid_collisions.hpp"
+#include "invfem/core/integrate/attachment_embedding.hpp"
+#include "invfem/core/math/materials/lame.hpp"
+#include "invfem/core/integrate/world.hpp"
 #include "invfem/shells/cloth_object.hpp"
 #include "invfem/shells/shapes.hpp"
 #include "invfem/solids/embedded_crack_surface.hpp"

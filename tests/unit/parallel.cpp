@@ -10,9 +10,9 @@
 #include <random>
 #include <vector>
 
-#include "invfem/core/parallel.hpp"
-#include "invfem/core/rotated_damping.hpp"
-#include "invfem/core/tet_kernel.hpp"
+#include "invfem/core/math/parallel.hpp"
+#include "invfem/core/math/rotated_damping.hpp"
+#include "invfem/core/math/tet_kernel.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 #include "test_meshes.hpp"
 

@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "fd_check.hpp"
-#include "invfem/core/elasticity.hpp"
-#include "invfem/core/plasticity.hpp"
-#include "invfem/core/plasticity_control.hpp"
-#include "invfem/core/tet_kernel.hpp"
+#include "invfem/core/math/elasticity.hpp"
+#include "invfem/core/math/plasticity.hpp"
+#include "invfem/core/math/plasticity_control.hpp"
+#include "invfem/core/math/tet_kernel.hpp"
 
 namespace {
 

@@ -14,10 +14,10 @@
 #include <vector>
 
 #include "fd_check.hpp"
-#include "invfem/core/materials/neo_hookean.hpp"
-#include "invfem/core/materials/rotated_linear.hpp"
-#include "invfem/core/plasticity.hpp"
-#include "invfem/core/triangle_kernel.hpp"
+#include "invfem/core/math/materials/neo_hookean.hpp"
+#include "invfem/core/math/materials/rotated_linear.hpp"
+#include "invfem/core/math/plasticity.hpp"
+#include "invfem/core/math/triangle_kernel.hpp"
 
 namespace {
 

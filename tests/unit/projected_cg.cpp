@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "invfem/core/projected_cg.hpp"
+#include "invfem/core/solve/projected_cg.hpp"
 
 using namespace invfem;
 

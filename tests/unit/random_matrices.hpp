@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "invfem/core/types.hpp"
+#include "invfem/core/math/types.hpp"
 
 namespace invfem::test {
 

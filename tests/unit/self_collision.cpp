@@ -13,18 +13,18 @@
 #include <set>
 #include <string>
 
-#include "invfem/collisions/broad_phase/broad_phase.hpp"
-#include "invfem/collisions/candidates/tangles.hpp"
-#include "invfem/collisions/ccd/candidate_ccd.hpp"
-#include "invfem/collisions/collision_mesh.hpp"
-#include "invfem/collisions/distance/edge_edge.hpp"
-#include "invfem/collisions/distance/point_triangle.hpp"
-#include "invfem/collisions/response/impact_zones.hpp"
-#include "invfem/collisions/response/pair_impulse.hpp"
-#include "invfem/collisions/response/repulsion.hpp"
-#include "invfem/collisions/response/seams.hpp"
-#include "invfem/collisions/response/zone_following.hpp"
-#include "invfem/collisions/self_collision_pass.hpp"
+#include "invfem/collisions/self_collision/broad_phase/broad_phase.hpp"
+#include "invfem/collisions/self_collision/candidates/tangles.hpp"
+#include "invfem/collisions/self_collision/ccd/candidate_ccd.hpp"
+#include "invfem/collisions/self_collision/collision_mesh.hpp"
+#include "invfem/collisions/self_collision/distance/edge_edge.hpp"
+#include "invfem/collisions/self_collision/distance/point_triangle.hpp"
+#include "invfem/collisions/self_collision/response/impact_zones.hpp"
+#include "invfem/collisions/self_collision/response/pair_impulse.hpp"
+#include "invfem/collisions/self_collision/response/repulsion.hpp"
+#include "invfem/collisions/self_collision/response/seams.hpp"
+#include "invfem/collisions/self_collision/response/zone_following.hpp"
+#include "invfem/collisions/self_collision/self_collision_pass.hpp"
 #include "torn_cube.hpp"
 
 using namespace invfem;

@@ -7,7 +7,7 @@
 
 #include <random>
 
-#include "invfem/core/sparse_direct.hpp"
+#include "invfem/core/solve/sparse_direct.hpp"
 #include "newton_system.hpp"
 
 namespace {

@@ -10,8 +10,8 @@
 #include <random>
 
 #include "fd_check.hpp"
-#include "invfem/core/newmark_step.hpp"
-#include "invfem/core/spin_free_damping.hpp"
+#include "invfem/core/integrate/newmark_step.hpp"
+#include "invfem/core/math/spin_free_damping.hpp"
 #include "invfem/solids/mass.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 #include "random_matrices.hpp"

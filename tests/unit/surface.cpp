@@ -6,9 +6,9 @@
 #include <Eigen/Geometry>
 #include <random>
 
-#include "invfem/core/closest_point.hpp"
-#include "invfem/core/surface.hpp"
-#include "invfem/core/surface_bvh.hpp"
+#include "invfem/core/geometry/closest_point.hpp"
+#include "invfem/core/geometry/surface.hpp"
+#include "invfem/core/geometry/surface_bvh.hpp"
 
 namespace invfem {
 namespace {

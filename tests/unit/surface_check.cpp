@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "invfem/collisions/certificate/intersection_count.hpp"
-#include "invfem/core/surface_check.hpp"
+#include "invfem/core/geometry/surface_check.hpp"
 #include "test_meshes.hpp"
 
 namespace invfem {

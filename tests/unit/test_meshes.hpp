@@ -6,8 +6,8 @@
 
 #include <Eigen/LU>
 
-#include "invfem/core/surface.hpp"
-#include "invfem/core/types.hpp"
+#include "invfem/core/geometry/surface.hpp"
+#include "invfem/core/math/types.hpp"
 
 namespace invfem::test {
 

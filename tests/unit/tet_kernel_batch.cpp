@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/diagonalize_batch.hpp"
-#include "invfem/core/rotated_damping.hpp"
-#include "invfem/core/tet_kernel.hpp"
+#include "invfem/core/math/diagonalize_batch.hpp"
+#include "invfem/core/math/rotated_damping.hpp"
+#include "invfem/core/math/tet_kernel.hpp"
 #include "test_meshes.hpp"
 
 namespace invfem {

@@ -11,7 +11,7 @@
 #include <set>
 #include <string>
 
-#include "invfem/core/surface.hpp"
+#include "invfem/core/geometry/surface.hpp"
 #include "invfem/solids/boundary.hpp"
 #include "invfem/solids/mass.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"

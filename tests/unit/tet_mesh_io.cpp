@@ -10,10 +10,10 @@
 #include <sstream>
 #include <string>
 
-#include "invfem/core/atomic_file.hpp"
+#include "invfem/core/io/atomic_file.hpp"
 #include "invfem/solids/boundary.hpp"
-#include "invfem/core/obj_writer.hpp"
-#include "invfem/core/obj_file.hpp"
+#include "invfem/core/io/obj_writer.hpp"
+#include "invfem/core/io/obj_file.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
 #include "temp_dir.hpp"

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/newmark_step.hpp"
+#include "invfem/core/integrate/newmark_step.hpp"
 #include "invfem/solids/mass.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 

@@ -12,9 +12,9 @@
 
 #include "fd_check.hpp"
 #include "force_checks.hpp"
-#include "invfem/core/newmark_step.hpp"
-#include "invfem/core/plasticity_control.hpp"
-#include "invfem/core/state_stream.hpp"
+#include "invfem/core/integrate/newmark_step.hpp"
+#include "invfem/core/math/plasticity_control.hpp"
+#include "invfem/core/integrate/state_stream.hpp"
 #include "invfem/solids/mass.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 

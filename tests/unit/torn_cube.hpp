@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/materials/lame.hpp"
-#include "invfem/core/world.hpp"
+#include "invfem/core/math/materials/lame.hpp"
+#include "invfem/core/integrate/world.hpp"
 #include "invfem/solids/fracture_pass.hpp"
 #include "invfem/solids/solid_object.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"

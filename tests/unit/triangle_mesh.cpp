@@ -14,9 +14,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "invfem/core/triangle_kernel.hpp"
+#include "invfem/core/math/triangle_kernel.hpp"
 #include "invfem/shells/hinge.hpp"
-#include "invfem/core/surface_io.hpp"
+#include "invfem/core/io/surface_io.hpp"
 #include "invfem/shells/shapes.hpp"
 
 using namespace invfem;

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/pins.hpp"
-#include "invfem/core/world.hpp"
+#include "invfem/core/integrate/pins.hpp"
+#include "invfem/core/integrate/world.hpp"
 
 namespace invfem {
 namespace {

@@ -8,10 +8,10 @@
 
 #include "bench/bench_unit.hpp"
 #include "bench/tet_cube.hpp"
-#include "invfem/core/block_sparse.hpp"
-#include "invfem/core/diagonalize.hpp"
-#include "invfem/core/diagonalize_batch.hpp"
-#include "invfem/core/tet_kernel.hpp"
+#include "invfem/core/solve/block_sparse.hpp"
+#include "invfem/core/math/diagonalize.hpp"
+#include "invfem/core/math/diagonalize_batch.hpp"
+#include "invfem/core/math/tet_kernel.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 #include "material_factory.hpp"
 

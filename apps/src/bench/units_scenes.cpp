@@ -10,7 +10,7 @@
 
 #include "bench/bench_scene.hpp"
 #include "bench/bench_unit.hpp"
-#include "invfem/core/obj_writer.hpp"
+#include "invfem/core/io/obj_writer.hpp"
 
 namespace invfem::app::bench {
 

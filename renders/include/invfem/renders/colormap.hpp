@@ -1,6 +1,6 @@
 #pragma once
 // Scalar -> colour maps for per-vertex fields (stress, det F, ...). Colours are RGB in [0, 1].
-#include "invfem/core/types.hpp"
+#include "invfem/core/math/types.hpp"
 
 namespace invfem::renders {
 

@@ -2,7 +2,7 @@
 // Normals for shading triangle meshes. Meshes from a simulation can be degenerate (collapsed or
 // inverted elements, all vertices equal): a zero-area face gets a zero normal, never NaN, and
 // the shader then lights it as if it faced the camera.
-#include "invfem/core/types.hpp"
+#include "invfem/core/math/types.hpp"
 
 namespace invfem::renders {
 

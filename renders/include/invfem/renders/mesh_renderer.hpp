@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "invfem/core/surface.hpp"
+#include "invfem/core/geometry/surface.hpp"
 #include "invfem/renders/camera.hpp"
 #include "invfem/renders/colormap.hpp"
 #include "invfem/renders/image.hpp"

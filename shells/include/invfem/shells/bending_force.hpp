@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/force.hpp"
+#include "invfem/core/integrate/force.hpp"
 #include "invfem/shells/hinge.hpp"
 
 namespace invfem {

@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/edge_spring_force.hpp"
-#include "invfem/core/materials/model.hpp"
-#include "invfem/core/plasticity.hpp"
-#include "invfem/core/world.hpp"
+#include "invfem/core/integrate/edge_spring_force.hpp"
+#include "invfem/core/math/materials/model.hpp"
+#include "invfem/core/math/plasticity.hpp"
+#include "invfem/core/integrate/world.hpp"
 #include "invfem/shells/bending_force.hpp"
 #include "invfem/shells/garment.hpp"
 #include "invfem/shells/membrane_force.hpp"

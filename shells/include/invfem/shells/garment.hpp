@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/surface.hpp"
-#include "invfem/core/triangle_kernel.hpp"
+#include "invfem/core/geometry/surface.hpp"
+#include "invfem/core/math/triangle_kernel.hpp"
 #include "invfem/shells/stitch_force.hpp"
 
 namespace invfem {

@@ -7,7 +7,7 @@
 #include <array>
 #include <vector>
 
-#include "invfem/core/surface.hpp"
+#include "invfem/core/geometry/surface.hpp"
 
 namespace invfem {
 

@@ -14,11 +14,11 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/diagonalize.hpp"
-#include "invfem/core/force.hpp"
-#include "invfem/core/materials/model.hpp"
-#include "invfem/core/plasticity.hpp"
-#include "invfem/core/triangle_kernel.hpp"
+#include "invfem/core/math/diagonalize.hpp"
+#include "invfem/core/integrate/force.hpp"
+#include "invfem/core/math/materials/model.hpp"
+#include "invfem/core/math/plasticity.hpp"
+#include "invfem/core/math/triangle_kernel.hpp"
 
 namespace invfem {
 

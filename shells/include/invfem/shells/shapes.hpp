@@ -1,6 +1,6 @@
 #pragma once
 // Generated shell and cloth surfaces (their rest shape is the generated geometry).
-#include "invfem/core/surface.hpp"
+#include "invfem/core/geometry/surface.hpp"
 
 namespace invfem {
 

@@ -25,9 +25,9 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/force.hpp"
-#include "invfem/core/triangle_kernel.hpp"
-#include "invfem/core/world.hpp"
+#include "invfem/core/integrate/force.hpp"
+#include "invfem/core/math/triangle_kernel.hpp"
+#include "invfem/core/integrate/world.hpp"
 
 namespace invfem {
 

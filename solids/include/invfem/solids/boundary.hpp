@@ -2,7 +2,7 @@
 // Boundary surface of a tet mesh (a solid's surface: written per frame, drawn, collided).
 #include <vector>
 
-#include "invfem/core/types.hpp"
+#include "invfem/core/math/types.hpp"
 
 namespace invfem {
 

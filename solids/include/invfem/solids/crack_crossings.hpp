@@ -11,7 +11,7 @@
 // counts crossings exactly and independently).
 #include <vector>
 
-#include "invfem/core/types.hpp"
+#include "invfem/core/math/types.hpp"
 #include "invfem/solids/virtual_node_cut.hpp"
 
 namespace invfem {

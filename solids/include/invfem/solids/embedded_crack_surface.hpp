@@ -53,7 +53,7 @@
 // gap on a crack face).
 #include <string>
 
-#include "invfem/core/embedded_surface.hpp"
+#include "invfem/core/geometry/embedded_surface.hpp"
 #include "invfem/solids/virtual_node_cut.hpp"
 
 namespace invfem {

@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/world.hpp"
+#include "invfem/core/integrate/world.hpp"
 #include "invfem/solids/fracture_criterion.hpp"
 #include "invfem/solids/tet_mesh.hpp"
 #include "invfem/solids/tet_solid_force.hpp"

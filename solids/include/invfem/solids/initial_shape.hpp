@@ -5,7 +5,7 @@
 // OBJ reader wants at least one face).
 #include <string>
 
-#include "invfem/core/mesh_error.hpp"
+#include "invfem/core/io/mesh_error.hpp"
 #include "invfem/solids/tet_mesh.hpp"
 
 namespace invfem {

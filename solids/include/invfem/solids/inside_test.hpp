@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/surface_bvh.hpp"
+#include "invfem/core/geometry/surface_bvh.hpp"
 
 
 namespace invfem {

@@ -2,7 +2,7 @@
 // Lumped nodal masses (ITF04 section 9 uses a diagonal mass matrix).
 #include <Eigen/Core>
 
-#include "invfem/core/types.hpp"
+#include "invfem/core/math/types.hpp"
 
 namespace invfem {
 

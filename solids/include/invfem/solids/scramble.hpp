@@ -19,7 +19,7 @@
 #include <string>
 #include <string_view>
 
-#include "invfem/core/types.hpp"
+#include "invfem/core/math/types.hpp"
 
 namespace invfem {
 

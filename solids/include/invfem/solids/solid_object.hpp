@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/edge_spring_force.hpp"
-#include "invfem/core/world.hpp"
+#include "invfem/core/integrate/edge_spring_force.hpp"
+#include "invfem/core/integrate/world.hpp"
 #include "invfem/solids/tet_mesh.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 

@@ -4,7 +4,7 @@
 #include <Eigen/Geometry>  // cross()
 #include <string>
 
-#include "invfem/core/types.hpp"
+#include "invfem/core/math/types.hpp"
 
 namespace invfem {
 

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/mesh_error.hpp"
+#include "invfem/core/io/mesh_error.hpp"
 #include "invfem/solids/tet_mesh.hpp"
 
 namespace invfem {

@@ -7,7 +7,7 @@
 // 1-based, Gmsh by node/element id.
 #include <string>
 
-#include "invfem/core/mesh_error.hpp"
+#include "invfem/core/io/mesh_error.hpp"
 #include "invfem/solids/tet_mesh.hpp"
 
 namespace invfem {

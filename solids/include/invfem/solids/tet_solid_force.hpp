@@ -19,12 +19,12 @@
 #include <optional>
 #include <vector>
 
-#include "invfem/core/force.hpp"
-#include "invfem/core/materials/fiber.hpp"
-#include "invfem/core/materials/model.hpp"
-#include "invfem/core/plasticity.hpp"
-#include "invfem/core/scalar_track.hpp"
-#include "invfem/core/tet_kernel.hpp"
+#include "invfem/core/integrate/force.hpp"
+#include "invfem/core/math/materials/fiber.hpp"
+#include "invfem/core/math/materials/model.hpp"
+#include "invfem/core/math/plasticity.hpp"
+#include "invfem/core/math/scalar_track.hpp"
+#include "invfem/core/math/tet_kernel.hpp"
 
 namespace invfem {
 

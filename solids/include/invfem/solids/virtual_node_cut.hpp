@@ -37,8 +37,8 @@
 
 #include <Eigen/Core>
 
-#include "invfem/core/tet_kernel.hpp"
-#include "invfem/core/types.hpp"
+#include "invfem/core/math/tet_kernel.hpp"
+#include "invfem/core/math/types.hpp"
 #include "invfem/solids/tet_mesh.hpp"
 
 namespace invfem {

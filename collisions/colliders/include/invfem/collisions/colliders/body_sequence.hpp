@@ -1,0 +1,140 @@
+#pragma once
+// A kinematic body animated elsewhere and brought in as a sequence of meshes with one topology
+// (a dancer's body from motion capture): frame k is a file, shown at time start_time + k / fps.
+//
+// Between two frames positions are interpolated linearly in time and the velocity is that
+// interpolation's derivative, constant over the interval:
+//   s = (t - start_time) * fps,  k = floor(s),  a = s - k,
+//   x(t) = (1 - a) X_k + a X_{k+1},   v(t) = (X_{k+1} - X_k) * fps.
+// At a frame time t = start_time + k/fps the position is X_k exactly and the velocity is the one of
+// the interval that starts there ([k, k+1)): a step ending there has moved along the interval
+// before it, and the collision processing at that time sees the motion about to happen.
+// Before start_time the body holds frame 0 (velocity 0). Past the last frame N-1:
+//   hold: it holds frame N-1 with velocity 0;
+//   loop: the sequence repeats with period N / fps; the wrap interval [N-1, N) goes from the last
+//         frame back to the first, linearly like any other, with velocity (X_0 - X_{N-1}) * fps.
+//         (A capture whose last frame repeats its first should list it only once.)
+//
+// The body acts on the cloth twice, as every mesh collider does: through the ITF04 section 9
+// collision processing as a MeshSurface (section 10's closest-point normal rule, friction, and
+// the velocity of the interpolation above, not a finite difference over the step), and through
+// the self-collision layer, whose CCD and impact zones see its triangles as infinite-mass geometry
+// (surface_is_shape).
+//
+// Frames are streamed: frame 0 is read at construction (its triangles are the topology every
+// frame must have), then only the frames an interpolation needs, kept in a cache of a few frames
+// (the two bracketing ones and the ones just before). A long sequence is never held whole.
+//
+// Reading a frame: an OBJ file is read in file vertex order (core obj_file.hpp; vertex i of the
+// file is body point i in every frame, nothing is welded or dropped); any other format assimp
+// reads goes through load_triangle_surface, which welds coincident vertices and drops zero-area
+// triangles: a frame where that changes the topology is reported as such.
+//
+// Errors (MeshError, naming the file): a missing or unreadable file, a non-finite coordinate, a
+// frame whose vertex count or triangles differ from frame 0's. They are thrown by the constructor
+// (frame 0, and the frame it starts on) or by move_to when it first needs the bad frame; the body
+// then stays where it was.
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "invfem/collisions/colliders/mesh_surface.hpp"
+#include "invfem/core/integrate/world.hpp"
+
+namespace invfem {
+
+enum class SequenceEnd { Hold, Loop };
+
+struct BodySequenceSettings {
+  std::vector<std::string> files;  // frame k = files[k]; at least one
+  double fps = 25;                 // frames per second of the sequence (> 0)
+  double start_time = 0;           // [s] simulation time at which frame 0 is shown (may be < 0)
+  // Applied to every frame's vertices: x_world = linear * x_file + translation (scale and
+  // rotation); velocities transform with `linear` alone.
+  Mat3 linear = Mat3::Identity();
+  Vec3 translation = Vec3::Zero();
+  SequenceEnd after_end = SequenceEnd::Hold;
+  double friction = 0.3;           // Coulomb coefficient for the collision processing
+  MeshSurfaceOptions mesh;         // contact search radius
+  std::size_t cache_frames = 3;    // frames kept in memory besides frame 0's topology (>= 2)
+};
+
+// The files of a frame pattern: `{N}` is replaced by the frame number, `{N:0W}` (W = 1..9) by the
+// number zero-padded to W digits (`frame_{N:04}.ply`: frame_0007.ply). Exactly one placeholder;
+// first <= last, both >= 0. Throws std::invalid_argument naming the pattern otherwise.
+std::vector<std::string> expand_frame_pattern(const std::string& pattern, int first, int last);
+
+// One frame as read for a sequence (see above: OBJ in file vertex order). Throws MeshError naming
+// the file.
+TriangleSurface read_sequence_frame(const std::string& path);
+
+class BodySequence final : public KinematicBody {
+ public:
+  // Reads frame 0 (topology), checks the settings, and moves the body to t = 0. Throws
+  // std::invalid_argument for bad settings and MeshError for a bad frame.
+  BodySequence(std::string name, BodySequenceSettings settings);
+
+  const std::string& name() const override { return name_; }
+  // Positions and velocities of the interpolation at t; refits the collision surface. Loads the
+  // frames it needs (MeshError for a bad one; the body is then left as it was).
+  void move_to(double t) override;
+  const TriangleSurface* surface() const override { return &surface_; }
+  bool surface_is_shape() const override { return true; }
+  // query_radius - offset: a node the body passes deeper than that in a step reads as outside.
+  double step_motion_limit() const override { return settings_.mesh.query_radius - settings_.mesh.offset; }
+
+  // For RigidCollisions: the collision shape (as of the last move_to) and its friction.
+  std::shared_ptr<const ImplicitSurface> implicit() const { return mesh_; }
+  const MeshSurface& mesh_surface() const { return *mesh_; }
+  double friction() const { return settings_.friction; }
+
+  // The vertex velocities of the interpolation at the last move_to, #V x 3 [m/s], world frame.
+  const Points& velocities() const { return velocity_; }
+  int frame_count() const { return static_cast<int>(settings_.files.size()); }
+  // Files read so far (frame 0 at construction counts once); a test's measure of the streaming.
+  long long frames_loaded() const { return loads_; }
+  // Frames currently held in the cache.
+  std::size_t frames_cached() const { return cache_.size(); }
+
+  // Reads and checks every frame now, one at a time (none is kept; the cache is untouched): a
+  // long run's bad frame found before the run. Throws MeshError naming the first bad file.
+  void check_frames() const;
+
+  // Which two frames time t interpolates between, and the weight of the second (see the header
+  // comment). `moving` is false when the body holds still (before the start, past the end with
+  // hold, or a single frame).
+  struct Bracket {
+    int first = 0, second = 0;
+    double weight = 0;
+    bool moving = false;
+  };
+  Bracket bracket(double t) const;
+
+ private:
+  // Frame k in world coordinates, from the cache or read (and checked) now.
+  const Points& frame(int k);
+  // Frame k read, checked against frame 0's topology, and transformed.
+  Points load(int k) const;
+  Points posed(const TriangleSurface& f, const std::string& file) const;
+
+  std::string name_;
+  BodySequenceSettings settings_;
+  Tris tris_;  // frame 0's, every frame's
+  Eigen::Index vertices_ = 0;
+  struct Cached {
+    int index;
+    Points x;  // world coordinates
+    unsigned long long used;
+  };
+  std::vector<Cached> cache_;
+  unsigned long long clock_ = 0;
+  long long loads_ = 0;
+  TriangleSurface surface_;  // posed at the last move_to
+  double time_ = 0;          // of the last move_to, once placed_
+  bool placed_ = false;
+  Points velocity_;
+  std::shared_ptr<MeshSurface> mesh_;
+};
+
+}  // namespace invfem

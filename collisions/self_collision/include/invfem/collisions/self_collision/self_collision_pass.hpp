@@ -1,0 +1,161 @@
+#pragma once
+// The self-collision layer (BFA02; ITF04 section 9: "For self-collisions we extract the boundary
+// surface and apply the cloth collision algorithm of [BFA02]"), run after every step of either
+// integrator (world.hpp, stage 4) on every taking-part object's surface (a cloth, a solid's
+// boundary) and on the kinematic bodies' triangles where they are the body's shape (rigid mesh
+// colliders, animated bodies: KinematicBody::surface_is_shape), which take part with infinite
+// mass, as do pinned nodes. Analytic colliders (plane, sphere, gears...) act through the ITF04
+// collision processing on the exact shape only.
+//
+// Per step, with x0 the surfaces at the step's start and v = (x(n+1) - x0) / dt the step's
+// average velocity (collisions-BFA02.md section 1), after joining the nodes of recovering tets
+// (inverted since a start the layer did not make, every node on the boundary:
+// CollisionMesh::recovering), releasing the pairs that can undo each tangle at x0 (an edge through a face of a solid's boundary:
+// candidates/tangles.hpp), releasing a cloth's crossings with a kinematic body
+// at x0 from their pairs with the body (CollisionMesh::released, the recovery from an earlier
+// step's fail-safe failure; stats `body_crossings`) and holding those an analytic collider holds (infinite mass; a
+// vertex the layer would push into a collider is held too and the step's layer work redone):
+//   1. broad phase on the swept boxes (broad_phase/), giving candidates (candidates/)
+//   2. repulsion at x0 (response/repulsion.hpp): pairs closer than the thickness
+//   3. up to `impulse_passes` passes of CCD impulses (response/ccd_impulses.hpp)
+//   4. rigid impact zones until no pair may come within ccd_distance (response/impact_zones.hpp)
+//   5. x(n+1) = x0 + dt v for every surface node; each node's end-of-step velocity gets the same
+//      change as its average velocity (for the implicit step the two are one).
+// Nodes off the surface (a solid's interior) are not touched. A solid's boundary is handled as a
+// cloth (ITF04 section 9), its tet neighbours included: the layer stops the boundary, not the
+// interior, from crossing, and the elements invert and recover through the interior
+// (collision_mesh.hpp). The start state must be free of
+// intersections; then the end state is too (up to the fail-safe's iteration cap, reported).
+// Hence the tangle and body-crossing searches at x0 (edge-triangle tests over the whole surface,
+// most of the layer's cost on a scene without contact) run only when the last step let pairs go
+// (recovering tets, tangles, body crossings), left a step unresolved, or did not end where this step
+// starts (the first step, a rebuilt mesh, another pass moved the surfaces).
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "invfem/collisions/self_collision/broad_phase/broad_phase.hpp"
+#include "invfem/collisions/self_collision/candidates/tangles.hpp"
+#include "invfem/collisions/self_collision/collision_mesh.hpp"
+#include "invfem/collisions/self_collision/response/impact_zones.hpp"
+#include "invfem/core/integrate/world.hpp"
+
+namespace invfem::collisions {
+
+struct SelfCollisionSettings {
+  double thickness = 1e-3;      // repulsion thickness h [m]: below the rest distance of non-neighbours
+  double ccd_distance = 1e-5;   // separation the CCD and the zones keep [m], about 1e-2 h
+  double friction = 0.3;        // Coulomb coefficient between surfaces
+  int impulse_passes = 3;       // CCD impulse passes before the zones (PhysBAM's default)
+  int max_zone_iterations = 100;
+  // How long [s] a tangle (candidates/tangles.hpp) may last, released only by the pairs that can
+  // undo it, before it counts as stuck and its vertices leave the pairs among themselves. On
+  // buddha_gears (quick) 0.1 s (about 390 of its steps) gave the fewest crossings of those tried
+  // when the boundary vertices of folding tets were let through one another (an earlier rule that
+  // made tangles at every inversion): 2,042 crossing pairs over the run, against 2,180 at 150
+  // steps and 2,377 at 50. Without that rule the scene makes no tangle.
+  double tangle_patience = 0.1;
+  std::vector<std::string> excluded;  // names of objects that do not take part
+  bool kinematic_bodies = true;       // kinematic bodies' shape triangles take part
+};
+
+// Throws std::invalid_argument naming the field for a bad setting (non-positive thickness, a ccd
+// distance not below the thickness, negative friction, non-positive counts).
+void validate(const SelfCollisionSettings& settings);
+
+// In a step the impact zones could not resolve (left with collisions whatever is done), puts
+// back the step's own velocity v_in on every vertex the layer moved further than any vertex
+// moved in the step before it, plus the thickness. A failing fail-safe otherwise adds up its
+// rounds' moves: a cape pressed between a flattened solid (infinite mass to it) and the ground
+// was translated out of the ground and back round after round, 0.73 m in one step, and flung
+// to 10^8 m within two frames (the quick mass-spring cape, README "Baselines"). Returns how
+// many vertices were put back (stats `limited_vertices`).
+// mesh: the step's CollisionMesh (movable, embedded vertices: these follow their nodes, synced);
+// v_in, v: #V x 3 average velocities before and after the layer; projected_at: per vertex, its
+// collider projection (-1 none), cleared where v is put back.
+int limit_failed_step(const CollisionMesh& mesh, double dt, double thickness, const Points& v_in, Points& v,
+                      std::vector<int>& projected_at);
+
+class SelfCollisionPass final : public StepPass {
+ public:
+  explicit SelfCollisionPass(SelfCollisionSettings settings);
+  void after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport& report) override;
+  // kStepMotionEdges median edge lengths of the taking-part surfaces: the broad phase's candidates
+  // per vertex grow with the square of its sweep in edges, and a step swept across a whole garment
+  // (a body frame that jumps, steps of half a second) otherwise takes minutes and gigabytes.
+  double step_motion_limit(const std::vector<SimObject>& objects) const override;
+  static constexpr double kStepMotionEdges = 8;
+  // Checkpoints: what carries over from one step to the next (the last step's end end_, whether
+  // it let pairs go, the tangles' ages, the recovering tets), so a resumed run continues as the
+  // one never stopped would. A checkpoint written before this state was kept (an empty blob)
+  // resumes as a fresh start: the searches run and inverted boundary tets count as recovering.
+  void save_state(StateWriter& out) const override;
+  void restore_state(StateReader& in, std::vector<SimObject>& objects) override;
+  const SelfCollisionSettings& settings() const { return settings_; }
+
+ private:
+  // The object or body of this name does not take part (SelfCollisionSettings::excluded).
+  bool excluded(const std::string& name) const;
+  // Gathers the taking-part surfaces into mesh_ (topology built at the first step and again when
+  // an object's topology_version changes, world.hpp; positions every step). A solid takes part
+  // with its boundary SimObject::surface, or once cut (fracture) with its embedded material
+  // surface SimObject::embedded (MBF04 2.3: what is written and drawn), whose vertices are points
+  // of element copies: they enter the mesh with the nodes they lie in (collision_mesh.hpp
+  // SurfaceEmbedding), impulses on them are spread to those nodes by their weights, impact zones
+  // move the nodes, and the nodes are what is written back. Embedded vertices on a common node
+  // are no pair (the two faces of a crack near its front are one material there).
+  void gather(const std::vector<SimObject>& objects, const StepPassInput& step);
+  // Stages 1-4 on mesh_ (its inverse masses and exemptions as set), changing v. have_candidates:
+  // candidates_ already holds the repulsion's candidates for these velocities and filters.
+  void resolve(double dt, FrameReport::Collisions& report, const Points& v_in, Points& v, bool have_candidates,
+               const ZoneConstraint& constrain);
+
+  // Sets mesh_.recovering (collision_mesh.hpp): the vertex pairs of the tets in boundary_tets_
+  // that are inverted at the step's start (mesh_.x0) and were already so at a start the layer did
+  // not make (fresh: !started_where_ended(): the first step, a rebuilt mesh, surfaces another
+  // pass moved), kept in recovering_tets_ until they are sound again. Returns the number of pairs.
+  int mark_recovering(bool fresh);
+
+  SelfCollisionSettings settings_;
+  BroadPhase broad_phase_;
+  CollisionMesh mesh_;
+  bool built_ = false;
+  // True when the step's start (mesh_.x0) may hold a crossing, so the tangle and body-crossing
+  // searches must run: the last step let pairs go or left one unresolved (left_crossable_), or
+  // the start is not where the last step ended (end_: the first step, a rebuilt mesh, surfaces
+  // another pass moved). Otherwise the last step ended free of intersections (self_collision_pass
+  // stage 4's guarantee) and the searches would find nothing: they are skipped.
+  bool may_start_crossed() const;
+  // True when the step starts where the last one ended, bit for bit (end_).
+  bool started_where_ended() const { return end_.rows() == mesh_.x0.rows() && end_ == mesh_.x0; }
+  bool left_crossable_ = true;
+  TangleAges tangle_ages_;  // the crossings at the last step's start and how long each has lasted
+  Points end_;  // mesh_.x0 + dt v of the last step, #V x 3
+
+  // Per mesh surface: the object it comes from (or -1 - k for kinematic body k).
+  std::vector<int> source_;
+  std::vector<std::uint64_t> versions_;  // per mesh surface: its object's topology_version when built
+  // Per mesh surface: the body node of each of its vertices (-1 for an embedded vertex; empty for
+  // a kinematic body) and its embedding (num_embedded 0 unless it is a cut solid's).
+  std::vector<std::vector<int>> vertex_nodes_;
+  std::vector<SurfaceEmbedding> embeddings_;
+  // The tets of every solid (not cut) whose four nodes are all boundary vertices, as global
+  // vertex indices in the tet's node order (positively oriented at rest, solids/tet_mesh.hpp).
+  std::vector<std::array<int, 4>> boundary_tets_;
+  std::vector<char> recovering_tets_;  // per boundary_tets_ entry: 1 while it recovers
+  // What restore_state read, applied after the first gather() (which rebuilds the mesh) if the
+  // mesh has the saved sizes.
+  struct Resumed {
+    Points end;
+    bool left_crossable = true;
+    TangleAges tangle_ages;
+    std::vector<char> recovering_tets;
+  };
+  std::optional<Resumed> resumed_;
+  Candidates candidates_;
+  std::vector<std::pair<int, int>> edge_triangles_;
+};
+
+}  // namespace invfem::collisions

@@ -1,0 +1,123 @@
+#include "invfem/collisions/self_collision/candidates/tangles.hpp"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+
+#include "invfem/core/math/parallel.hpp"
+
+namespace invfem::collisions {
+
+bool segment_crosses_triangle(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = (b - a).cross(c - a);
+  const double d0 = n.dot(p0 - a), d1 = n.dot(p1 - a);
+  if ((d0 > 0 && d1 > 0) || (d0 < 0 && d1 < 0) || (d0 == 0 && d1 == 0)) return false;
+  const Vec3 q = p0 + (d0 / (d0 - d1)) * (p1 - p0);
+  // Sub-triangle areas along n: all >= 0 inside or on the boundary (the ordering of a, b, c).
+  const double wa = n.dot((b - q).cross(c - q)), wb = n.dot((c - q).cross(a - q)), wc = n.dot((a - q).cross(b - q));
+  return wa >= 0 && wb >= 0 && wc >= 0;
+}
+
+namespace {
+
+// Sorts and removes repeats.
+template <class T>
+void sort_unique(std::vector<T>& list) {
+  std::sort(list.begin(), list.end());
+  list.erase(std::unique(list.begin(), list.end()), list.end());
+}
+
+// The pairs of `pairs` (edge, triangle) that `tested` admits and that cross at x0 (tested in
+// parallel, one flag per pair), sorted, without repeats.
+template <class Tested>
+std::vector<std::pair<int, int>> crossing_pairs(const CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs,
+                                                Tested tested) {
+  std::vector<char> crosses(pairs.size(), 0);
+  parallel_for_each(pairs.size(), 1024, [&](std::size_t k) {
+    const auto [e, f] = pairs[k];
+    if (!tested(e, f)) return;
+    auto x = [&](int i) { return m.start(i); };
+    crosses[k] = segment_crosses_triangle(x(m.edges(e, 0)), x(m.edges(e, 1)), x(m.tris(f, 0)), x(m.tris(f, 1)),
+                                          x(m.tris(f, 2)))
+                     ? 1
+                     : 0;
+  });
+  std::vector<std::pair<int, int>> out;
+  for (std::size_t k = 0; k < pairs.size(); ++k)
+    if (crosses[k]) out.push_back(pairs[k]);
+  sort_unique(out);  // `pairs` come in no fixed order and may repeat
+  return out;
+}
+
+}  // namespace
+
+int mark_tangles(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs, TangleAges& ages, double dt,
+                 double patience) {
+  auto untangles = [&](int vertex) {
+    return m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(vertex)])].untangle;
+  };
+  const auto crossing =
+      crossing_pairs(m, pairs, [&](int e, int f) { return untangles(m.edges(e, 0)) && untangles(m.tris(f, 0)); });
+  m.exempt_vf.clear();
+  m.exempt_ee.clear();
+  m.stuck.clear();
+  m.loose.clear();
+  auto cut = [&](int vertex) {
+    return m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(vertex)])].cut;
+  };
+  // Ages: both lists sorted by (edge, triangle).
+  std::vector<TangleAges::Entry> aged;
+  aged.reserve(crossing.size());
+  auto last = ages.entries.begin();
+  for (const auto& [e, f] : crossing) {
+    auto before = [](const TangleAges::Entry& a, std::pair<int, int> b) {
+      return a.edge != b.first ? a.edge < b.first : a.triangle < b.second;
+    };
+    last = std::lower_bound(last, ages.entries.end(), std::pair(e, f), before);
+    const bool seen = last != ages.entries.end() && last->edge == e && last->triangle == f;
+    aged.push_back({e, f, (seen ? last->seconds : 0.0) + dt});
+    if (cut(m.edges(e, 0)) || cut(m.tris(f, 0))) {
+      if (m.loose.empty()) m.loose.assign(static_cast<std::size_t>(m.num_vertices()), 0);
+      for (int i : {m.edges(e, 0), m.edges(e, 1), m.tris(f, 0), m.tris(f, 1), m.tris(f, 2)})
+        m.loose[static_cast<std::size_t>(i)] = 1;
+      continue;
+    }
+    if (aged.back().seconds < patience) continue;
+    if (m.stuck.empty()) m.stuck.assign(static_cast<std::size_t>(m.num_vertices()), 0);
+    for (int i : {m.edges(e, 0), m.edges(e, 1), m.tris(f, 0), m.tris(f, 1), m.tris(f, 2)})
+      m.stuck[static_cast<std::size_t>(i)] = 1;
+  }
+  ages.entries = std::move(aged);
+  for (const auto& [e, f] : crossing) {
+    // The crossing comes undone when an end of e passes through f, or e slides off f over one of
+    // its sides: those pairs, and only those, are let go.
+    for (int c = 0; c < 2; ++c) m.exempt_vf.push_back({m.edges(e, c), f});
+    for (int k = 0; k < 3; ++k) {
+      const int g = m.triangle_edges(f, k);
+      m.exempt_ee.push_back({std::min(e, g), std::max(e, g)});
+    }
+  }
+  sort_unique(m.exempt_vf);
+  sort_unique(m.exempt_ee);
+  return static_cast<int>(crossing.size());
+}
+
+int mark_body_crossings(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs) {
+  auto cloth = [&](int i) {
+    const auto& s = m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(i)])];
+    return !s.kinematic && !s.untangle;
+  };
+  const auto crossing = crossing_pairs(m, pairs, [&](int e, int f) {
+    const int a = m.edges(e, 0), t = m.tris(f, 0);
+    return (cloth(a) && m.on_kinematic(t)) || (m.on_kinematic(a) && cloth(t));
+  });
+  m.released.clear();
+  if (crossing.empty()) return 0;
+  m.released.assign(static_cast<std::size_t>(m.num_vertices()), 0);
+  for (const auto& [e, f] : crossing)
+    for (int i : {m.edges(e, 0), m.edges(e, 1), m.tris(f, 0), m.tris(f, 1), m.tris(f, 2)})
+      if (cloth(i) && m.movable(i)) m.released[static_cast<std::size_t>(i)] = 1;
+  return static_cast<int>(crossing.size());
+}
+
+}  // namespace invfem::collisions

@@ -1,0 +1,40 @@
+#pragma once
+// What the time stepper asks of rigid-body collision processing (ITF04 section 9, step 3).
+// The collisions module implements it for implicit surfaces; the core only knows this interface.
+#include "invfem/core/solve/node_constraint.hpp"
+#include "invfem/core/math/types.hpp"
+
+#include <limits>
+#include <vector>
+
+namespace invfem {
+
+struct SimObject;
+
+class CollisionProcessor {
+ public:
+  virtual ~CollisionProcessor() = default;
+  // Stage hooks of the world's step (world.hpp). begin_object: the process() calls that follow
+  // are for this object (a processor may treat objects differently by name or kind: a solid's
+  // boundary collides with cloths only, never with itself). solids_stepped: every solid has
+  // stepped to t_new = t + dt and its surface was refreshed from its nodes (objects holds all of
+  // them, cloths still at t); no cloth has stepped yet. Both do nothing by default.
+  virtual void begin_object(const SimObject& object) { (void)object; }
+  virtual void solids_stepped(const std::vector<SimObject>& objects, double t_new, double dt) {
+    (void)objects, (void)t_new, (void)dt;
+  }
+  // The farthest [m] a node may move in one step and still have its contact with every collider
+  // found (the thinnest analytic collider's half thickness): the world splits a step whose nodes
+  // would move further. Infinity by default (nothing a step could pass through).
+  virtual double step_motion_limit() const { return std::numeric_limits<double>::infinity(); }
+  // x_old: x(n); x_new: the predicted x~(n+1), projected in place to x(n+1); v: v(n), modified in
+  // place to v~(n) (normal velocity of the object where approaching, friction with the
+  // dx_N/dt term). Appends one Kind::Normal constraint per colliding node, whose normal velocity
+  // the trapezoid solve then holds fixed. Returns the number of colliding nodes. skip (one flag
+  // per node, or null): nodes flagged non-zero are left as they are and get no constraint (the
+  // implicit step's nodes already held, whose answer it would not use).
+  virtual int process(const Points& x_old, Points& x_new, Points& v, double t_new, double dt,
+                      NodeConstraints& constraints, const std::vector<char>* skip = nullptr) = 0;
+};
+
+}  // namespace invfem

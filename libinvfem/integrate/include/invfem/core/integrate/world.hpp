@@ -1,0 +1,340 @@
+#pragma once
+// The simulated world and its multi-object step: the one place where the substep loop, the
+// order in which kinds of object advance, and the energies live (DESIGN.md "Data flow").
+//
+// Each step t -> t + dt runs these stages, in this order:
+//   1. kinematic bodies move to t + dt (rigid colliders now; bodies from mesh sequences later);
+//   2. solids step (the ITF04 section 9 step, newmark_step, or the implicit step, implicit_step),
+//      in the order they were added;
+//   2b. one-way coupling (ITF04 section 10): the solids' surfaces are refreshed from their nodes
+//      and handed to the collision processor (CollisionProcessor::solids_stepped), which may make
+//      them moving colliders for the cloths; the cloths never push back;
+//   3. cloths and shells step, likewise, so that they see the solids at t + dt: the collision
+//      processor is told which object each step is for (CollisionProcessor::begin_object), and
+//      attached cloth vertices (SimObject::attachments) are held as Full constraints on their
+//      targets in the solids at t + dt;
+//   4. after-step passes: every object's surface is refreshed from its nodes, then each StepPass
+//      runs in the order added (the BFA02 self-collision pass goes here). With no pass, surfaces
+//      are refreshed once, when advance_to returns.
+// dt is solver.max_dt, with the ITF04 step also the smallest stable step of every object,
+// shortened so the steps of a frame are equal and land exactly on the frame time. The implicit
+// step has no stability limit: its dt is max_dt (a frame or a fraction of one).
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "invfem/core/integrate/collision_processor.hpp"
+#include "invfem/core/geometry/embedded_surface.hpp"
+#include "invfem/core/integrate/force.hpp"
+#include "invfem/core/integrate/implicit_step.hpp"
+#include "invfem/core/integrate/newmark_step.hpp"
+#include "invfem/core/geometry/rigid_motion.hpp"
+#include "invfem/core/integrate/state_stream.hpp"
+#include "invfem/core/geometry/surface.hpp"
+
+namespace invfem {
+
+// Kinematic nodes of an object (pinned or scripted). Node nodes[k] is held at anchors.row(k)
+// carried by `motion` (a rigid motion whose pose at rest is the identity), or at its anchor when
+// there is no motion. Each step prescribes the velocity (target(t + dt) - x(t)) / dt, so the
+// node lands on its target exactly and a held node keeps velocity 0 exactly.
+struct PinGroup {
+  std::vector<int> nodes;
+  Points anchors;                // #nodes x 3 [m]
+  std::optional<Motion> motion;  // empty: held still
+};
+
+enum class ObjectKind { Solid, Cloth };
+
+// A seam point (a garment's stitch) as the self-collision layer and `invfem check` see it:
+// surface vertex i held at vertex j (k < 0: a stitch at an edge's end), or at the point
+// (1 - r) x_j + r x_k of the edge (j, k), 0 < r < 1.
+// Vertices held at one another are one point (transitively: three panels meeting at a corner);
+// a vertex on an edge touches both its ends. Primitives holding such vertices touch by
+// construction and are never collision candidates; nothing further from the seam is exempt.
+struct Weld {
+  int i = -1, j = -1, k = -1;
+  double r = 0;
+};
+
+// A cloth vertex tied to a solid (one-way coupling, ITF04 section 10: a cape tied at the
+// shoulders). The vertex follows target = sum_k weights[k] x_solid(solid_nodes[k]) + offset:
+// inside a tet, the tet's 4 nodes by barycentric weights (offset 0); otherwise the closest
+// boundary triangle's 3 nodes (solid_nodes[3] = -1, weights[3] = 0) and offset, the world-space
+// vector from that closest point to the vertex when the embedding was found (it keeps its gap
+// to the surface; it does not turn with the solid).
+struct Attachment {
+  int node = -1;                           // the cloth's node
+  std::array<int, 4> solid_nodes{-1, -1, -1, -1};
+  std::array<double, 4> weights{0, 0, 0, 0};
+  Vec3 offset = Vec3::Zero();              // [m]
+};
+
+// The attachments of one cloth to one solid, named (the world resolves the name).
+struct AttachmentGroup {
+  std::string solid;
+  std::vector<Attachment> vertices;
+};
+
+// One simulated object: its nodes (Body), the forces acting on them, its pins, and its surface.
+struct SimObject {
+  std::string name;
+  ObjectKind kind = ObjectKind::Solid;
+  Body body;
+  std::vector<std::unique_ptr<Force>> forces;
+  std::vector<PinGroup> pins;
+  // What is written, rendered and collided: a solid's boundary, a cloth itself. Surface vertex s
+  // is body node surface_nodes[s]; positions are refreshed before after-step passes and at the
+  // end of every advance_to (refresh_surface).
+  TriangleSurface surface;
+  std::vector<int> surface_nodes;
+  // A fracturing solid once it is cut: its material surface embedded in the element copies
+  // (embedded_surface.hpp; the enlarged mesh's boundary `surface` shows each cut element's
+  // copies whole, so the two sides of a crack would overlap by one element). Written and drawn
+  // instead of `surface` (output_surface) when not empty; refreshed with it. Empty otherwise.
+  EmbeddedSurface embedded;
+  // Counts the changes of this object's topology (nodes, tets, surfaces): a pass that changes it
+  // (fracture) increments it, and what caches an object's topology (the self-collision layer's
+  // CollisionMesh, a coupling's collider BVH) rebuilds when it differs from the value it saw.
+  std::uint64_t topology_version = 0;
+  // The seam points of a garment's stitches, in surface vertices (Weld).
+  std::vector<Weld> welds;
+  Tets tets;  // solids: the tet mesh, for volumetric output; empty otherwise
+  // Cloths: vertices that follow a solid (held as Full constraints toward their targets at the
+  // step's end; the solid steps first). Empty for solids.
+  std::vector<AttachmentGroup> attachments;
+
+  std::vector<Force*> force_pointers() const;
+  // Kind::Full constraints of every pinned node for a step of length dt from the current x.
+  NodeConstraints pin_constraints(double t, double dt) const;
+  void refresh_surface();
+  // The surface of the object's material: the embedded surface when there is one, else
+  // `surface`. What the run writes and draws, and the collider a coupled cloth meets.
+  const TriangleSurface& material_surface() const { return embedded.empty() ? surface : embedded.surface; }
+};
+
+// Where attachment a of a group puts its cloth vertex, given the solid's node positions x.
+Vec3 attachment_target(const Attachment& a, const Points& x);
+
+// A scripted body that moves but is not simulated (a rigid collider, an animated body).
+class KinematicBody {
+ public:
+  virtual ~KinematicBody() = default;
+  virtual const std::string& name() const = 0;
+  // Puts the body at time t.
+  virtual void move_to(double t) = 0;
+  // Its triangle surface at the last move_to, in world coordinates; nullptr if it has none (an
+  // infinite plane).
+  virtual const TriangleSurface* surface() const = 0;
+  // True when that surface is the body's collision shape (a mesh collider, an animated body), so
+  // the self-collision layer may collide with its triangles; false when it only draws a shape
+  // whose collisions are exact elsewhere (an analytic sphere or gear: its tessellation lies off
+  // the true surface, which vertices touch, and would read as crossings).
+  virtual bool surface_is_shape() const { return true; }
+  // The farthest [m] the body's surface may move in one step for its collisions to be found (a
+  // mesh body: its query depth, below which a node it passes reads as outside); the world splits
+  // a step in which it would move further. Infinity by default.
+  virtual double step_motion_limit() const { return std::numeric_limits<double>::infinity(); }
+};
+
+struct FrameReport;
+
+// What an after-step pass sees of the step (stage 4): per object, its node positions at the
+// step's start (the objects hold the end-of-step state); per kinematic body, its surface's vertex
+// positions at the step's start (empty when it has no surface), the bodies being at t + dt.
+struct StepPassInput {
+  const std::vector<Points>& x_start;
+  const std::vector<std::shared_ptr<KinematicBody>>& kinematic;
+  const std::vector<Points>& kinematic_start;
+  double t, dt;
+};
+
+// A pass run after every step (stage 4), such as the self-collision layer (collisions/); it may
+// change the objects' end-of-step positions and velocities, and adds its figures to the report.
+// The world then updates the forces of every object whose positions it changed. A pass may also
+// change an object's topology (its nodes, forces, surface, tets and pins: fracture); the world
+// then updates its forces too (the implicit step rebuilds its workspace for the new node count).
+class StepPass {
+ public:
+  virtual ~StepPass() = default;
+  virtual void after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport& report) = 0;
+  // The farthest [m] anything may move in one step among these objects for the pass to do its
+  // work within bounds (World::advance_to splits a step that would move further); infinity: none.
+  virtual double step_motion_limit(const std::vector<SimObject>& objects) const {
+    (void)objects;
+    return std::numeric_limits<double>::infinity();
+  }
+  // Checkpoints (World::save_state): a pass that changes the objects' topology (fracture,
+  // solids/fracture_pass.hpp) saves what rebuilds it. restore_state runs before the objects'
+  // own states are read and may resize the objects (their nodes, forces, surface); a pass
+  // without state of its own writes nothing and reads nothing.
+  virtual void save_state(StateWriter& out) const { (void)out; }
+  virtual void restore_state(StateReader& in, std::vector<SimObject>& objects) { (void)in, (void)objects; }
+};
+
+// itf04: ITF04 section 9 (explicit elasticity, implicit damping; CFL-limited), the reference.
+// implicit: backward Euler by Newton's method (implicit_step.hpp), steps of max_dt.
+enum class Integrator { ITF04, Implicit };
+
+struct WorldSettings {
+  double max_dt = 0.005;  // [s]
+  CGSettings cg;          // the ITF04 step's damping solves
+  Integrator integrator = Integrator::ITF04;
+  ImplicitSettings implicit;
+  // advance_to throws SubstepLimitError rather than take more steps than this in one call (a
+  // frame); 0: no limit. A stiff or light ITF04 scene (young 1e12, density 1e-12, poisson near
+  // 0.5) can otherwise need millions of CFL-limited steps a frame and run for days.
+  long long max_substeps = 0;
+  // Motion-bounded steps [m]: a step in which a node would travel (|v| dt + |g| dt^2 / 2 from its
+  // velocity at the step's start) further than the smallest of this, the passes' and the
+  // collision processor's step_motion_limit(), or a kinematic body's surface would move further
+  // than the smallest of this, the passes' and its own, is split into equal shorter steps: a
+  // fast limb or a jumping body frame cannot carry cloth through a collider or through itself
+  // between two steps, and the self-collision layer's candidate sets stay those of a bounded
+  // sweep. Infinity: the passes', colliders' and bodies' limits only.
+  double max_step_motion = std::numeric_limits<double>::infinity();
+  // Retried steps: a step after which a pass reports a collision it could not resolve
+  // (FrameReport::Collisions::unresolved_steps) is taken again from its start as two steps of
+  // half its length, up to this many halvings of a frame's steps; the last try's result stands.
+  // A shorter step gives the self-collision layer a smaller sweep to order, so a tangle from one
+  // pinched step is met before it forms rather than frozen in a rigid zone. 0: never retried.
+  int max_step_retries = 3;
+};
+
+// advance_to would take more than WorldSettings::max_substeps steps to reach its end time. Thrown
+// before the step that would pass the limit (the world is at a step boundary, still valid).
+class SubstepLimitError : public std::runtime_error {
+ public:
+  SubstepLimitError(double dt, double substeps, long long limit);
+  double dt;          // [s] the step size when the limit was seen
+  double substeps;    // the steps advance_to would have taken in all, at that size
+  long long limit;
+};
+
+// Per-frame figures, summed over objects.
+struct FrameReport {
+  double kinetic = 0, elastic = 0, gravity = 0;  // [J]; gravity potential is -m g.x
+  ElementStats elements;                         // tets only
+  int substeps = 0, cg_iterations = 0, colliding_nodes = 0;
+  bool cg_all_converged = true;
+  double cg_condition = 0;  // the largest CG condition estimate of the frame's steps (CGResult::condition)
+  // Implicit integrator: Newton iterations, and the object steps whose Newton stopped at its
+  // iteration cap (or without descent) above the tolerance, with the worst final residual.
+  int newton_iterations = 0, newton_capped = 0;
+  double newton_worst_residual = 0;
+  // After-step self-collision pass (collisions/self_collision_pass.hpp), summed over the frame's
+  // steps: candidate pairs, repulsion impulses, CCD hits, impact zones (count and largest in
+  // vertices), steps that ended with a collision the fail-safe could not resolve, and seconds.
+  struct Collisions {
+    long long candidates = 0, proximity_impulses = 0, ccd_hits = 0;
+    int impact_zones = 0, largest_zone = 0, unresolved_steps = 0;
+    long long tangled_pairs = 0;         // a solid boundary's edge-triangle crossings at a step's start (exempted)
+    long long body_crossings = 0;        // a cloth's edge-triangle crossings with a kinematic body at a step's start (released)
+    long long collider_projections = 0;  // vertices the layer moved into an analytic collider, put back
+    long long seam_impulses = 0;         // welds whose opening by the layer's impulses was undone (response/seams.hpp)
+    long long limited_vertices = 0;      // vertices of unresolved steps put back to the step's own motion
+    double seconds = 0;
+  } collisions;
+  // Wall-clock seconds of the frame's steps per object (objects() order): its integrator step,
+  // with the collider and attachment processing inside it; and the refit of the solids' surfaces
+  // as colliders for the cloths (one-way coupling, stage 2b).
+  std::vector<double> object_seconds;
+  double coupling_seconds = 0;
+  // Motion-bounded steps (WorldSettings::max_step_motion): the frame's steps that were shortened
+  // because something would have moved further than its limit in them, and of the one furthest
+  // past its limit, that motion [m] at the step's first length and the limit (0 when none was).
+  int motion_limited_steps = 0;
+  double largest_step_motion = 0, step_motion_limit = 0;
+  // Retried steps (WorldSettings::max_step_retries): steps taken again at half their length
+  // because a pass left them unresolved; the figures above count the tries that stood.
+  int retried_steps = 0;
+};
+
+// A step's motion (World::step_motion) and the limit it is judged by; ratio = motion / limit.
+struct StepMotion {
+  double ratio = 0, motion = 0, limit = 0;
+};
+
+class World {
+ public:
+  // Objects are stepped by kind (stage order above), in the given order within a kind. Throws
+  // std::invalid_argument for two objects or bodies with one name, or an object whose surface map
+  // or pins name a node it does not have, or an attachment naming no solid of the world or a
+  // node outside its cloth or solid.
+  World(WorldSettings settings, std::vector<SimObject> objects,
+        std::vector<std::shared_ptr<KinematicBody>> kinematic, std::unique_ptr<CollisionProcessor> collisions);
+
+  double time() const { return time_; }
+  const WorldSettings& settings() const { return settings_; }
+  const std::vector<SimObject>& objects() const { return objects_; }
+  const std::vector<std::shared_ptr<KinematicBody>>& kinematic_bodies() const { return kinematic_; }
+  void add_pass(std::unique_ptr<StepPass> pass) { passes_.push_back(std::move(pass)); }
+
+  // Substeps from time() to t_end; fills the step counts of `report`. Throws SubstepLimitError
+  // (see WorldSettings::max_substeps) before a step past the limit. The implicit step's multigrid
+  // hierarchies are rebuilt at its first step (ImplicitWorkspace::restart_preconditioner), so a run
+  // resumed at a checkpoint (taken between two calls) solves bit for bit as the run that wrote it.
+  void advance_to(double t_end, FrameReport& report);
+  // The step size advance_to would take now, before it is shortened to land on its end time:
+  // max_dt, with the ITF04 integrator also every object's stable step at the current state
+  // (stable_time_step; it depends on the state and on the strength tracks).
+  double step_size() const;
+  // The steps advance_to(time() + duration) would take at step_size() (a double: a degenerate
+  // stiffness can ask for more than any integer holds, or +inf).
+  double substeps_for(double duration) const;
+  // The motion-bounded steps' common limit [m]: the smallest of WorldSettings::max_step_motion
+  // and the passes' step_motion_limit() (the colliders and bodies may bound further).
+  double step_motion_limit() const;
+  // Energies and element figures at the current state.
+  void measure(FrameReport& report) const;
+  // What is not finite in the current state, "" when nothing is: the first object whose
+  // positions, velocities, kinetic or gravity energy or a force's elastic energy is not finite
+  // (`object "torus": kinetic energy`), then the sums over objects (`the total kinetic energy`).
+  // Finite velocities can still give an infinite energy (m v^2 with v = 1e300 m/s).
+  std::string non_finite_state() const;
+  // non_finite_state() is "".
+  bool state_is_finite() const { return non_finite_state().empty(); }
+
+  // The whole state for checkpoints: every pass's own state (StepPass::save_state), then per
+  // object positions, velocities and every force's own state.
+  void save_state(StateWriter& out) const;
+  // Reads what save_state wrote and puts the world at `time`. Throws StateError naming the object
+  // or force when the stream does not fit this world or holds a non-finite position, velocity or
+  // force state (naming the node or element); the world is then left as it was.
+  void restore_state(StateReader& in, double time);
+
+ private:
+  void resynchronize(double time);
+  // True when some limit of the motion-bounded steps is finite (`limit`: step_motion_limit()).
+  bool motion_bounded(double limit) const;
+  // What would move furthest past its limit in a step of length dt from time_ (objects: their
+  // nodes' |v| dt + |g| dt^2 / 2 against `limit` and the collision processor's; kinematic bodies,
+  // moved to time_ + dt: their surfaces' vertices from `kinematic_start` against `limit` and their
+  // own).
+  StepMotion step_motion(double dt, double limit, const std::vector<Points>& kinematic_start);
+  // Pins and attachments of object k for a step of length dt from the current state.
+  NodeConstraints constraints_of(std::size_t k, double dt) const;
+  // settings_.implicit for object o: ImplicitSettings::preconditioner Auto is block Jacobi for a
+  // cloth (the multigrid, with rigid motions as its near null space, does not help a shell: the
+  // quick dress took as many CG iterations with it, 42 s against 8.8 s) and stays Auto for a solid.
+  ImplicitSettings implicit_settings(const SimObject& o) const;
+  void apply_state(StateReader& in);
+
+  WorldSettings settings_;
+  double time_ = 0;
+  std::vector<SimObject> objects_;
+  std::vector<std::shared_ptr<KinematicBody>> kinematic_;
+  std::unique_ptr<CollisionProcessor> collisions_;
+  std::vector<std::unique_ptr<StepPass>> passes_;
+  std::vector<ImplicitWorkspace> implicit_;  // per object, for the implicit integrator
+  std::vector<NewmarkWorkspace> newmark_;    // per object, for the ITF04 step
+  std::vector<std::vector<int>> attached_solid_;  // per object, per attachment group: the solid's index
+};
+
+}  // namespace invfem

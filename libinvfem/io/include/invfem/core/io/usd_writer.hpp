@@ -1,0 +1,73 @@
+#pragma once
+// USD ASCII (.usda) animation of one triangle surface: fixed topology, time-sampled points.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "invfem/core/math/types.hpp"
+
+namespace invfem {
+
+// Collects frames and rewrites the whole .usda atomically on every add_frame, so a killed run
+// leaves a valid file holding the frames written so far. Layer metadata: upAxis "Y",
+// metersPerUnit 1, timeCodesPerSecond = framesPerSecond = fps, start/endTimeCode = first/last
+// frame. Prims: /<name> (Xform, the defaultPrim) and /<name>/mesh (Mesh, subdivisionScheme
+// "none", rightHanded = counter-clockwise seen from outside) with faceVertexCounts,
+// faceVertexIndices, points (first frame) plus points.timeSamples and extent(.timeSamples).
+// Time code = frame number. Points are point3f (USD's schema type), written with 9 digits.
+// Cost: the text of each frame is formatted once and kept, but the file write grows with the
+// number of frames (quadratic over a run).
+// Topology that changes (a fracturing solid, whose cut frames have more points and triangles):
+// frames added with their own triangles. While every frame has the constructor's triangles the
+// file is exactly as above; once one differs, faceVertexCounts and faceVertexIndices also get
+// timeSamples (USD holds an array attribute's sample until the next one): a sample at the first
+// frame and at every frame whose triangles differ from the previous frame's, the default value
+// being the first frame's. points may then change size from one sample to the next.
+class UsdaAnimationWriter {
+ public:
+  // `object_name` becomes the prim name: characters outside [A-Za-z0-9_] become '_', and a
+  // leading digit (or an empty name) gets a '_' prefix. Throws std::invalid_argument for
+  // fps <= 0 or non-finite, no triangles, or a negative index.
+  UsdaAnimationWriter(std::string path, const std::string& object_name, Tris tris, double fps);
+
+  // Adds (or replaces) frame `frame` >= 0 and rewrites the file. Throws std::invalid_argument
+  // naming the path and frame for a negative frame, a point count different from the first
+  // frame's, an index in tris outside [0, n) or a non-finite position; std::runtime_error if
+  // the file cannot be written (the frame is then not kept).
+  void add_frame(int frame, const Points& x);
+  // The same with this frame's own triangles (time-varying topology, above); x may then have any
+  // number of points. Throws as add_frame, and for an index of tris outside [0, x.rows()).
+  void add_frame(int frame, const Points& x, const Tris& tris);
+  // True once some frame's triangles differ from the constructor's.
+  bool topology_varies() const;
+
+  const std::string& path() const { return path_; }
+  const std::string& prim_name() const { return prim_; }
+  std::size_t num_frames() const { return frames_.size(); }
+
+ private:
+  struct Frame {
+    std::string points;  // "[(x, y, z), ...]"
+    std::string extent;  // "[(min), (max)]"
+    int topology = 0;    // index into topologies_
+  };
+  struct Topology {
+    Tris tris;
+    std::string counts, indices;  // "[3, 3, ...]", "[i, j, k, ...]"
+  };
+  int topology_of(const Tris& tris);
+  void add(int frame, const Points& x, int topology);
+  std::string render() const;
+
+  std::string path_;
+  std::string prim_;
+  std::vector<Topology> topologies_;  // [0]: the constructor's triangles
+  double fps_;
+  Eigen::Index num_points_ = -1;  // fixed by the first frame
+  std::map<int, Frame> frames_;
+};
+
+// A valid USD identifier made from `name` (see UsdaAnimationWriter's constructor).
+std::string usd_identifier(const std::string& name);
+
+}  // namespace invfem

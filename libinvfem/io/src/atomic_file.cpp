@@ -1,0 +1,95 @@
+#include "invfem/core/io/atomic_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <system_error>
+
+namespace invfem {
+namespace {
+
+std::filesystem::path temp_path_for(const std::filesystem::path& path) {
+  std::filesystem::path tmp = path;
+  tmp += ".tmp";
+  return tmp;
+}
+
+[[noreturn]] void fail(const std::filesystem::path& path, const std::string& what) {
+  throw std::runtime_error("atomic_write(" + path.string() + "): " + what);
+}
+
+void remove_quietly(const std::filesystem::path& p) {
+  std::error_code ec;
+  std::filesystem::remove(p, ec);
+}
+
+void fsync_file(const std::filesystem::path& path, const std::filesystem::path& tmp) {
+  int fd = ::open(tmp.c_str(), O_RDONLY);
+  if (fd < 0) fail(path, "cannot reopen " + tmp.string() + " for fsync: " + std::strerror(errno));
+  int rc = ::fsync(fd);
+  int err = errno;
+  ::close(fd);
+  if (rc != 0) fail(path, "fsync of " + tmp.string() + " failed: " + std::strerror(err));
+}
+
+void commit(const std::filesystem::path& path, const std::filesystem::path& tmp,
+            AtomicWriteOptions options) {
+  try {
+    if (options.fsync) fsync_file(path, tmp);
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) fail(path, "rename from " + tmp.string() + " failed: " + ec.message());
+  } catch (...) {
+    remove_quietly(tmp);
+    throw;
+  }
+}
+
+}  // namespace
+
+void atomic_write(const std::filesystem::path& path,
+                  const std::function<void(std::ostream&)>& write, AtomicWriteOptions options) {
+  if (path.empty()) throw std::runtime_error("atomic_write: empty output path");
+  const std::filesystem::path tmp = temp_path_for(path);
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) {
+      const char* why = std::strerror(errno);
+      fail(path, "cannot open " + tmp.string() + " for writing (" + why +
+                     "; does the directory exist?)");
+    }
+    try {
+      write(out);
+      out.flush();
+    } catch (...) {
+      out.close();
+      remove_quietly(tmp);
+      throw;
+    }
+    if (!out) {
+      out.close();
+      remove_quietly(tmp);
+      fail(path, "write to " + tmp.string() + " failed (disk full?)");
+    }
+    out.close();
+    if (!out) {
+      remove_quietly(tmp);
+      fail(path, "closing " + tmp.string() + " failed");
+    }
+  }
+  commit(path, tmp, options);
+}
+
+void atomic_write(const std::filesystem::path& path, std::string_view contents,
+                  AtomicWriteOptions options) {
+  atomic_write(
+      path, [&](std::ostream& out) { out.write(contents.data(), std::streamsize(contents.size())); },
+      options);
+}
+
+}  // namespace invfem

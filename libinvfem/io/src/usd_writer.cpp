@@ -1,0 +1,186 @@
+#include "invfem/core/io/usd_writer.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include "invfem/core/io/atomic_file.hpp"
+#include "output_checks.hpp"
+
+namespace invfem {
+
+namespace {
+
+void append_real(std::string& out, double v) {
+  char buf[32];
+  const int len = std::snprintf(buf, sizeof buf, "%.9g", v);
+  out.append(buf, static_cast<std::size_t>(len));
+}
+
+void append_vec(std::string& out, double a, double b, double c) {
+  out += '(';
+  append_real(out, a);
+  out += ", ";
+  append_real(out, b);
+  out += ", ";
+  append_real(out, c);
+  out += ')';
+}
+
+}  // namespace
+
+std::string usd_identifier(const std::string& name) {
+  std::string id;
+  for (char c : name) {
+    const bool ok = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+    id += ok ? c : '_';
+  }
+  if (id.empty() || (id[0] >= '0' && id[0] <= '9')) id = "_" + id;
+  return id;
+}
+
+UsdaAnimationWriter::UsdaAnimationWriter(std::string path, const std::string& object_name, Tris tris,
+                                         double fps)
+    : path_(std::move(path)), prim_(usd_identifier(object_name)), fps_(fps) {
+  const std::string who = "UsdaAnimationWriter(" + path_ + ")";
+  if (!(std::isfinite(fps) && fps > 0)) throw std::invalid_argument(who + ": fps must be finite and > 0");
+  if (tris.rows() == 0) throw std::invalid_argument(who + ": no triangles");
+  if (tris.minCoeff() < 0) throw std::invalid_argument(who + ": negative triangle index");
+  topology_of(tris);
+}
+
+int UsdaAnimationWriter::topology_of(const Tris& tris) {
+  for (std::size_t k = 0; k < topologies_.size(); ++k)
+    if (topologies_[k].tris.rows() == tris.rows() && topologies_[k].tris == tris) return static_cast<int>(k);
+  Topology t;
+  t.tris = tris;
+  t.counts.reserve(static_cast<std::size_t>(tris.rows()) * 3 + 2);
+  t.counts += '[';
+  for (Eigen::Index f = 0; f < tris.rows(); ++f) t.counts += f ? ", 3" : "3";
+  t.counts += ']';
+  t.indices += '[';
+  for (Eigen::Index f = 0; f < tris.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      if (f || k) t.indices += ", ";
+      t.indices += std::to_string(tris(f, k));
+    }
+  t.indices += ']';
+  topologies_.push_back(std::move(t));
+  return static_cast<int>(topologies_.size()) - 1;
+}
+
+bool UsdaAnimationWriter::topology_varies() const {
+  for (const auto& [k, f] : frames_)
+    if (f.topology != 0) return true;
+  return false;
+}
+
+void UsdaAnimationWriter::add_frame(int frame, const Points& x) {
+  const std::string who = "UsdaAnimationWriter(" + path_ + ") frame " + std::to_string(frame);
+  if (num_points_ >= 0 && x.rows() != num_points_)
+    throw std::invalid_argument(who + ": " + std::to_string(x.rows()) + " points, the first frame had " +
+                                std::to_string(num_points_));
+  add(frame, x, 0);
+}
+
+void UsdaAnimationWriter::add_frame(int frame, const Points& x, const Tris& tris) {
+  const std::string who = "UsdaAnimationWriter(" + path_ + ") frame " + std::to_string(frame);
+  if (tris.rows() == 0) throw std::invalid_argument(who + ": no triangles");
+  if (frame < 0) throw std::invalid_argument(who + ": negative frame number");
+  if (x.rows() == 0) throw std::invalid_argument(who + ": no points");
+  detail::check_indices(who, "triangle", tris, x.rows());
+  const std::size_t known = topologies_.size();
+  const int topology = topology_of(tris);
+  try {
+    add(frame, x, topology);
+  } catch (...) {
+    topologies_.resize(known);
+    throw;
+  }
+}
+
+void UsdaAnimationWriter::add(int frame, const Points& x, int topology) {
+  const std::string who = "UsdaAnimationWriter(" + path_ + ") frame " + std::to_string(frame);
+  if (frame < 0) throw std::invalid_argument(who + ": negative frame number");
+  if (x.rows() == 0) throw std::invalid_argument(who + ": no points");
+  detail::check_finite_points(who, x);
+  detail::check_indices(who, "triangle", topologies_[static_cast<std::size_t>(topology)].tris, x.rows());
+
+  Frame f;
+  f.topology = topology;
+  f.points.reserve(static_cast<std::size_t>(x.rows()) * 40);
+  f.points += '[';
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    if (i) f.points += ", ";
+    append_vec(f.points, x(i, 0), x(i, 1), x(i, 2));
+  }
+  f.points += ']';
+  const Vec3 lo = x.colwise().minCoeff().transpose(), hi = x.colwise().maxCoeff().transpose();
+  f.extent += '[';
+  append_vec(f.extent, lo.x(), lo.y(), lo.z());
+  f.extent += ", ";
+  append_vec(f.extent, hi.x(), hi.y(), hi.z());
+  f.extent += ']';
+
+  // Keep the state unchanged if the write fails.
+  const auto previous = frames_.find(frame);
+  const bool had = previous != frames_.end();
+  Frame old = had ? previous->second : Frame{};
+  frames_[frame] = std::move(f);
+  try {
+    atomic_write(path_, render());
+  } catch (...) {
+    if (had) frames_[frame] = std::move(old);
+    else frames_.erase(frame);
+    throw;
+  }
+  if (num_points_ < 0) num_points_ = x.rows();
+}
+
+std::string UsdaAnimationWriter::render() const {
+  const int first = frames_.begin()->first, last = frames_.rbegin()->first;
+  std::size_t size = 1024;
+  for (const Topology& t : topologies_) size += t.counts.size() + t.indices.size() + 64;
+  for (const auto& [k, f] : frames_) size += f.points.size() + f.extent.size() + 32;
+  std::string out;
+  out.reserve(size);
+  char fps[32];
+  std::snprintf(fps, sizeof fps, "%.17g", fps_);
+  out += "#usda 1.0\n(\n    defaultPrim = \"" + prim_ + "\"\n    endTimeCode = " + std::to_string(last) +
+         "\n    framesPerSecond = " + fps + "\n    metersPerUnit = 1\n    startTimeCode = " +
+         std::to_string(first) + "\n    timeCodesPerSecond = " + fps + "\n    upAxis = \"Y\"\n)\n\n";
+  out += "def Xform \"" + prim_ + "\"\n{\n    def Mesh \"mesh\"\n    {\n";
+  out += "        float3[] extent = " + frames_.begin()->second.extent + "\n";
+  out += "        float3[] extent.timeSamples = {\n";
+  for (const auto& [k, f] : frames_) out += "            " + std::to_string(k) + ": " + f.extent + ",\n";
+  // The topology: one value; with a topology that varies also its samples where it changes.
+  const bool varies = topology_varies();
+  const Topology& first_topology = topologies_[static_cast<std::size_t>(frames_.begin()->second.topology)];
+  auto samples = [&](const char* name, std::string Topology::*text) {
+    out += std::string("        int[] ") + name + ".timeSamples = {\n";
+    int previous = -1;
+    for (const auto& [k, f] : frames_) {
+      if (f.topology == previous) continue;
+      previous = f.topology;
+      out += "            " + std::to_string(k) + ": " + topologies_[static_cast<std::size_t>(f.topology)].*text + ",\n";
+    }
+    out += "        }\n";
+  };
+  out += "        }\n        int[] faceVertexCounts = " + first_topology.counts + "\n";
+  if (varies) samples("faceVertexCounts", &Topology::counts);
+  out += "        int[] faceVertexIndices = " + first_topology.indices + "\n";
+  if (varies) samples("faceVertexIndices", &Topology::indices);
+  out += "        uniform token orientation = \"rightHanded\"\n";
+  out += "        point3f[] points = " + frames_.begin()->second.points + "\n";
+  out += "        point3f[] points.timeSamples = {\n";
+  for (const auto& [k, f] : frames_) {
+    out += "            " + std::to_string(k) + ": ";
+    out += f.points;
+    out += ",\n";
+  }
+  out += "        }\n        uniform token subdivisionScheme = \"none\"\n    }\n}\n";
+  return out;
+}
+
+}  // namespace invfem

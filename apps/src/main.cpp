@@ -50,8 +50,8 @@ std::string self_executable(const char* argv0) {
 
 int main(int argc, char** argv) {
   // A time step still allocates and frees its temporaries (CG vectors, per-element arrays). glibc
-  // then gives the top of the heap back to the kernel after nearly every step (measured on the
-  // quick half_torus_shell: 39,000 brk calls in 960 steps, half of the run time), and serves
+  // then gives the top of the heap back to the kernel after nearly every step (brk calls that can
+  // take a large share of a run's time), and serves
   // arrays over its mmap threshold with a fresh mmap each time. Keeping 64 MB of padding, never
   // trimming below 128 MB, and serving arrays up to 32 MB (glibc's maximum) from the heap makes
   // those allocations cheap. Setting these turns off glibc's own adaptive threshold, so all three

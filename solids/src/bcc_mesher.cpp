@@ -97,12 +97,12 @@ std::uint64_t morton3(const std::array<int, 3>& q) {
 
 // Renumbers the nodes in Z order of their lattice positions and sorts the tets in Z order of their
 // centroids (ties in their order of making), the mesh otherwise unchanged (the same positions,
-// each tet the same nodes in the same orientation). Lattice order made corners and centres two
-// separate halves of the node array and emitted the tets around the x, y and z edges in three
-// passes, so a tet's neighbours and its nodes' neighbours lay far apart in memory: what the
-// implicit step reads per node (its matrix row's x entries, its element blocks) came from
-// everywhere. In Z order they come from a few nearby places: on the quick torus_115k unit the
-// block-sparse products took 27% fewer samples at the same CG count (README, Benchmarks).
+// each tet the same nodes in the same orientation). Lattice order makes corners and centres two
+// separate halves of the node array and emits the tets around the x, y and z edges in three
+// passes, so a tet's neighbours and its nodes' neighbours lie far apart in memory: what the
+// implicit step reads per node (its matrix row's x entries, its element blocks) comes from
+// everywhere. In Z order they come from a few nearby places, which speeds up the block-sparse
+// products.
 // lattice_node[i]: node i's lattice index.
 void order_for_locality(const Lattice& L, const std::vector<int>& lattice_node, TetMesh& mesh) {
   const auto n = static_cast<std::size_t>(mesh.X.rows());

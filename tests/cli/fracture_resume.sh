@@ -45,8 +45,8 @@ rm "$work/resumed/frames/slab/"00{07,08,09,10,11,12}.*
 resume_matches itf04 "$work/reference" "$work/resumed" 6 run
 # The implicit integrator keeps per-node state between steps (lagged contact forces, the last
 # accelerations): a checkpoint of a frame whose last step tore (frame 2) must hold it for the new
-# nodes, or none, and resume to the same bits (it was refused: "contact forces for another number
-# of nodes").
+# nodes, or none, and resume to the same bits (not refuse it with "contact forces for another
+# number of nodes").
 run_implicit() { "$invfem" run "$scene" --quick --set frames=4 --set solver.integrator=implicit --threads 1 --checkpoint-every 1 "$@"; }
 run_implicit --out "$work/implicit" > "$work/implicit.log" 2>&1 || { echo "FAIL: the implicit reference run failed"; exit 1; }
 cp -r "$work/implicit" "$work/implicit_resumed"

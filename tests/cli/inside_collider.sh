@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Found by the scene fuzzer (tests/fuzz/scene_fuzz.cpp, case 1312 of seed 12): the quick
-# plastic_sphere_gears with its ground plane through [10001, 10001, 10001] ran for hours (the
-# sphere, 10 km under the plane, was flattened onto it in one step, and the self-collision layer
-# then met every pair of its surface in every step). An object that starts wholly inside a rigid
+# plastic_sphere_gears with its ground plane through [10001, 10001, 10001] would run for hours
+# (the sphere, 10 km under the plane, is flattened onto it in one step, and the self-collision
+# layer then meets every pair of its surface in every step). An object that starts wholly inside a rigid
 # collider (deepest node deeper than the object measures across) is bad input, exit 2 naming both.
 #   inside_collider.sh INVFEM SOURCE_DIR WORKDIR
 set -uo pipefail

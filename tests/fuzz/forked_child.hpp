@@ -4,7 +4,7 @@
 // optional CPU-time bound is RLIMIT_CPU: both survive exec, and the default actions of SIGALRM
 // and SIGXCPU end the child (and every thread it started), so a hang is told from a crash by the
 // signal alone, with no watchdog in the parent. The CPU bound is the one to rely on when the
-// machine is shared (a sanitized run under load took 5 times its CPU time in wall time); the
+// machine is shared (under load a sanitized run's wall time can be several times its CPU time); the
 // wall bound then only catches a child that blocks.
 #include <fcntl.h>
 #include <signal.h>

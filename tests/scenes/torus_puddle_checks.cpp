@@ -66,9 +66,8 @@ TEST(TorusPuddle, ImplicitIntegratorCollapsesAndRecovers) {
 
 // The self-collision layer keeps the boundary from passing through itself in every frame
 // (`invfem check`, OUT/check.json, scene_torus_puddle_check), the puddle's inverted tets included:
-// they invert and recover through the interior (collision_mesh.hpp). Under the earlier rule that
-// let the boundary vertices of inverted or flat tets through one another, 1,837 crossing pairs
-// over frames 14-30.
+// they invert and recover through the interior (collision_mesh.hpp). A rule that let the boundary
+// vertices of inverted or flat tets through one another would fail this through the collapse.
 TEST(TorusPuddle, BoundaryNeverCrossesItself) {
   const nlohmann::json rows = read_json(kOut / "check.json");
   const Csv csv = read_csv(kOut / "energies.csv");

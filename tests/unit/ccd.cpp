@@ -252,10 +252,10 @@ TEST(Ccd, NearMissThatOnlyUOrVCanSettle) {
   // A query of the full-resolution buddha_cape's impact zones: a body vertex 7.7e-6 m off the
   // plane of a cape triangle it rests against and 0.254 mm outside one of its edges, both carried
   // 33 mm along in the step (the distance stays 0.254 mm throughout). With min_distance 1e-5 the
-  // plane cannot exclude it; only refining u and v can, and the time-first search refined every
-  // slice of time: it ran out of its 10,000 boxes (a conservative hit, which kept an impact zone
-  // colliding for 75 rounds) and needed 557,079 boxes to answer. The retry splitting where F
-  // changes most answers it in about 40 (inclusion_search.hpp).
+  // plane cannot exclude it; only refining u and v can, and the time-first search refines every
+  // slice of time: it runs out of its 10,000 boxes (a conservative hit, which keeps an impact zone
+  // colliding). The retry splitting where F changes most answers it in about 40
+  // (inclusion_search.hpp).
   const Vec3 p0(0.148422021803607, 0.64006362298616049, -0.18636232437677233);
   const Vec3 a0(0.15105096756013198, 0.63388876562949803, -0.1903893269467333);
   const Vec3 b0(0.14942594726809724, 0.6398299311280361, -0.18628605404098841);

@@ -203,9 +203,8 @@ TEST(Contact, BlockOnInclineSticksWhenFrictionExceedsTangent) {
     // settle the block by ~1e-4 m at 35 deg.
     // The implicit step's smoothed static friction (implicit_step.cpp, kStickSpeed = 1e-3 m/s,
     // IPC's usual eps_v) with lagged normal forces lets the edge nodes of the elastic block creep
-    // below that speed: measured 0.9-1.2 mm in 1 s and 0.33 mm in the last half second (about 1e-3
-    // of free sliding; 0.5-2.6 mm and 0.3-1.6 mm with the earlier 1e-5 m/s, whose stiff stick
-    // spring stalled Newton). A known gap: the ITF04 step holds it to 1e-4 m and 1e-5 m.
+    // below that speed: observed up to 1.2 mm in 1 s and 0.33 mm in the last half second (about
+    // 1e-3 of free sliding). A known gap: the ITF04 step holds it to 1e-4 m and 1e-5 m.
     RecordProperty(std::string(implicit ? "implicit_" : "itf04_") + "slip_" + std::to_string(static_cast<int>(deg)) + "deg",
                    sci(r.s.back()) + " m, last half " + sci(r.s.back() - r.s[r.s.size() / 2]) + " m");
     EXPECT_LT(std::abs(r.s.back()), implicit ? 5e-3 : 1e-3) << deg << " deg";
@@ -242,11 +241,10 @@ TEST(Contact, BlockOnInclineSlidesWithCoulombAcceleration) {
 
 // A block creeping down a slope (mu just under tan(theta)): Newton converges because friction's
 // sliding Hessian is the exact one for nodes sliding steadily (implicit_step.cpp,
-// friction_hessian). Measured Newton iterations a step over t = 0.1-0.5 s, the majorizer T / |s|
-// for every sliding node against the rule: mu = 0.97 tan(theta) 12 in every step (the cap, not
-// converged) against 4 to 10; mu = 0.9 tan(theta) 5 to 8 against 4 to 5. Near the threshold the
-// count follows round-off: with the batched SVD's reciprocal square roots (diagonalize_batch.cpp)
-// three of the 40 steps took 11, hence the bound of 11, one under the cap.
+// friction_hessian); with the majorizer T / |s| for every sliding node the steps at
+// mu = 0.97 tan(theta) reach the cap of 12. Near the threshold the count follows round-off (the
+// batched SVD's reciprocal square roots, diagonalize_batch.cpp): observed up to 11, hence the
+// bound of 11, one under the cap; at mu = 0.9 tan(theta) up to 5, bound 6.
 TEST(Contact, CreepingBlockNewtonConverges) {
   const double theta = 35 * std::numbers::pi / 180;
   const Incline in = incline(theta);

@@ -259,8 +259,8 @@ TEST(CrackCollisions, PiecesThatACutLeavesMeetingOnlyAtANodeDoNotTouch) {
   }
   ASSERT_EQ(corners.size(), 2u);
   EXPECT_GT((corners[0] - corners[1]).norm(), 1e-3);
-  // No two triangles of the surface share a point (exact predicates): before the corners were set
-  // apart, A's three faces at node 0 touched B's corner piece there.
+  // No two triangles of the surface share a point (exact predicates): without the corners set
+  // apart, A's three faces at node 0 would touch B's corner piece there.
   EXPECT_EQ(certificate::count_intersections({&s.surface}).total(), 0);
 }
 

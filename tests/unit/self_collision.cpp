@@ -540,9 +540,9 @@ TEST(ImpactZones, ASeamWithOneSideInAZoneIsNotTornOpen) {
   // held at the midpoint of the lower panel's edge (b_m, b_m+1)), a kinematic triangle (a hand)
   // sweeping up through the seam under a_2 by 3 mm in the step. The zone that stops it holds
   // the cloth around a_2 and the hand, and the stitches beside it have one side in the zone and
-  // one out. The zone's motion must not tear them open: the earlier rule took the seam into the
-  // zone one stitch a round and left the last round's stitches half in (a_0 and a_4 opened by
-  // 1.5 mm, half the hand's travel; dress_dance: seams under her hand, 2-8 mm).
+  // one out. The zone's motion must not tear them open: taking the seam into the zone one stitch
+  // a round would leave the last round's stitches half in (a_0 and a_4 opened by 1.5 mm, half the
+  // hand's travel).
   CollisionMesh m;
   const int n = 6;  // lower edge b_0..b_6 (x = 0..6 cm), upper edge a_0..a_5 at the midpoints
   const double h = 0.01, dt = 0.01;

@@ -225,7 +225,7 @@ TEST(TriangleSurface, PlyFuzzFindingsGiveErrorsNamingTheFile) {
   const fs::path good = temp_file("fuzz_good.ply", vertex_header + face_header + "end_header\n" + body);
   EXPECT_EQ(load_triangle_surface(good.string()).tris.rows(), 1);
 
-  // ASCII file ending at "end_header" without a newline (was std::out_of_range from substr).
+  // ASCII file ending at "end_header" without a newline (an error, not std::out_of_range from substr).
   const fs::path no_newline =
       temp_file("fuzz_end_header_eof.ply", vertex_header + face_header + "end_header");
   expect_error_saying(no_newline, "body ends before vertex 0", load(no_newline));

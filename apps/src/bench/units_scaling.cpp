@@ -63,8 +63,8 @@ nlohmann::json cube_scene(const std::string& name) {
 
 // Builds and steps a 2-cell cube once a process and drops it: the process's one-time costs (the
 // code's pages first run, the thread pool, the libraries' first use) are then paid before a unit
-// measures its memory, whichever units ran before it (run alone, the 10K cube counted about 3 MB
-// of them).
+// measures its memory, whichever units ran before it (otherwise the first unit run would count
+// them).
 void warm_up(const RunOptions& o) {
   static bool done = false;
   if (done) return;

@@ -84,7 +84,7 @@ TriangleSurface make_torus_surface(double R, double r, int around, int across) {
 // --quick runs 5 frames at full strength of the torus set down 5 mm above the ground: it lands in
 // frame 1 and settles, the work of the shot's full-strength frames (45 of its 90; the median of
 // the shot is one of them). The implicit step's frames in free fall cost nothing (no CG), so the
-// shot's first frames, which the quick run once took, measured no solve at all.
+// shot's first frames would time no solve at all.
 nlohmann::json torus_scene(const RunOptions& o) {
   const bool quick = o.quick;
   const nlohmann::json strength =
@@ -161,7 +161,7 @@ UnitResult cloth_drape(const RunOptions& o, int cells) {
 
 // apps/scenes/garments/dress_dance.json as shipped (15,656 dress vertices, the 12,811-vertex
 // dancer streamed from ../shared/data, the self-collision layer on), timed over its first 25
-// frames (1 s of the dance; --quick: 5): the whole 121 frames would take over an hour today.
+// frames (1 s of the dance; --quick: 5): the whole 121 frames would take over an hour.
 const std::filesystem::path kDressDance = std::filesystem::path(INVFEM_SCENES_DIR) / "garments/dress_dance.json";
 const std::filesystem::path kDressDanceData =
     std::filesystem::path(INVFEM_SCENES_DIR) / "../../../shared/data/garment/rumba/shell120.obj";

@@ -236,8 +236,8 @@ constexpr double kReuseContraction = 0.25;
 // it is kAmgMaxAge steps old or the last step's CG needed more than kAmgStale times (plus 2) the
 // iterations per solve of the first step after the setup; at every other Newton iteration only its
 // finest level is refreshed (amg.hpp). A setup costs about as much as a few dozen V-cycles (a
-// Galerkin product per level) and the hierarchy changes slowly, so a setup every 16 steps costs
-// less than the extra CG iterations an older hierarchy needs.
+// Galerkin product per level) and the hierarchy changes slowly, so setting up more often than
+// every 16 steps costs more than the CG iterations it saves.
 constexpr int kAmgMaxAge = 16;
 constexpr double kAmgStale = 2;
 
@@ -294,8 +294,8 @@ CGResult run_cg(const NodeConstraints& fixed, bool multigrid, const CGSettings& 
 // settings' linear solver (ws.A assembled). CG starts from zero and stops at the Eisenstat-Walker
 // forcing term min(0.1, sqrt(|g| / |g_0|)) (floored by cg.relative_tolerance): the square root
 // keeps the superlinear rate of an inexact Newton method (Eisenstat-Walker 1996) at half the CG of
-// |g| / |g_0|, whose tight solves are wasted where contacts and friction make Newton linear (about
-// half the CG iterations for the same Newton count); the direct solve is exact
+// |g| / |g_0|, whose tight solves are wasted where contacts and friction make Newton linear (fewer
+// CG iterations for the same Newton count); the direct solve is exact
 // and falls back to CG when the filtered matrix is found not definite. Adds its CG iterations.
 void solve_newton_system(const NodeConstraints& fixed, const Points& x, bool first_iteration, double g_norm, double g0,
                          const ImplicitSettings& settings, ImplicitWorkspace& ws, StepStats& stats) {

@@ -28,11 +28,10 @@
 // width), one lane per matrix, each quantity of the algorithm one Pack. Two Packs of matrices
 // (kStreams, svd_block.hpp) are interleaved step by step: each Jacobi rotation is a chain of
 // dot products, a square root and a reciprocal square root whose latency (~90 cycles) dwarfs its
-// throughput cost, and the second, independent chain fills it (one stream alone: 63 instead of
-// 43 ns per matrix). The reciprocal square roots are vrsqrt (simd_pack.hpp: an estimate and
-// multiply-adds with AVX-512), not a square root and a division: those share one unpipelined
-// unit, which then limited the kernel (43 -> 37 ns per matrix measured on 1,024 cached matrices;
-// round-off unchanged in kind: random F reconstruct to 2.1e-15 instead of 1.6e-15). The
+// throughput cost, and the second, independent chain fills it. The reciprocal square roots are
+// vrsqrt (simd_pack.hpp: an estimate and multiply-adds with AVX-512), not a square root and a
+// division: those share one unpipelined unit, which would limit the kernel (the round-off stays
+// ~eps ||F||). The
 // disassembly shows vsqrtpd and vrsqrt14pd on zmm registers with AVX-512
 // (objdump -d ... | grep 'vsqrtpd.*zmm').
 

@@ -92,7 +92,7 @@ void tet_upper_blocks_batch(std::size_t n, const double* h, const Diagonalizatio
         }
       }
     // Out per tet: kLanes consecutive numbers of the packed order at a time, transposed in
-    // registers so that row l holds tet l's (90 scalar stores a tet were a third of this kernel).
+    // registers so that row l holds tet l's (90 scalar stores a tet would be a large share of this kernel).
     const Pack* flat = &blocks[0][0];  // the 90 numbers in packed order
     int k = 0;
     for (; k + kLanes <= kStride; k += kLanes) {

@@ -15,8 +15,8 @@ using amg::Csr;
 using amg::Level;
 
 // The coarsest level is factorized densely at or below this many dofs (an LDL^T of 200 dofs is
-// about 3e6 flops; at 500, the first choice, the factorization's matrix products took 7% of a run of
-// the 35K-tet Buddha); a level whose coarsening keeps more than kMinShrink of its dofs ends the
+// about 3e6 flops; a much larger coarsest level makes the dense factorization a visible share of
+// a run); a level whose coarsening keeps more than kMinShrink of its dofs ends the
 // hierarchy (smoothed only, no exact solve).
 constexpr Eigen::Index kCoarsestDofs = 200;
 constexpr double kMinShrink = 0.8;

@@ -21,7 +21,7 @@ BlockSparseMatrix::BlockSparseMatrix(Eigen::Index n, const std::vector<const Ele
   // Each node's elements (incidence: 4 bytes a node of an element), then row i's columns are the
   // nodes of node i's elements, sorted and deduplicated, counted in a first pass and written in a
   // second. The transient is the incidence, not a list of every element block (a neighbour list of
-  // 16 ints a tet in per-node vectors was about 130 bytes a tet at its peak).
+  // 16 ints a tet in per-node vectors would peak at about 130 bytes a tet).
   const auto un = static_cast<std::size_t>(n);
   std::vector<std::size_t> incidence_start(un + 1, 0);
   for (std::size_t set = 0; set < elements.size(); ++set) {

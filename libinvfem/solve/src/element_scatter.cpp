@@ -169,8 +169,8 @@ void ElementScatter::gather(const ElementMatrices& em, double w, BlockSparseMatr
     const int begin = first_[s], end = first_[s + 1];
     if (begin == end) return;  // a lower-triangle slot (written by its partner) or one no element touches
     // The sum in nine scalars (column-major, entry (r, c) at 3 c + r): as a Mat3 of SSE2 packets
-    // GCC spilled its rows in halves and read them back as packets, a store-forwarding stall
-    // on every element block (an outer-form block took ~60 cycles). The same products and sums.
+    // GCC spills its rows in halves and reads them back as packets, a store-forwarding stall
+    // on every element block. The same products and sums.
     double sum[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     for (int k = begin; k < end; ++k) {
       const auto kk = static_cast<std::size_t>(k);

@@ -35,9 +35,9 @@ void impose(const NodeConstraints& constraints, Points& v) {
 
 // The iteration's element-wise updates run over rows in parallel ranges (parallel_for_ranges):
 // each entry is computed as by the serial Eigen expression it replaces (the same products and
-// sums), so the bits do not depend on the thread count. Serially they were half of
-// projected_pcg's own samples on the quick dress_dance, while the other core waited (README,
-// Benchmarks); a garment's vectors are a few hundred KB, 4,096 rows a task.
+// sums), so the bits do not depend on the thread count. Serially they are a large share of
+// projected_pcg's own time while the other cores wait; a garment's vectors are a few hundred KB,
+// 4,096 rows a task.
 constexpr std::size_t kRowsPerTask = 4096;
 
 }  // namespace

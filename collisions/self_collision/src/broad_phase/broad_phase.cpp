@@ -190,9 +190,8 @@ void collect(void* user, RTCCollision* c, unsigned n) {
   auto& pairs = out->local.local();
   for (unsigned i = 0; i < n; ++i) {
     if (out->same_scene && c[i].primID0 >= c[i].primID1) continue;
-    // rtcCollide also reports pairs whose own boxes are disjoint (three in five on the quick
-    // dress_dance): their float boxes drop them here, before the mesh indices and the filter
-    // are looked up.
+    // rtcCollide also reports pairs whose own boxes are disjoint (often most of them): their
+    // float boxes drop them here, before the mesh indices and the filter are looked up.
     if (!overlap((*out->bounds0)[c[i].primID0], (*out->bounds1)[c[i].primID1])) continue;
     int a = (*out->ids0)[c[i].primID0], b = (*out->ids1)[c[i].primID1];
     if (out->ordered && b < a) std::swap(a, b);
@@ -266,8 +265,8 @@ void sort_unique(std::vector<T>& list) {
 }
 
 // out += the pairs for which keep(pair) holds, in their order; keep runs in parallel (its box reads
-// are random: serially these tests were 2% of the quick dress_dance's main-thread samples, while
-// the other core waited).
+// are random: serially these tests are a visible share of the main thread's time, while the
+// other cores wait).
 template <class Pair, class Keep> void append_kept(const std::vector<Pair>& pairs, std::vector<Pair>& out, const Keep& keep) {
   std::vector<char> flag(pairs.size());
   parallel_for_each(pairs.size(), 16384, [&](std::size_t q) { flag[q] = keep(pairs[q]) ? 1 : 0; });

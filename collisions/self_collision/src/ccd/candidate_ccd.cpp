@@ -30,8 +30,8 @@ CcdSettings separation(const CcdSettings& s, double d0) {
 // any one w; w = a corner of the second side (its term for that corner is then 0). The smaller
 // of the two bounds is kept: the relative one is ~0 for cloth moving as a whole (falling,
 // swinging, sliding over a body), where the absolute one reaches across several cells and
-// sends every nearby pair to the full CCD (cloth_drape_100 in the frames the sheet wraps the
-// ball: 2.5 million candidates a frame).
+// sends every nearby pair to the full CCD (a fine sheet wrapping a ball: millions of candidates
+// a frame).
 double motion_bound(const Points& v, double dt, std::initializer_list<int> first, std::initializer_list<int> second) {
   const Eigen::RowVector3d w = v.row(*second.begin());
   double first_abs = 0, first_rel = 0, second_abs = 0, second_rel = 0;

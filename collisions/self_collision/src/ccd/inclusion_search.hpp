@@ -222,7 +222,7 @@ bool inclusion_search(const Vec3* const x0, const Vec3* const x1, const CcdSetti
     // when the contacts at that time form a continuum (parallel edges, a collapsed triangle): boxes
     // are taken in order of their start time, so every box along the continuum is advanced level
     // by level, and their number grows as u and v are refined (splitting by the largest change of
-    // F took up to 10^6 boxes on such queries, this about 10^3). Preferring exclusions still
+    // F takes orders of magnitude more boxes on such queries). Preferring exclusions still
     // refines u or v when only they can separate a near miss.
     // SplitOrder::LargestChange: the direction along which F changes most over the box first
     // (then the others, t last): the retry of inclusion_ccd for a near miss that only u or v can
@@ -271,7 +271,7 @@ bool inclusion_search(const Vec3* const x0, const Vec3* const x1, const CcdSetti
 // settle while F hardly changes along t (a body vertex within min_distance of the plane of a
 // cape triangle resting on the body, 0.25 mm outside one of its edges, both carried 33 mm along in
 // the step: the full-resolution buddha_cape) has every slice of time refined in u and v by the
-// time-first order: 557,079 boxes, against 41 by the largest change. The queries that order is
+// time-first order, where the largest change settles it in a few dozen boxes. The queries that order is
 // bad at (contacts along a continuum) are answered time first within the budget, so the retry
 // changes no answer but those that ran out. stats: both searches' boxes; exhausted only when both ran out.
 template <class Layout>

@@ -148,10 +148,9 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
   //    the step (dress_dance frame 43: the hand over cloth lying 0.6 mm off the chest, the pair
   //    0.6 mm apart at both ends of the step and 5 um apart in between), which the triangle the
   //    cloth follows does not see, needs only a small local change. A zone that grows follows
-  //    anew. A following zone never turns rigid again: an earlier rule did so after 10 rounds of
-  //    impulses, and the rigid fit of a zone holding two body parts that move apart (a hand
-  //    sliding over the chest, dress_dance frames 43-44) carried its cloth through both, where
-  //    following with impulses resolved the step.
+  //    anew. A following zone never turns rigid again: the rigid fit of a zone holding two body
+  //    parts that move apart (a hand sliding over the chest, dress_dance frames 43-44) carries
+  //    its cloth through both, where following with impulses resolves the step.
   // follows: the zone was last moved by following (its own pairs are then tested); tries: rounds
   // of impulses so far (INVFEM_DEBUG_ZONES prints it); moved_size: the zone's size at its last move.
   std::vector<char> mode(n, 0), follows(n, 0);
@@ -175,8 +174,7 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
   // it was tested then (a pair exempt then is exempt now: zones only merge, and the one way out
   // of the exemption, a change of `follows`, counts as a change). The answers are exactly those
   // of testing every pair; the rounds after the first cost what the zones' moves touch, not the
-  // whole mesh (full-resolution buddha_cape, frame 10, 100 rounds in one step: the layer 801 s ->
-  // 279 s).
+  // whole mesh.
   Points v_tested;
   std::vector<char> follows_tested, changed(n, 1);
   std::vector<VertexFaceCandidate> hits_vf;
@@ -293,8 +291,8 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
     if (!any) break;
     // A stitch joins the zones it touches: a weld with vertices in two zones makes them one, so
     // they move as one motion and the seam is not torn between two. A weld's vertices outside
-    // every zone are not taken in (that chained along a seam, one stitch a round, and the last
-    // round's stitch was left half in, torn open by its zone's motion: dress_dance); they follow
+    // every zone are not taken in (that would chain along a seam, one stitch a round, and leave the
+    // last round's stitch half in, torn open by its zone's motion); they follow
     // the zone's side after the move below (hold_seams with the zones held).
     for (const Weld& w : m.welds) {
       const int ids[3] = {w.i, w.j, w.k < 0 ? w.j : w.k};
@@ -364,10 +362,9 @@ ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_
     // tested again, so their motion must stay rigid; a seam inside one keeps its gap of the step's
     // start), and the others take the correction: a vertex outside every zone follows the zone's
     // side of its stitch, and a following zone's vertices, each carried by its own body triangles
-    // (a seam folded between a hand and the chest was sheared open by the blend of the two), keep
+    // (the blend of the two would shear open a seam folded between a hand and the chest), keep
     // their seams as the time step left them. What these moves collide with is detected in the
-    // next round, which runs before the loop can end. Measured on dress_dance frames 61-70 (from
-    // a checkpoint of the current main): widest gap 0.82-0.88 mm before, 0.47-0.66 mm after.
+    // next round, which runs before the loop can end.
     if (!m.welds.empty()) {
       std::vector<char> held(n, 0);
       for (std::size_t i = 0; i < n; ++i) held[i] = in_zone[i] && !follows[i] ? 1 : 0;

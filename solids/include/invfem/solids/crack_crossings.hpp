@@ -4,8 +4,8 @@
 // boundary faces clipped to each side, the crack's faces inside them, points set off by the crack
 // face gap, embedded_crack_surface.hpp); where the material is crushed or folded, with other
 // surface within a gap's width, those new faces can start through it, and no collision layer can
-// undo a crossing it did not see happen (the full buddha_fracture's slumping lower piece: a cut
-// of 3 copies made 14 crossing pairs, which grew to 2,800 over the next frames).
+// undo a crossing it did not see happen (the few crossing pairs a cut is born with grow to
+// thousands over the next frames).
 //
 // Double precision, no exact predicates: a guard, not a certificate (collisions/certificate/
 // counts crossings exactly and independently).

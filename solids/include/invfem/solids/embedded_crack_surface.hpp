@@ -40,9 +40,8 @@
 // side whose crack faces end on one edge with different virtual nodes at its far end. Each such
 // vertex sits kCrackFaceGap of the way toward the centre of its copy's material region (the mean
 // of that convex region's corners: material slots and cut points), so it stays in its own
-// material and they are apart from the moment of the cut. On the quick
-// buddha_fracture every crossing pair that a cut made was two pieces' faces touching at a split
-// node (28 pairs at its sixth cut). The vertex's `on` stays the slots it was made on.
+// material and they are apart from the moment of the cut; left to coincide, two pieces' faces
+// touching at a split node would be born crossing. The vertex's `on` stays the slots it was made on.
 //
 // Vertices are shared: a corner is keyed by its particle, a cut point by the particles of its
 // edge's two ends (the fraction is the root edge's), so copies on one side of a crack share

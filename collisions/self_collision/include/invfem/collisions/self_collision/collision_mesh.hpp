@@ -19,12 +19,11 @@
 //                        its vertices that share a tet are a pair like any other, whether the tet
 //                        is sound, flat or inverted. Its elements invert and recover through the
 //                        interior (a node crossing an interior face, or an interior node crossing
-//                        anything); a boundary node is stopped at the boundary. An earlier rule
-//                        (`folding`) let boundary vertices sharing an inverted or flat tet pass
-//                        through each other so the element could govern them: every crossing on
-//                        buddha_gears (quick: 2,044 pairs over 58 frames) and torus_puddle (quick:
-//                        1,837 over 17) came from it; without it both run free of crossings, invert
-//                        (at most 59 and 48 tets) and recover. One exception, `recovering` below
+//                        anything); a boundary node is stopped at the boundary. Letting boundary
+//                        vertices that share an inverted or flat tet pass through each other, so
+//                        that the element governs them, makes the boundary cross itself
+//                        (buddha_gears, torus_puddle); without it both invert and recover free
+//                        of crossings. One exception, `recovering` below
 //   recovering  sorted (a, b), a < b, or empty: the vertex pairs of a solid's tets that have
 //                        all four nodes on the boundary and are inverted at the step's start, and
 //                        were so already at a start the layer did not make (the first step, a
@@ -36,8 +35,8 @@
 //                        through its own boundary faces. A tet that inverts while the layer
 //                        watches (through an interior face) is no exception: it inverted without
 //                        its boundary crossing, and can recover so. Joining every inverted
-//                        all-boundary tet instead let boundaries cross (quick buddha_gears: 482
-//                        crossing pairs, torus_puddle: 284; with this rule 0 and 0)
+//                        all-boundary tet instead lets boundaries cross (buddha_gears,
+//                        torus_puddle)
 //   welds                the surfaces' seam points (world.hpp Weld), global indices
 //   surface_of  #V       which surface (index into `surfaces`) a vertex belongs to
 //   triangle_edges  #F x 3   the global edge id of each triangle's local edge k (corner k to
@@ -79,9 +78,8 @@
 //                        still holds them together (virtual_node_cut.hpp: a particle is glued across
 //                        faces where the material is continuous around its node); across an open
 //                        crack their particles differ and they collide. A wider rule (nodes that
-//                        share an element copy) was tried and let more through: on the quick
-//                        buddha_fracture it exempted crack faces from the boundary faces beside them
-//                        (659 crossing pairs over the run against 331)
+//                        share an element copy) would exempt crack faces from the boundary faces
+//                        beside them and let them cross
 //   node_only   #V or empty   1: a node of an embedded surface (a degree of freedom only)
 //   released    #V or empty   1: a vertex of a cloth (a surface that is not `untangle`) edge or
 //                        triangle that crosses a kinematic body's triangle or edge at the step's

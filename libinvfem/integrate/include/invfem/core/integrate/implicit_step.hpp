@@ -21,9 +21,8 @@
 // and for nodes that ended the last step held with a pushing contact force (resting nodes:
 // gravity puts them inside again, so they are held at once). The last step's acceleration
 // carries the elastic and contact forces that x(n) + h v(n) + h^2 g leaves out: with gravity
-// alone every node coming to rest on the ground was predicted inside, held, and let go over the
-// next iterates as its elements pushed it off (the quick torus_115k: 500-640 held at each step's
-// start, 150-200 let go at hundreds of times their weight).
+// alone every node coming to rest on the ground is predicted inside, held, and let go over the
+// next iterates as its elements push it off (at many times its weight).
 //
 // Constraints (Baraff-Witkin filter S of projected_cg.hpp): pinned nodes (Kind::Full) sit at
 // x(n) + h v_pin from the first iterate on; colliding nodes (Kind::Normal, from the same rigid
@@ -33,7 +32,7 @@
 // one step (IPC, Li et al. 2020; see kStickSpeed in the .cpp): stick and slide in one Newton solve.
 // Its Hessian in the Newton system is mu lambda / max(|s|, eps) T (T the tangent projector, s the
 // slip): exact in the stick zone, a majorizer's (IRLS) beyond it, so that resting nodes settle
-// instead of overshooting the stick zone at every iterate (the .cpp gives the measurements).
+// instead of overshooting the stick zone at every iterate (the .cpp gives the reasons).
 //
 // The contact set follows the Newton iterates in one loop (a primal-dual active set, as in
 // semi-smooth Newton methods): after each accepted iterate x_k, with g = grad E(x_k) unfiltered,
@@ -53,9 +52,8 @@
 // tolerance is a fraction of the forces at play; an iteration cap that is hit is reported
 // (StepStats::newton_converged), never silent. The CG of each Newton step stops at an
 // Eisenstat-Walker-like relative tolerance min(0.1, sqrt(|g_k| / |g_0|)), floored by cg.relative_tolerance;
-// the direct solve is exact (to rounding), yet measured it leaves the Newton iteration count about
-// unchanged in contact (cloth drape, dress: the contacts and the friction's kink set it, not the
-// inexact CG). A factorization that finds the filtered matrix not definite falls back to CG.
+// the direct solve is exact (to rounding), yet it leaves the Newton iteration count about
+// unchanged in contact (the contacts and the friction's kink set it, not the inexact CG). A factorization that finds the filtered matrix not definite falls back to CG.
 //
 // The step leaves positions at its start and end and the velocity (x(n+1) - x(n)) / h, the
 // input of an after-step collision pass (world.hpp, stage 4).

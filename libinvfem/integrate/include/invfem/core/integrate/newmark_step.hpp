@@ -50,18 +50,15 @@ struct StepStats {
 // What one body keeps between ITF04 steps: the damping matrix C = -D of the forces that give
 // damping matrices (Force::damping_matrices), assembled at each solve's state (TermAssembly) so that
 // a CG iteration of the damping solves is one block-sparse product; the other forces' damping is
-// applied matrix-free (Force::add_damping_forces). On the 1M-tet cube of `invfem bench`
-// (scaling_1m) a product of the assembled C took 5.6 ms against 23.7 for the tets' damping pass,
-// and forming C about four passes' time (0.08 to 0.12 s), so C pays from about five CG iterations a
-// solve (the cube takes 6 at 10K tets, 21 at 1M; the ITF04 scenes 12 to 27, plate_tear 2). C is
-// stored as its upper triangle: its product is slower (block_sparse.hpp; the 1M cube's step 0.70
-// against 0.64 s, alternating runs) but the memory about half, which keeps the scaling units under
-// 1 KB a tet (the 10K cube's peak 1,030 -> 930 bytes a tet).
+// applied matrix-free (Force::add_damping_forces). A product of the assembled C costs a fraction
+// of the tets' damping pass and forming C a few passes, so C pays from about five CG iterations a
+// solve, which most damping solves exceed. C is
+// stored as its upper triangle: its product is slower (block_sparse.hpp) but the memory about
+// half, which keeps the scaling units under 1 KB a tet.
 // The pattern is built at the first step and again when the node count or the forces change; the
 // World also drops it when a pass renumbers the nodes or a checkpoint is restored.
 // A step leaves C formed at the state it leaves the forces in, x(n+1), and the next step's first
-// solve, at that same state, takes it as it is (one forming a step instead of two: 10% of the 1M
-// cube's step). Whoever changes a force's state between two steps (update_positions elsewhere, a
+// solve, at that same state, takes it as it is (one forming a step instead of two). Whoever changes a force's state between two steps (update_positions elsewhere, a
 // plastic state, a restored checkpoint) calls forces_changed(); the World does.
 struct NewmarkWorkspace {
   // false: every force's damping matrix-free (the reference the assembled C is tested against).

@@ -111,10 +111,9 @@ template <int D> double d_plus(const VecD<D>& s, const VecD<D>& p, int i, int j)
 // as it is: the eigen-solve would give it back up to roundoff, and most elements (neither
 // inverted nor strongly compressed) are there, so the solve runs only where it changes something.
 // The solve is Eigen's closed form for 3x3 (computeDirect: the characteristic cubic's roots,
-// eigenvectors from cross products): on `invfem bench`'s force_stiffness_1t, whose tets come
-// here one in eight, project_psd took 10.6% of the time with the iterative solver, 5.4% with it. With a
-// nearly repeated eigenvalue its eigenvectors are good to about 1e-8 of |H| instead of 1e-15;
-// this feeds Newton matrices only (never a force), where that is far below what matters
+// eigenvectors from cross products), cheaper than the iterative solver. With a nearly repeated
+// eigenvalue its eigenvectors are good to about 1e-8 of |H| instead of 1e-15; this feeds Newton
+// matrices only (never a force), where that is far below what matters
 // (test DiagonalSpaceHessian.ProjectPsdShortcutAgreesWithTheEigenClamp).
 inline Mat3 project_psd(const Mat3& H) {
   const Mat3 S = 0.5 * (H + H.transpose());

@@ -21,8 +21,7 @@ class BlockSparseMatrix {
   // direct solver read row by row). Upper: the diagonal and the upper triangle only, the lower
   // implied as their transposes: about half the memory (the ITF04 step's damping matrix,
   // newmark_step.hpp, which is only multiplied). Its product reads a row's lower blocks from the
-  // rows above it and is slower: 9.1 and 9.5 against 6.4 and 7.2 ms on the 998K-tet cube's pattern
-  // (tests/bench/bench_block_sparse, BM_multiply_tet_cube/55, two runs' medians of 9).
+  // rows above it and is slower (tests/bench/bench_block_sparse, BM_multiply_tet_cube compares them).
   enum class Storage { Full, Upper };
 
   BlockSparseMatrix() = default;

@@ -66,9 +66,9 @@ void project_free(const NodeConstraints& constraints, Points& p);
 
 // sum_ij a(i,j) b(i,j), sequentially in memory order (Points are row-major n x 3: x0 y0 z0 x1 ...):
 // the same bits for any thread count. A flat contiguous map, so Eigen vectorizes it; the default
-// column-major reshaped() walked the rows with stride 3 (x column, then y, then z), which
-// kept Eigen from vectorizing the dot products of every CG iteration (changing it moved the last bits of
-// every CG scene).
+// column-major reshaped() walks the rows with stride 3 (x column, then y, then z), which
+// keeps Eigen from vectorizing the dot products of every CG iteration (the summation order sets
+// the last bits of every CG scene).
 inline double points_dot(const Points& a, const Points& b) {
   const Eigen::Index n = a.size();
   return Eigen::Map<const Eigen::VectorXd>(a.data(), n).dot(Eigen::Map<const Eigen::VectorXd>(b.data(), n));

@@ -10,9 +10,8 @@
 // (end of e, f)) or when e slides off f over one of its sides (edge-edge pairs (e, side of f)).
 // The tangle's vertices keep every other pair (repulsion, CCD and impact zones against the rest
 // of the surface, and against the tangle's other triangles), so a tangle can come apart but not
-// spread: before, every pair holding one of its vertices was let go, and a tangle of a few
-// crossings grew to hundreds (buddha_gears under the earlier folding-tet rule, which made
-// tangles by the thousand: README "Self-collisions").
+// spread: letting go of every pair holding one of its vertices would let a tangle of a few
+// crossings grow to hundreds (README "Self-collisions").
 // Floating-point tests, written here for the response: the certificate (certificate/) keeps its
 // own exact ones.
 #include <utility>

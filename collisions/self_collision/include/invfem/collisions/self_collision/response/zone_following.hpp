@@ -7,8 +7,8 @@
 // vertices follows the best rigid fit of their motion (rigidify_zone). A skinned limb bends and
 // stretches within a step; no rigid motion follows it, so the cloth of the zone keeps colliding
 // with the body's triangles, the zone grows over more of the body, the fit gets worse and the
-// loop gives up at its iteration cap (dress_dance from frame 42 in an earlier build: zones of
-// 100-200 vertices, 100 rounds per step, cloth through the dancer's forearm).
+// loop gives up at its iteration cap, leaving cloth through the body (dress_dance: the
+// dancer's forearm).
 //
 // The rule (a local version of the body-following of the kinematic zone): each movable vertex p
 // of the zone is embedded at the start of the step in the nearest of the zone's kinematic
@@ -25,8 +25,8 @@
 // p is carried by both and moves to the blend by distance, p1 = (d_B p1_A + d_A p1_B) / (d_A + d_B):
 // a layer between two walls in a shear flow. Cloth between a hand sliding over the chest and the
 // chest (dress_dance frames 43-44, a 4-8 mm gap) keeps its relative height in the gap; carried by
-// the nearest side alone it was swept by the other, and its vertices that followed different
-// sides sheared through one another. Vertices embedded in
+// the nearest side alone it would be swept by the other, and its vertices that follow different
+// sides would shear through one another. Vertices embedded in
 // different triangles may still meet, and a second body part may sweep past the cloth: the zone
 // loop tests every pair of such a zone (not only the pairs that reach outside it), gives the
 // zone's own colliding pairs impulses for some rounds, then falls back to the rigid rule

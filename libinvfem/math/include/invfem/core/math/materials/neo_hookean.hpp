@@ -61,7 +61,7 @@ struct NeoHookean {
   }
 
   // L = sum_i l(s_i): the s_i at or above c by one logarithm of their product (one std::log an
-  // element instead of D: the logarithms were 7% of the tet force pass), the others by their
+  // element instead of D: the logarithms are a visible share of the tet force pass), the others by their
   // Taylor terms. The product lies in [c^D, inf): only stretches beyond ~1e100 overflow it (or a
   // compression limit below ~1e-100 underflows it), and then the logarithms are summed one by one.
   template <int D> double log_sum(const VecD<D>& s) const {

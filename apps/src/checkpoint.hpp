@@ -17,7 +17,7 @@
 #include <string>
 #include <string_view>
 
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 #include "scene.hpp"
 
 namespace invfem::app {

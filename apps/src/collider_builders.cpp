@@ -72,6 +72,7 @@ Colliders build_colliders(const Scene& scene) {
         s.mesh.offset = c.offset;
         auto body = std::make_shared<BodySequence>(c.name, std::move(s));
         colliders.collision.push_back({body->implicit(), body->friction()});
+        colliders.sequences.push_back(body);
         colliders.bodies.push_back(std::move(body));
       } else if (c.type == "plane") {
         out.push_back(std::make_shared<RigidBody>(c.name, std::make_shared<PlaneSurface>(to_vec(c.point), to_vec(c.normal)),
@@ -91,11 +92,9 @@ Colliders build_colliders(const Scene& scene) {
         p.clearance = c.clearance;
         const GearPair pair = make_gear_pair(p);
         int k = 1;
-        for (const auto& g : {pair.first, pair.second}) {
-          const auto& gear = dynamic_cast<const GearSurface&>(g->body());
+        for (const auto& [g, shape] : {std::pair{pair.first, pair.first_shape}, std::pair{pair.second, pair.second_shape}})
           out.push_back(std::make_shared<RigidBody>(c.name + "_" + std::to_string(k++), g, c.friction,
-                                                    gear_triangles(gear), g->motion()));
-        }
+                                                    gear_triangles(*shape), g->motion()));
       } else if (c.type == "mesh") {
         if (c.motion.kind != MotionSpec::Kind::Fixed) throw InputError(what + "a mesh collider is static (no motion yet)");
         TriangleSurface mesh = load_triangle_surface(c.mesh.string());
@@ -129,6 +128,7 @@ Colliders build_colliders(const Scene& scene) {
     }
     for (auto& b : out) {
       colliders.collision.push_back({b->implicit(), b->friction()});
+      colliders.rigid.push_back(b);
       colliders.bodies.push_back(std::move(b));
     }
   }

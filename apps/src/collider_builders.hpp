@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "invfem/collisions/colliders/body_sequence.hpp"
 #include "invfem/collisions/colliders/rigid_body.hpp"
 #include "invfem/collisions/colliders/rigid_collisions.hpp"
 #include "scene.hpp"
@@ -16,6 +17,9 @@ namespace invfem::app {
 struct Colliders {
   std::vector<std::shared_ptr<KinematicBody>> bodies;  // in scene order, for the World
   std::vector<RigidCollider> collision;                // each body's shape and friction, for RigidCollisions
+  // The same bodies by type, in scene order, for what needs them back.
+  std::vector<std::shared_ptr<RigidBody>> rigid;
+  std::vector<std::shared_ptr<BodySequence>> sequences;
 };
 
 // Loads every collider mesh (a sequence: its frame 0, and the frame it starts on); throws

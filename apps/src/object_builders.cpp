@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "invfem/core/io/mesh_error.hpp"
-#include "invfem/core/integrate/pins.hpp"
+#include "invfem/core/world/pins.hpp"
 #include "invfem/core/math/plasticity_control.hpp"
 #include "invfem/core/io/surface_io.hpp"
 #include "collider_builders.hpp"
@@ -117,7 +117,7 @@ void check_object_size(const Points& X, double scale, const std::string& what) {
   throw InputError(m.str());
 }
 
-SimObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh_out) {
+SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh_out) {
   TetMesh mesh;
   try {
     if (is_tet_mesh_file(spec.mesh)) {
@@ -172,7 +172,7 @@ SimObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh_o
     params.material = std::move(material);
     params.mass_spring = make_mass_spring(spec.material, scene.solver.cfl);
     if (mesh_out) *mesh_out = mesh;
-    return make_solid_object(spec.name, mesh, std::move(params));
+    return make_solid(spec.name, mesh, std::move(params));
   } catch (const std::invalid_argument& e) {
     throw InputError(what + ": " + e.what());
   }

@@ -1,14 +1,15 @@
 #pragma once
 // Scene specs -> simulated objects, through the solids and shells libraries. Mesh loading errors
 // become InputErrors that name the object and the file.
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
+#include "invfem/solids/solid_object.hpp"
 #include "invfem/solids/tet_mesh.hpp"
 #include "scene.hpp"
 
 namespace invfem::app {
 
 // `mesh_out`, if given, receives the rest mesh the solid is built on (a fracturing solid's root).
-SimObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh_out = nullptr);
+SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh_out = nullptr);
 SimObject build_cloth(const ClothSpec& spec, const Scene& scene);
 
 // The transform's rotation: about x, then y, then z, by rotate_degrees.

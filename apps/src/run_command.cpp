@@ -8,6 +8,7 @@
 #include <iostream>
 #include <memory>
 
+#include "invfem/collisions/self_collision/self_collision_pass.hpp"
 #include "invfem/core/io/mesh_error.hpp"
 
 #include "checkpoint.hpp"
@@ -218,7 +219,7 @@ int run_command(const std::vector<std::string>& raw) {
         newton += seams;
       }
       if (r.retried_steps > 0) newton += "  (" + std::to_string(r.retried_steps) + " steps retried at half length)";
-      const FrameReport::Collisions& sc = r.collisions;
+      const collisions::SelfCollisionFigures sc = collisions::SelfCollisionFigures::of(r);
       if (sc.candidates > 0) {
         char self[200];
         std::snprintf(self, sizeof self, "  self-collision %.2fs: %lld repulsions, %lld CCD hits, %d zones (largest %d)%s",

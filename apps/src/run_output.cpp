@@ -1,5 +1,6 @@
 #include "run_output.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -94,9 +95,8 @@ RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World&
   // A garment's seams, once per object with stitches, for `invfem check` (welds_file.hpp).
   for (const auto& o : world.objects())
     for (const auto& f : o.forces)
-      if (const auto* stitches = dynamic_cast<const StitchForce*>(f.get()); stitches && !stitches->stitches().empty())
-        atomic_write(dir_ / "frames" / o.name / "welds.txt",
-                     welds_text(o.name, welds_from_stitches(stitches->stitches())));
+      if (!f->seams().empty())
+        atomic_write(dir_ / "frames" / o.name / "welds.txt", welds_text(o.name, welds_from_seams(f->seams())));
   const double fps = scene.fps;
   csv_ = first_frame > 0 ? keep_rows_before(resume_csv, first_frame, true, false) : kCsvHeader;
   if (first_frame > 0) stats_ = keep_rows_before(read_file(dir_ / "stats.jsonl"), first_frame, false, true);
@@ -167,21 +167,42 @@ void RunOutput::write_stats(int frame, const World& world, const FrameReport& r,
                 "\"cg_condition\":%.3g,\"colliding_nodes\":%d,\"inverted\":%d,\"elements\":%d,\"min_det_F\":%.9g,"
                 "\"yielded\":%d,\"yielded_hinges\":%d,\"open_stitches\":%d,\"widest_stitch_gap\":%.6g,\"newton_iterations\":%d,\"newton_capped\":%d,"
                 "\"newton_worst_residual\":%.3g,\"motion_limited_steps\":%d,\"largest_step_motion\":%.3g,"
-                "\"step_motion_limit\":%.3g,\"retried_steps\":%d,"
-                "\"self_collision\":{\"candidates\":%lld,\"proximity_impulses\":%lld,\"ccd_hits\":%lld,"
-                "\"impact_zones\":%d,\"largest_zone\":%d,\"unresolved_steps\":%d,\"tangled_pairs\":%lld,\"body_crossings\":%lld,"
-                "\"collider_projections\":%lld,"
-                "\"seam_impulses\":%lld,\"limited_vertices\":%lld},"
-                "\"seconds\":{\"simulate\":%.6f,\"self_collision\":%.6f,\"measure\":%.6f,\"write\":%.6f,\"render\":%.6f,"
-                "\"coupling\":%.6f,\"objects\":{",
+                "\"step_motion_limit\":%.3g,\"retried_steps\":%d,",
                 frame, world.time(), r.substeps, r.cg_iterations, r.cg_all_converged ? "true" : "false",
                 r.cg_condition, r.colliding_nodes, r.elements.inverted, r.elements.elements, r.elements.min_det_F, r.elements.yielded,
                 r.elements.yielded_hinges, r.elements.open_stitches, r.elements.widest_stitch_gap, r.newton_iterations, r.newton_capped, r.newton_worst_residual, r.motion_limited_steps,
-                r.largest_step_motion, r.step_motion_limit, r.retried_steps, r.collisions.candidates,
-                r.collisions.proximity_impulses, r.collisions.ccd_hits, r.collisions.impact_zones,
-                r.collisions.largest_zone, r.collisions.unresolved_steps, r.collisions.tangled_pairs, r.collisions.body_crossings,
-                r.collisions.collider_projections, r.collisions.seam_impulses, r.collisions.limited_vertices, t.simulate, r.collisions.seconds, t.measure,
-                t.write, t.render, r.coupling_seconds);
+                r.largest_step_motion, r.step_motion_limit, r.retried_steps);
+  stats_ += line;
+  // Each after-step pass's record under its name (the self-collision layer: "self_collision"),
+  // its seconds in "seconds" beside the other phases.
+  auto number = [](double v) {
+    char text[64];
+    if (v == std::floor(v) && std::fabs(v) < 1e15) std::snprintf(text, sizeof text, "%.0f", v);
+    else std::snprintf(text, sizeof text, "%.9g", v);
+    return std::string(text);
+  };
+  for (const PassRecord& p : r.passes) {
+    stats_ += nlohmann::json(p.name).dump() + ":{";
+    bool first = true;
+    for (const auto& [key, value] : p.figures) {
+      if (key == "seconds") continue;
+      if (!first) stats_ += ',';
+      stats_ += nlohmann::json(key).dump();
+      stats_ += ':';
+      stats_ += number(value);
+      first = false;
+    }
+    stats_ += "},";
+  }
+  std::snprintf(line, sizeof line, "\"seconds\":{\"simulate\":%.6f,", t.simulate);
+  stats_ += line;
+  for (const PassRecord& p : r.passes)
+    if (const double* s = p.find_figure("seconds")) {
+      std::snprintf(line, sizeof line, ":%.6f,", *s);
+      stats_ += nlohmann::json(p.name).dump() + line;
+    }
+  std::snprintf(line, sizeof line, "\"measure\":%.6f,\"write\":%.6f,\"render\":%.6f,\"coupling\":%.6f,\"objects\":{",
+                t.measure, t.write, t.render, r.coupling_seconds);
   stats_ += line;
   // Per object, the seconds of its steps (simulate = the objects' + coupling + self_collision + the rest).
   for (std::size_t k = 0; k < world.objects().size(); ++k) {

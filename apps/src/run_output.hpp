@@ -13,7 +13,7 @@
 #include <set>
 #include <string>
 
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 #include "scene.hpp"
 
 namespace invfem {

@@ -47,16 +47,16 @@ int check_scene_command(const std::vector<std::string>& raw) {
   }
   if (args.positional.size() != 1) throw InputError("check-scene: expected one scene file (see invfem check-scene --help)");
   const Scene scene = load_scene(args.positional[0], args.all("--set"), args.flag("--quick"));
-  const World world = build_world(scene);  // loads and validates every mesh
-  for (const auto& k : world.kinematic_bodies())
-    if (const auto* sequence = dynamic_cast<const BodySequence*>(k.get())) {
-      try {
-        sequence->check_frames();
-      } catch (const MeshError& e) {
-        throw InputError(scene.file.string() + ": collider \"" + k->name() + "\": " + e.what());
-      }
-      std::fprintf(stderr, "sequence \"%s\": %d frames read and checked\n", k->name().c_str(), sequence->frame_count());
+  Colliders colliders;
+  const World world = build_world(scene, &colliders);  // loads and validates every mesh
+  for (const auto& sequence : colliders.sequences) {
+    try {
+      sequence->check_frames();
+    } catch (const MeshError& e) {
+      throw InputError(scene.file.string() + ": collider \"" + sequence->name() + "\": " + e.what());
     }
+    std::fprintf(stderr, "sequence \"%s\": %d frames read and checked\n", sequence->name().c_str(), sequence->frame_count());
+  }
   std::cout << to_json(scene).dump(2) << "\n";
   // What a run would take a frame, as `invfem run` states it at its start.
   const StepPlan plan = plan_steps(world, scene);

@@ -33,12 +33,9 @@ static void add_weld(Seams& seams, int i, int j, int k, double r) {
   }
 }
 
-Seams welds_from_stitches(const std::vector<Stitch>& stitches) {
+Seams welds_from_seams(const std::vector<Weld>& seam_points) {
   Seams seams;
-  for (const Stitch& s : stitches) {
-    const Weld seam = stitch_weld(s);
-    add_weld(seams, seam.i, seam.j, seam.k, s.r);
-  }
+  for (const Weld& w : seam_points) add_weld(seams, w.i, w.j, w.k, w.r);
   return seams;
 }
 
@@ -126,7 +123,7 @@ Seams welds_from_obj_stitch_lines(const std::string& path) {
   } catch (const MeshError& e) {
     throw InputError(e.what());
   }
-  std::vector<Stitch> stitches;
+  std::vector<Weld> seams;
   for (const auto& x : obj.extra) {
     if (x.keyword != "stitch") continue;
     const auto where = path + ":" + std::to_string(x.line) + ": ";
@@ -142,9 +139,9 @@ Seams welds_from_obj_stitch_lines(const std::string& path) {
     } catch (const std::exception&) {
       throw InputError(where + "r \"" + x.words[3] + "\" is not a number in [0, 1]");
     }
-    stitches.push_back(s);
+    seams.push_back(stitch_weld(s));
   }
-  return welds_from_stitches(stitches);
+  return welds_from_seams(seams);
 }
 
 }  // namespace invfem::app

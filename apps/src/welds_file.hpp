@@ -29,9 +29,8 @@ struct Seams {
 // naming `where` when a seam's vertex is outside x.
 std::vector<double> seam_gaps(const Seams& seams, const Points& x, const std::string& where);
 
-// A stitch (vertex i on edge (j, k) at r) as a weld: (i, j) at r = 0, (i, k) at r = 1, else
-// (i, j, k).
-Seams welds_from_stitches(const std::vector<Stitch>& stitches);
+// An object's seam points (Force::seams, in surface vertices) as the checker reads them.
+Seams welds_from_seams(const std::vector<Weld>& seam_points);
 
 // The welds.txt text for `object`'s seams, with its # header ("i j k r" lines keep r exactly).
 std::string welds_text(const std::string& object, const Seams& seams);

@@ -5,7 +5,7 @@
 
 #include "collider_builders.hpp"
 #include "invfem/collisions/colliders/rigid_collisions.hpp"
-#include "invfem/core/integrate/attachment_embedding.hpp"
+#include "invfem/core/world/attachment_embedding.hpp"
 #include "invfem/collisions/self_collision/self_collision_pass.hpp"
 #include "invfem/solids/fracture_pass.hpp"
 #include "json_fields.hpp"
@@ -21,9 +21,7 @@ namespace {
 // plane raised 10 km above a sphere did), and the self-collision layer then meets every pair of
 // the flattened surface at once, step after step, which ran for hours. A scene error: say so.
 void check_not_inside_colliders(const Scene& scene, const std::vector<SimObject>& objects, const Colliders& colliders) {
-  for (const auto& k : colliders.bodies) {
-    const auto* rigid = dynamic_cast<const RigidBody*>(k.get());
-    if (!rigid) continue;
+  for (const auto& rigid : colliders.rigid) {
     for (const SimObject& o : objects) {
       const Points& x = o.body.x;
       if (x.rows() == 0) continue;
@@ -35,7 +33,7 @@ void check_not_inside_colliders(const Scene& scene, const std::vector<SimObject>
         if (phi < phi_min) phi_min = phi, deepest = i;
       }
       if (phi_min < -size)
-        throw InputError(scene.file.string() + ": object \"" + o.name + "\" starts inside collider \"" + k->name() +
+        throw InputError(scene.file.string() + ": object \"" + o.name + "\" starts inside collider \"" + rigid->name() +
                          "\": its node " + std::to_string(deepest) + " lies " + std::to_string(-phi_min) +
                          " m inside, more than the object measures across (" + std::to_string(size) +
                          " m); move the object or the collider");
@@ -44,14 +42,15 @@ void check_not_inside_colliders(const Scene& scene, const std::vector<SimObject>
 }
 }  // namespace
 
-World build_world(const Scene& scene) {
+World build_world(const Scene& scene, Colliders* typed) {
   std::vector<SimObject> objects;
   std::vector<FracturingSolid> fracturing;
   for (const auto& spec : scene.solids) {
     TetMesh mesh;
-    objects.push_back(build_solid(spec, scene, &mesh));
+    SolidObject solid = build_solid(spec, scene, &mesh);
+    objects.push_back(std::move(solid.object));
     if (!spec.fracture) continue;
-    FracturingSolid f{spec.name, std::move(mesh), FractureCriterion{}};
+    FracturingSolid f{spec.name, std::move(mesh), FractureCriterion{}, solid.tet_force};
     if (spec.fracture->max_principal_stress) f.criterion.max_principal_stress = *spec.fracture->max_principal_stress;
     if (spec.fracture->max_plastic_strain) f.criterion.max_plastic_strain = *spec.fracture->max_plastic_strain;
     f.criterion.front_fraction = spec.fracture->front_fraction;
@@ -71,14 +70,14 @@ World build_world(const Scene& scene) {
   for (SimObject& cloth : objects)
     for (AttachmentGroup& group : cloth.attachments) {
       const auto solid = std::find_if(objects.begin(), objects.end(), [&](const SimObject& o) {
-        return o.kind == ObjectKind::Solid && o.name == group.solid;
+        return o.stage == kSolidStage && o.name == group.target;
       });
       if (solid == objects.end())
-        throw InputError(scene.file.string() + ": cloth \"" + cloth.name + "\" is attached to \"" + group.solid +
+        throw InputError(scene.file.string() + ": cloth \"" + cloth.name + "\" is attached to \"" + group.target +
                          "\", which is no solid of the scene");
       std::vector<int> nodes;
       for (const Attachment& a : group.vertices) nodes.push_back(a.node);
-      group.vertices = embed_in_solid(*solid, cloth.body.x, nodes);
+      group.vertices = embed_attachments(*solid, cloth.body.x, nodes);
     }
   std::vector<SolidCoupling> couplings;
   for (const auto& spec : scene.solids)
@@ -87,6 +86,7 @@ World build_world(const Scene& scene) {
                                         spec.cloth_coupling.query_radius, spec.cloth_coupling.offset});
   Colliders colliders = build_colliders(scene);
   check_not_inside_colliders(scene, objects, colliders);
+  if (typed) typed->rigid = colliders.rigid, typed->sequences = colliders.sequences;
   WorldSettings settings;
   settings.max_dt = scene.solver.max_dt;
   settings.max_substeps = scene.solver.max_substeps_per_frame;
@@ -117,7 +117,11 @@ World build_world(const Scene& scene) {
         if (!o.self_collision) s.excluded.push_back(o.name);
       for (const auto& c : scene.cloths)
         if (!c.self_collision) s.excluded.push_back(c.name);
-      world.add_pass(std::make_unique<collisions::SelfCollisionPass>(s));
+      // The analytic colliders' exact shapes, which the layer keeps its vertices out of.
+      std::vector<std::shared_ptr<const ImplicitSurface>> analytic;
+      for (const auto& rigid : colliders.rigid)
+        if (!rigid->surface_is_shape()) analytic.push_back(rigid->implicit());
+      world.add_pass(std::make_unique<collisions::SelfCollisionPass>(s, std::move(analytic)));
     }
     // Fracture runs after the self-collision layer: the layer reads the step's start positions
     // (StepPassInput::x_start), which hold the topology before a cut; the layer rebuilds its mesh

@@ -5,13 +5,15 @@
 // The step, the stage order and the energies are the core World's; apps only maps scene fields.
 #include <string>
 
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
+#include "collider_builders.hpp"
 #include "scene.hpp"
 
 namespace invfem::app {
 
 // Loads and validates every mesh; throws InputError naming the file, the object and the problem.
-World build_world(const Scene& scene);
+// colliders (optional): the world's kinematic bodies by type (Colliders::rigid, ::sequences).
+World build_world(const Scene& scene, Colliders* colliders = nullptr);
 
 // The step size at the world's current state and what a frame costs at it (World::step_size,
 // substeps_for), as `invfem run` states it at its start and `invfem check-scene` reports it.

@@ -53,7 +53,7 @@ for scene in scenes:
         peak = max(rows, key=lambda r: r["inverted"])
         last = rows[-1]["inverted"]
         # time per frame: simulation and self-collision seconds (not writing or rendering), frames 1..N
-        sec = [r["seconds"]["simulate"] + r["seconds"]["self_collision"] for r in rows[1:]]
+        sec = [r["seconds"]["simulate"] + r["seconds"].get("self_collision", 0) for r in rows[1:]]
         recovers = "yes" if last == 0 else "no" if peak["inverted"] > 0 else "never inverted"
         print(f"| {scene} | {m} | {n} | {peak['inverted']} ({100 * peak['inverted'] / n:.1f}%) | {peak['frame']} | "
               f"{last} ({100 * last / n:.1f}%) | {recovers} | {sum(sec) / len(sec):.2f} |")

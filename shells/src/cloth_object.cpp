@@ -1,6 +1,6 @@
 #include "invfem/shells/cloth_object.hpp"
 
-#include "invfem/core/integrate/pins.hpp"
+#include "invfem/core/world/pins.hpp"
 #include "invfem/core/math/triangle_kernel.hpp"
 
 namespace invfem {
@@ -23,7 +23,8 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   const Points& x0 = garment.initial ? *garment.initial : surface.x;
   SimObject o;
   o.name = name;
-  o.kind = ObjectKind::Cloth;
+  o.stage = kClothStage;
+  o.auto_preconditioner = Preconditioner::BlockJacobi;  // the multigrid's rigid modes do not help a shell
   TriangleRest rest = garment.pattern.empty() ? make_triangle_rest(surface.x, surface.tris, what)
                                                : make_triangle_rest(garment.pattern, surface.tris, surface.x.rows(), what);
   o.body.x = x0;
@@ -56,6 +57,7 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   in_plane->update_positions(o.body.x, 0.0);
   bending->update_positions(o.body.x, 0.0);
   std::unique_ptr<StitchForce> stitch;
+  StitchForce* seams = nullptr;  // the stitch force, once it is among o.forces
   std::vector<Weld> welds;  // in nodes; in surface vertices once the surface exists
   for (const Stitch& st : stitches) welds.push_back(stitch_weld(st));
   if (!stitches.empty()) {
@@ -64,7 +66,10 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   }
   o.forces.push_back(std::move(in_plane));
   o.forces.push_back(std::move(bending));
-  if (stitch) o.forces.push_back(std::move(stitch));
+  if (stitch) {
+    seams = stitch.get();
+    o.forces.push_back(std::move(stitch));
+  }
   o.pins = std::move(p.pins);
   set_pinned_velocities(o, 0.0);
   o.surface = extract_surface(o.body.x, surface.tris, o.surface_nodes);
@@ -72,10 +77,12 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   std::vector<int> vertex_of(static_cast<std::size_t>(o.body.x.rows()), -1);
   for (std::size_t s = 0; s < o.surface_nodes.size(); ++s) vertex_of[static_cast<std::size_t>(o.surface_nodes[s])] = static_cast<int>(s);
   auto surface_vertex = [&](int node) { return node < 0 ? -1 : vertex_of[static_cast<std::size_t>(node)]; };
+  std::vector<Weld> surface_welds;
   for (const Weld& w : welds) {  // a stitch on a vertex no triangle uses joins nothing
     const Weld s{surface_vertex(w.i), surface_vertex(w.j), surface_vertex(w.k), w.r};
-    if (s.i >= 0 && s.j >= 0 && (w.k < 0 || s.k >= 0)) o.welds.push_back(s);
+    if (s.i >= 0 && s.j >= 0 && (w.k < 0 || s.k >= 0)) surface_welds.push_back(s);
   }
+  if (seams) seams->set_seams(std::move(surface_welds));
   return o;
 }
 

@@ -9,12 +9,6 @@
 namespace invfem {
 namespace {
 
-TetSolidForce* tet_force(SimObject& o) {
-  TetSolidForce* f = o.forces.empty() ? nullptr : dynamic_cast<TetSolidForce*>(o.forces[0].get());
-  if (!f) throw std::invalid_argument("fracture: object \"" + o.name + "\" has no tet force to fracture");
-  return f;
-}
-
 // Per-element material fields follow the copies' root tets.
 TetMaterial material_for(const FractureBase& base, const VirtualNodeMesh& m) {
   TetMaterial mat = base.material;
@@ -51,9 +45,8 @@ TrialCut trial_cut(const VirtualNodeMesh& mesh, const std::vector<CrackStart>& s
 
 }  // namespace
 
-void rebuild_fractured_solid(SimObject& o, const VirtualNodeMesh& m, const FractureBase& base,
-                             const TopologyChange* change) {
-  TetSolidForce* old_force = tet_force(o);
+TetSolidForce* rebuild_fractured_solid(SimObject& o, const TetSolidForce& old_force, const VirtualNodeMesh& m,
+                                       const FractureBase& base, const TopologyChange* change) {
   const Eigen::Index n = m.num_nodes();
   Points x(n, 3), v(n, 3);
   PlasticState plastic = make_plastic_state(m.num_elements());
@@ -64,14 +57,17 @@ void rebuild_fractured_solid(SimObject& o, const VirtualNodeMesh& m, const Fract
       v.row(i) = o.body.v.row(p);
     }
     for (std::size_t e = 0; e < plastic.Fp_inv.size(); ++e)
-      plastic.Fp_inv[e] = old_force->Fp_inv(static_cast<std::size_t>(change->parent_element[e]));
+      plastic.Fp_inv[e] = old_force.Fp_inv(static_cast<std::size_t>(change->parent_element[e]));
   } else {
     x = rest_positions(m);
     v.setZero();
   }
   auto force = std::make_unique<TetSolidForce>(weighted_tet_rest(m), material_for(base, m));
   force->restore_plastic_state(std::move(plastic));
-  o.forces[0] = std::move(force);
+  TetSolidForce* const made = force.get();
+  for (auto& f : o.forces)
+    if (f.get() == &old_force) f = std::move(force);
+  if (force) throw std::invalid_argument("fracture: object \"" + o.name + "\" does not hold the given tet force");
   o.body.x = std::move(x);
   o.body.v = std::move(v);
   o.body.mass = weighted_lumped_masses(m, base.density);
@@ -104,6 +100,7 @@ void rebuild_fractured_solid(SimObject& o, const VirtualNodeMesh& m, const Fract
       anchors.row(static_cast<Eigen::Index>(count + j)) = g.anchors.row(rows[j]);
     g.anchors = std::move(anchors);
   }
+  return made;
 }
 
 FracturePass::FracturePass(std::vector<FracturingSolid> solids) {
@@ -125,9 +122,10 @@ void FracturePass::bind(std::vector<SimObject>& objects) {
     SimObject& o = objects[static_cast<std::size_t>(s.object)];
     if (o.body.x.rows() != s.spec.mesh.X.rows() || o.tets != s.spec.mesh.tets)
       throw std::invalid_argument("fracture: object \"" + s.spec.object + "\" is not built on the given mesh");
-    const TetSolidForce* f = tet_force(o);
-    s.base.material = f->material();
-    s.base.density = f->material().density;
+    if (!s.spec.force) throw std::invalid_argument("fracture: object \"" + o.name + "\" has no tet force to fracture");
+    s.force = s.spec.force;
+    s.base.material = s.force->material();
+    s.base.density = s.force->material().density;
     s.base.pins = o.pins;
   }
 }
@@ -137,7 +135,7 @@ void FracturePass::after_step(std::vector<SimObject>& objects, const StepPassInp
   bind(objects);
   for (Solid& s : solids_) {
     SimObject& o = objects[static_cast<std::size_t>(s.object)];
-    const std::vector<CrackStart> starts = find_crack_starts(s.mesh, *tet_force(o), s.spec.criterion);
+    const std::vector<CrackStart> starts = find_crack_starts(s.mesh, *s.force, s.spec.criterion);
     if (starts.empty()) continue;
     // A cut whose surface would be born crossing itself is not made (crack_crossings.hpp): all the
     // starts together, else each alone and then those that passed alone together (their faces
@@ -158,7 +156,7 @@ void FracturePass::after_step(std::vector<SimObject>& objects, const StepPassInp
     if (t.added == 0) continue;
     s.mesh = std::move(t.mesh);
     if (!t.change.changed()) continue;
-    rebuild_fractured_solid(o, s.mesh, s.base, &t.change);
+    s.force = rebuild_fractured_solid(o, *s.force, s.mesh, s.base, &t.change);
     ++events_;
   }
 }
@@ -262,7 +260,7 @@ void FracturePass::restore_state(StateReader& in, std::vector<SimObject>& object
   for (std::size_t k = 0; k < solids_.size(); ++k) {
     Solid& s = solids_[k];
     s.mesh = std::move(meshes[k]);
-    rebuild_fractured_solid(objects[static_cast<std::size_t>(s.object)], s.mesh, s.base, nullptr);
+    s.force = rebuild_fractured_solid(objects[static_cast<std::size_t>(s.object)], *s.force, s.mesh, s.base, nullptr);
   }
 }
 

@@ -3,16 +3,21 @@
 #include <stdexcept>
 #include <string>
 
-#include "invfem/core/integrate/pins.hpp"
+#include "invfem/core/world/pins.hpp"
 #include "invfem/solids/boundary.hpp"
 #include "invfem/solids/mass.hpp"
 
 namespace invfem {
 
 SimObject make_solid_object(const std::string& name, const TetMesh& mesh, SolidObjectParams params) {
-  SimObject o;
+  return make_solid(name, mesh, std::move(params)).object;
+}
+
+SolidObject make_solid(const std::string& name, const TetMesh& mesh, SolidObjectParams params) {
+  SolidObject out;
+  SimObject& o = out.object;
   o.name = name;
-  o.kind = ObjectKind::Solid;
+  o.stage = kSolidStage;
   o.surface = extract_surface(mesh.X, boundary_triangles(mesh.tets), o.surface_nodes);
   o.surface.source = "boundary of " + mesh.source;
   o.tets = mesh.tets;
@@ -38,13 +43,15 @@ SimObject make_solid_object(const std::string& name, const TetMesh& mesh, SolidO
     force = std::make_unique<EdgeSpringForce>(std::move(springs), mesh.X.rows(), params.mass_spring->params,
                                               "solid \"" + name + "\": springs", std::move(rest));
   } else {
-    force = std::make_unique<TetSolidForce>(make_tet_rest(mesh.X, mesh.tets), std::move(params.material));
+    auto tet = std::make_unique<TetSolidForce>(make_tet_rest(mesh.X, mesh.tets), std::move(params.material));
+    out.tet_force = tet.get();
+    force = std::move(tet);
   }
   force->update_positions(o.body.x, 0.0);
   o.forces.push_back(std::move(force));
   o.pins = std::move(params.pins);
   set_pinned_velocities(o, 0.0);
-  return o;
+  return out;
 }
 
 }  // namespace invfem

@@ -9,7 +9,7 @@ source "$(dirname "$0")/lib.sh"
 cli_setup
 
 # tet FILE APEX_Z: tetrahedron B is the unit corner tet; tetrahedron A has its apex at
-# (0.2, 0.2, APEX_Z) and its base at z = -1 (see tests/unit/intersection_certificate.cpp).
+# (0.2, 0.2, APEX_Z) and its base at z = -1 (see tests/unit/collisions/certificate/intersection_certificate.cpp).
 tet_b() {
   printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n' > "$1"
 }

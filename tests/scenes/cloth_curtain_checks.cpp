@@ -64,14 +64,11 @@ TEST(ClothCurtain, SwingsWithoutGainingEnergy) {
 }
 
 TEST(ClothCurtain, EnergiesMatchGolden) {
-  expect_matches_golden_csv(kOut / "energies.csv", std::filesystem::path(INVFEM_GOLDEN_DIR) / "energies/cloth_curtain.csv",
-                            {"kinetic", "elastic", "gravity"}, 1e-3, 1e-3);
+  expect_energies_match_golden("cloth_curtain");
 }
 
 TEST(ClothCurtain, PreviewsMatchGolden) {
-  for (int f : {0, 15, kLastFrame})
-    expect_matches_golden_png(kOut / "png" / frame_file(f, "png"),
-                              std::filesystem::path(INVFEM_GOLDEN_DIR) / "images/cloth_curtain" / frame_file(f, "png"));
+  expect_previews_match_golden("cloth_curtain", {0, 15, kLastFrame});
 }
 
 // The implicit integrator against the ITF04 step (measured: gravity 3.1% of the drop at the end,

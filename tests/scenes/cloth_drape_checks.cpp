@@ -57,14 +57,11 @@ TEST(ClothDrape, LosesEnergyAndComesToRest) {
 }
 
 TEST(ClothDrape, EnergiesMatchGolden) {
-  expect_matches_golden_csv(kOut / "energies.csv", std::filesystem::path(INVFEM_GOLDEN_DIR) / "energies/cloth_drape.csv",
-                            {"kinetic", "elastic", "gravity"}, 1e-3, 1e-3);
+  expect_energies_match_golden("cloth_drape");
 }
 
 TEST(ClothDrape, PreviewsMatchGolden) {
-  for (int f : {0, 20, kLastFrame})
-    expect_matches_golden_png(kOut / "png" / frame_file(f, "png"),
-                              std::filesystem::path(INVFEM_GOLDEN_DIR) / "images/cloth_drape" / frame_file(f, "png"));
+  expect_previews_match_golden("cloth_drape", {0, 20, kLastFrame});
 }
 
 // The implicit integrator against the ITF04 step (measured: gravity 2.8% of the drop, shape 6.2%

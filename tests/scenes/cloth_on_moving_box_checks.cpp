@@ -54,15 +54,11 @@ TEST(ClothOnMovingBox, TheClothRidesOnTheBox) {
 }
 
 TEST(ClothOnMovingBox, EnergiesMatchGolden) {
-  expect_matches_golden_csv(kOut / "energies.csv",
-                            std::filesystem::path(INVFEM_GOLDEN_DIR) / "energies/cloth_on_moving_box.csv",
-                            {"kinetic", "elastic", "gravity"}, 1e-3, 1e-3);
+  expect_energies_match_golden("cloth_on_moving_box");
 }
 
 TEST(ClothOnMovingBox, PreviewsMatchGolden) {
-  for (int f : {30, kLastFrame})
-    expect_matches_golden_png(kOut / "png" / frame_file(f, "png"),
-                              std::filesystem::path(INVFEM_GOLDEN_DIR) / "images/cloth_on_moving_box" / frame_file(f, "png"));
+  expect_previews_match_golden("cloth_on_moving_box", {30, kLastFrame});
 }
 
 }  // namespace

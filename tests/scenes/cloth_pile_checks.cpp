@@ -27,14 +27,11 @@ TEST(ClothPile, TheStripPilesUpOnTheGround) {
 }
 
 TEST(ClothPile, EnergiesMatchGolden) {
-  expect_matches_golden_csv(kOut / "energies.csv", std::filesystem::path(INVFEM_GOLDEN_DIR) / "energies/cloth_pile.csv",
-                            {"kinetic", "elastic", "gravity"}, 1e-3, 1e-3);
+  expect_energies_match_golden("cloth_pile");
 }
 
 TEST(ClothPile, PreviewsMatchGolden) {
-  for (int f : {10, kLastFrame})
-    expect_matches_golden_png(kOut / "png" / frame_file(f, "png"),
-                              std::filesystem::path(INVFEM_GOLDEN_DIR) / "images/cloth_pile" / frame_file(f, "png"));
+  expect_previews_match_golden("cloth_pile", {10, kLastFrame});
 }
 
 }  // namespace

@@ -46,14 +46,11 @@ TEST(ClothTwist, WrinklesIntoSelfContact) {
 }
 
 TEST(ClothTwist, EnergiesMatchGolden) {
-  expect_matches_golden_csv(kOut / "energies.csv", std::filesystem::path(INVFEM_GOLDEN_DIR) / "energies/cloth_twist.csv",
-                            {"kinetic", "elastic", "gravity"}, 1e-3, 1e-3);
+  expect_energies_match_golden("cloth_twist");
 }
 
 TEST(ClothTwist, PreviewsMatchGolden) {
-  for (int f : {25, kLastFrame})
-    expect_matches_golden_png(kOut / "png" / frame_file(f, "png"),
-                              std::filesystem::path(INVFEM_GOLDEN_DIR) / "images/cloth_twist" / frame_file(f, "png"));
+  expect_previews_match_golden("cloth_twist", {25, kLastFrame});
 }
 
 }  // namespace

@@ -61,14 +61,11 @@ TEST(DressDance, TheDressHangsOnTheDancer) {
 
 #ifndef INVFEM_WHOLE_DANCE  // the goldens are the quick run's
 TEST(DressDance, EnergiesMatchGolden) {
-  expect_matches_golden_csv(kOut / "energies.csv", std::filesystem::path(INVFEM_GOLDEN_DIR) / "energies/dress_dance.csv",
-                            {"kinetic", "elastic", "gravity"}, 1e-3, 1e-3);
+  expect_energies_match_golden("dress_dance");
 }
 
 TEST(DressDance, PreviewsMatchGolden) {
-  for (int f : {0, kLastFrame})
-    expect_matches_golden_png(kOut / "png" / frame_file(f, "png"),
-                              std::filesystem::path(INVFEM_GOLDEN_DIR) / "images/dress_dance" / frame_file(f, "png"));
+  expect_previews_match_golden("dress_dance", {0, kLastFrame});
 }
 #endif
 

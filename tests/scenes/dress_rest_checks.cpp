@@ -35,14 +35,11 @@ TEST(DressRest, HangsFromItsPinnedTop) {
 }
 
 TEST(DressRest, EnergiesMatchGolden) {
-  expect_matches_golden_csv(kOut / "energies.csv", std::filesystem::path(INVFEM_GOLDEN_DIR) / "energies/dress_rest.csv",
-                            {"kinetic", "elastic", "gravity"}, 1e-3, 1e-3);
+  expect_energies_match_golden("dress_rest");
 }
 
 TEST(DressRest, PreviewsMatchGolden) {
-  for (int f : {0, kLastFrame})
-    expect_matches_golden_png(kOut / "png" / frame_file(f, "png"),
-                              std::filesystem::path(INVFEM_GOLDEN_DIR) / "images/dress_rest" / frame_file(f, "png"));
+  expect_previews_match_golden("dress_rest", {0, kLastFrame});
 }
 
 // The implicit integrator against the ITF04 step over the quick run's 3 frames (measured: shape

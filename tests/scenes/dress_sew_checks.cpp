@@ -31,14 +31,11 @@ TEST(DressSew, SeamsCloseOnTheirSchedule) {
 }
 
 TEST(DressSew, EnergiesMatchGolden) {
-  expect_matches_golden_csv(kOut / "energies.csv", std::filesystem::path(INVFEM_GOLDEN_DIR) / "energies/dress_sew.csv",
-                            {"kinetic", "elastic", "gravity"}, 1e-3, 1e-3);
+  expect_energies_match_golden("dress_sew");
 }
 
 TEST(DressSew, PreviewsMatchGolden) {
-  for (int f : {0, kLastFrame})
-    expect_matches_golden_png(kOut / "png" / frame_file(f, "png"),
-                              std::filesystem::path(INVFEM_GOLDEN_DIR) / "images/dress_sew" / frame_file(f, "png"));
+  expect_previews_match_golden("dress_sew", {0, kLastFrame});
 }
 
 }  // namespace

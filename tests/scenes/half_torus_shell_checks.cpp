@@ -56,15 +56,11 @@ TEST(HalfTorusShell, KeepsItsNewShapeWhenTheLoadGoesAway) {
 }
 
 TEST(HalfTorusShell, EnergiesMatchGolden) {
-  expect_matches_golden_csv(kOut / "energies.csv",
-                            std::filesystem::path(INVFEM_GOLDEN_DIR) / "energies/half_torus_shell.csv",
-                            {"kinetic", "elastic", "gravity"}, 1e-3, 1e-3);
+  expect_energies_match_golden("half_torus_shell");
 }
 
 TEST(HalfTorusShell, PreviewsMatchGolden) {
-  for (int f : {0, 45, kLastFrame})
-    expect_matches_golden_png(kOut / "png" / frame_file(f, "png"),
-                              std::filesystem::path(INVFEM_GOLDEN_DIR) / "images/half_torus_shell" / frame_file(f, "png"));
+  expect_previews_match_golden("half_torus_shell", {0, 45, kLastFrame});
 }
 
 // The implicit integrator against the ITF04 step (measured: gravity 0.1% of the drop at the end,

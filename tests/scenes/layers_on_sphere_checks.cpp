@@ -64,15 +64,11 @@ TEST(LayersOnSphere, NoVertexEntersTheSphere) {
 }
 
 TEST(LayersOnSphere, EnergiesMatchGolden) {
-  expect_matches_golden_csv(kOut / "energies.csv",
-                            std::filesystem::path(INVFEM_GOLDEN_DIR) / "energies/layers_on_sphere.csv",
-                            {"kinetic", "elastic", "gravity"}, 1e-3, 1e-3);
+  expect_energies_match_golden("layers_on_sphere");
 }
 
 TEST(LayersOnSphere, PreviewsMatchGolden) {
-  for (int f : {10, kLastFrame})
-    expect_matches_golden_png(kOut / "png" / frame_file(f, "png"),
-                              std::filesystem::path(INVFEM_GOLDEN_DIR) / "images/layers_on_sphere" / frame_file(f, "png"));
+  expect_previews_match_golden("layers_on_sphere", {10, kLastFrame});
 }
 
 }  // namespace

@@ -200,4 +200,21 @@ inline void expect_close_to_itf04_reference(const std::filesystem::path& out, co
   ::testing::Test::RecordProperty("shape_vs_itf04", std::to_string(mean));
 }
 
+#if defined(INVFEM_SCENE_DIR) && defined(INVFEM_GOLDEN_DIR)
+// The golden checks every scene test shares, on what the run of its scene wrote (INVFEM_SCENE_DIR):
+// energies.csv against tests/golden/energies/<scene>.csv on `columns` (tolerance 1e-3 relative
+// and 1e-3 of each column's scale), and the previews of `frames` against
+// tests/golden/images/<scene>/ (regenerated with INVFEM_UPDATE_GOLDEN=1).
+inline void expect_energies_match_golden(const std::string& scene,
+                                         const std::vector<std::string>& columns = {"kinetic", "elastic", "gravity"}) {
+  expect_matches_golden_csv(std::filesystem::path(INVFEM_SCENE_DIR) / "energies.csv",
+                            std::filesystem::path(INVFEM_GOLDEN_DIR) / "energies" / (scene + ".csv"), columns, 1e-3, 1e-3);
+}
+inline void expect_previews_match_golden(const std::string& scene, std::initializer_list<int> frames) {
+  for (int f : frames)
+    expect_matches_golden_png(std::filesystem::path(INVFEM_SCENE_DIR) / "png" / frame_file(f, "png"),
+                              std::filesystem::path(INVFEM_GOLDEN_DIR) / "images" / scene / frame_file(f, "png"));
+}
+#endif
+
 }  // namespace invfem::test

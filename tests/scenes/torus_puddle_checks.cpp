@@ -78,16 +78,12 @@ TEST(TorusPuddle, BoundaryNeverCrossesItself) {
 }
 
 TEST(TorusPuddle, EnergiesMatchGolden) {
-  expect_matches_golden_csv(kOut / "energies.csv", std::filesystem::path(INVFEM_GOLDEN_DIR) /
-                                                       "energies/torus_puddle.csv",
-                            {"kinetic", "elastic", "gravity", "inverted", "min_det_F", "volume"}, 1e-3, 1e-3);
+  expect_energies_match_golden("torus_puddle", {"kinetic", "elastic", "gravity", "inverted", "min_det_F", "volume"});
 }
 
 // Rest, the puddle, and the recovered torus.
 TEST(TorusPuddle, PreviewsMatchGolden) {
-  for (int frame : {0, 20, 90})
-    expect_matches_golden_png(kOut / "png" / frame_file(frame, "png"),
-                              std::filesystem::path(INVFEM_GOLDEN_DIR) / "images/torus_puddle" / frame_file(frame, "png"));
+  expect_previews_match_golden("torus_puddle", {0, 20, 90});
 }
 
 }  // namespace

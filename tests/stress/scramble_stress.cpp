@@ -39,7 +39,7 @@
 #include "invfem/core/math/materials/lame.hpp"
 #include "invfem/core/math/parallel.hpp"
 #include "invfem/core/io/surface_io.hpp"
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 #include "invfem/solids/bcc_mesher.hpp"
 #include "invfem/solids/scramble.hpp"
 #include "invfem/solids/solid_object.hpp"

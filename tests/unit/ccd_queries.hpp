@@ -1,5 +1,5 @@
 #pragma once
-// Random CCD queries whose answer is known by construction (tests/unit/ccd.cpp and the stress
+// Random CCD queries whose answer is known by construction (tests/unit/collisions/self_collision/ccd.cpp and the stress
 // generator tests/stress/ccd_queries.cpp).
 //
 // Hits: a contact is placed at a chosen time t* and the trajectories are built through it. Every

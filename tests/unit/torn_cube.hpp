@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "invfem/core/math/materials/lame.hpp"
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 #include "invfem/solids/fracture_pass.hpp"
 #include "invfem/solids/solid_object.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
@@ -57,7 +57,7 @@ inline CubeTear tear_cube(SimObject& solid) {
   FractureBase base;
   base.material = soft_material();
   base.density = base.material.density;
-  rebuild_fractured_solid(solid, c.mesh, base, &change);
+  rebuild_fractured_solid(solid, dynamic_cast<const TetSolidForce&>(*solid.forces[0]), c.mesh, base, &change);
   c.pieces = count_pieces(c.mesh, &c.component);
   const Points rest = rest_positions(c.mesh);
   for (int i = 0; i < c.mesh.num_nodes(); ++i)

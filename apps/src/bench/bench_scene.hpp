@@ -7,7 +7,7 @@
 #include <string>
 
 #include "bench/bench_unit.hpp"
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 
 namespace invfem::app::bench {
 

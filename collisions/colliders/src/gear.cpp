@@ -163,9 +163,11 @@ GearPair make_gear_pair(const GearPairParams& params) {
   const Vec3 c2 = params.center + 0.5 * D * Q.col(0);
   RigidTransform pose1{Q, c1}, pose2{Q, c2};
   GearPair pair;
-  pair.first = std::make_shared<MovingSurface>(std::make_shared<GearSurface>(g),
+  pair.first_shape = std::make_shared<GearSurface>(g);
+  pair.second_shape = std::make_shared<GearSurface>(g2);
+  pair.first = std::make_shared<MovingSurface>(pair.first_shape,
                                                Motion::constant_velocity(pose1, c1, Vec3::Zero(), axis, params.spin_rate));
-  pair.second = std::make_shared<MovingSurface>(std::make_shared<GearSurface>(g2),
+  pair.second = std::make_shared<MovingSurface>(pair.second_shape,
                                                 Motion::constant_velocity(pose2, c2, Vec3::Zero(), axis, -params.spin_rate));
   return pair;
 }

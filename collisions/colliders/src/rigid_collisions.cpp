@@ -8,7 +8,7 @@
 
 #include "invfem/core/math/parallel.hpp"
 
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 
 namespace invfem {
 
@@ -30,10 +30,9 @@ Vec3 coulomb(const Vec3& tangential, double mu, double normal_change) {
 void RigidCollisions::begin_object(const SimObject& object) {
   ++object_serial_;
   active_ = colliders_;
-  if (object.kind != ObjectKind::Cloth) return;
   for (std::size_t c = 0; c < couplings_.size(); ++c) {
     const auto& names = couplings_[c].cloths;
-    if (c >= solid_surfaces_.size() || !solid_surfaces_[c]) continue;
+    if (c >= solid_surfaces_.size() || !solid_surfaces_[c] || object.stage <= solid_stages_[c]) continue;
     if (names.empty() || std::find(names.begin(), names.end(), object.name) != names.end())
       active_.push_back(RigidCollider{solid_surfaces_[c], couplings_[c].friction});
   }
@@ -45,12 +44,13 @@ double RigidCollisions::step_motion_limit() const {
   return limit;
 }
 
-void RigidCollisions::solids_stepped(const std::vector<SimObject>& objects, double, double) {
+void RigidCollisions::earlier_stages_stepped(const std::vector<SimObject>& objects, int stage, double, double) {
   solid_surfaces_.resize(couplings_.size());
   surface_versions_.resize(couplings_.size(), 0);
+  solid_stages_.resize(couplings_.size(), 0);
   for (std::size_t c = 0; c < couplings_.size(); ++c) {
     const auto it = std::find_if(objects.begin(), objects.end(), [&](const SimObject& o) {
-      return o.name == couplings_[c].solid && o.kind == ObjectKind::Solid;
+      return o.name == couplings_[c].solid && o.stage < stage;
     });
     if (it == objects.end())
       throw std::invalid_argument("collisions: coupling names \"" + couplings_[c].solid + "\", no solid of the world");
@@ -73,6 +73,7 @@ void RigidCollisions::solids_stepped(const std::vector<SimObject>& objects, doub
       surface_versions_[c] = it->topology_version;
     }
     solid_surfaces_[c]->update(surface.x, vel);
+    solid_stages_[c] = it->stage;
   }
 }
 

@@ -11,7 +11,6 @@
 #include "invfem/collisions/self_collision/response/impact_zones.hpp"
 #include "invfem/collisions/self_collision/response/repulsion.hpp"
 #include "invfem/collisions/self_collision/response/seams.hpp"
-#include "invfem/collisions/colliders/rigid_body.hpp"
 
 namespace invfem::collisions {
 
@@ -26,8 +25,44 @@ void validate(const SelfCollisionSettings& s) {
   if (!(s.tangle_patience > 0) || !std::isfinite(s.tangle_patience)) fail("tangle_patience must be a positive time [s]");
 }
 
-SelfCollisionPass::SelfCollisionPass(SelfCollisionSettings settings) : settings_(std::move(settings)) {
+SelfCollisionPass::SelfCollisionPass(SelfCollisionSettings settings,
+                                     std::vector<std::shared_ptr<const ImplicitSurface>> analytic_colliders)
+    : settings_(std::move(settings)), analytic_colliders_(std::move(analytic_colliders)) {
   validate(settings_);
+}
+
+void SelfCollisionFigures::add_to(PassRecord& record) const {
+  record.add("candidates", static_cast<double>(candidates));
+  record.add("proximity_impulses", static_cast<double>(proximity_impulses));
+  record.add("ccd_hits", static_cast<double>(ccd_hits));
+  record.add("impact_zones", impact_zones);
+  record.keep_largest("largest_zone", largest_zone);
+  record.add("unresolved_steps", unresolved_steps);
+  record.add("tangled_pairs", static_cast<double>(tangled_pairs));
+  record.add("body_crossings", static_cast<double>(body_crossings));
+  record.add("collider_projections", static_cast<double>(collider_projections));
+  record.add("seam_impulses", static_cast<double>(seam_impulses));
+  record.add("limited_vertices", static_cast<double>(limited_vertices));
+  record.add("seconds", seconds);
+}
+
+SelfCollisionFigures SelfCollisionFigures::of(const FrameReport& report) {
+  SelfCollisionFigures f;
+  const PassRecord* r = report.find_pass(kSelfCollisionRecord);
+  if (!r) return f;
+  f.candidates = static_cast<long long>(r->value("candidates"));
+  f.proximity_impulses = static_cast<long long>(r->value("proximity_impulses"));
+  f.ccd_hits = static_cast<long long>(r->value("ccd_hits"));
+  f.impact_zones = static_cast<int>(r->value("impact_zones"));
+  f.largest_zone = static_cast<int>(r->value("largest_zone"));
+  f.unresolved_steps = static_cast<int>(r->value("unresolved_steps"));
+  f.tangled_pairs = static_cast<long long>(r->value("tangled_pairs"));
+  f.body_crossings = static_cast<long long>(r->value("body_crossings"));
+  f.collider_projections = static_cast<long long>(r->value("collider_projections"));
+  f.seam_impulses = static_cast<long long>(r->value("seam_impulses"));
+  f.limited_vertices = static_cast<long long>(r->value("limited_vertices"));
+  f.seconds = r->value("seconds");
+  return f;
 }
 
 bool SelfCollisionPass::excluded(const std::string& name) const {
@@ -129,11 +164,14 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
       Eigen::VectorXd w;
       object_state(k, nodes, e, x0, v, w);
       const bool embedded = e.num_embedded > 0;
-      append_surface(mesh_, o.name, embedded ? o.embedded.surface.tris : o.surface.tris, x0, v, w, false, o.welds,
+      std::vector<Weld> welds;  // the seams its forces hold (a garment's stitches)
+      for (const auto& f : o.forces) welds.insert(welds.end(), f->seams().begin(), f->seams().end());
+      append_surface(mesh_, o.name, embedded ? o.embedded.surface.tris : o.surface.tris, x0, v, w, false, welds,
                      embedded ? &e : nullptr);
-      mesh_.surfaces.back().untangle = objects[k].kind == ObjectKind::Solid;
-      mesh_.surfaces.back().cut = objects[k].kind == ObjectKind::Solid && o.topology_version != 0;
-      mesh_.surfaces.back().level = objects[k].kind == ObjectKind::Solid ? 1 : 0;  // one-way coupling
+      const bool volume = o.tets.rows() > 0;  // a solid's boundary; else a sheet
+      mesh_.surfaces.back().untangle = volume;
+      mesh_.surfaces.back().cut = volume && o.topology_version != 0;
+      mesh_.surfaces.back().level = volume ? 1 : 0;  // one-way coupling
       if (!embedded && o.tets.rows() > 0) {
         std::vector<int> vertex_of(static_cast<std::size_t>(o.body.x.rows()), -1);
         for (std::size_t s = 0; s < nodes.size(); ++s)
@@ -229,7 +267,7 @@ bool SelfCollisionPass::may_start_crossed() const {
   return left_crossable_ || !started_where_ended();
 }
 
-void SelfCollisionPass::resolve(double dt, FrameReport::Collisions& r, const Points& v_in, Points& v, bool have_candidates,
+void SelfCollisionPass::resolve(double dt, SelfCollisionFigures& r, const Points& v_in, Points& v, bool have_candidates,
                                 const ZoneConstraint& constrain) {
   // Repulsion: pairs within the thickness at x0 (swept boxes grown by it hold them all).
   if (!have_candidates) broad_phase_.find(mesh_, v, dt, settings_.thickness, candidates_);
@@ -285,7 +323,7 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
     }
     resumed_.reset();
   }
-  FrameReport::Collisions& r = report.collisions;
+  SelfCollisionFigures r;  // this step's, added to the frame's record at its end
 
   // Tangles at the step's start release the pairs that can undo them (candidates/tangles.hpp);
   // only solids' boundaries are searched, so a scene of cloths pays nothing for it.
@@ -331,9 +369,7 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   // such a vertex then takes the body's normal velocity (no kick out of it). Counted in
   // stats.jsonl (`collider_projections`).
   std::vector<const ImplicitSurface*> bodies;
-  for (const auto& k : step.kinematic)
-    if (const auto* rb = dynamic_cast<const RigidBody*>(k.get()); rb && !rb->surface_is_shape())
-      bodies.push_back(rb->implicit().get());
+  for (const auto& c : analytic_colliders_) bodies.push_back(c.get());
   struct Projected {
     int vertex;
     Vec3 normal, body_velocity;
@@ -436,6 +472,8 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
     }
   }
   r.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.add_to(report.pass(kSelfCollisionRecord));
+  report.unresolved_steps += r.unresolved_steps;
 }
 
 void SelfCollisionPass::save_state(StateWriter& out) const {

@@ -29,7 +29,7 @@ template <class M> void require_finite(const M& A, const char* name) {
 
 // ---- The return mapping of ITF04 6.3, shared by tetrahedra (D = 3, F 3x3) and triangles
 // (D = 2, F 3x2, ITF04 section 8). D = 3 performs exactly the floating-point operations of the
-// original 3D-only code (tests/unit/plasticity.cpp compares against a verbatim copy bit for bit).
+// original 3D-only code (tests/unit/core/math/plasticity.cpp compares against a verbatim copy bit for bit).
 
 template <int D> struct Dim;
 template <> struct Dim<3> {

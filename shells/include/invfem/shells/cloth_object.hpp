@@ -9,13 +9,17 @@
 #include "invfem/core/integrate/edge_spring_force.hpp"
 #include "invfem/core/math/materials/model.hpp"
 #include "invfem/core/math/plasticity.hpp"
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 #include "invfem/shells/bending_force.hpp"
 #include "invfem/shells/garment.hpp"
 #include "invfem/shells/membrane_force.hpp"
 #include "invfem/shells/stitch_force.hpp"
 
 namespace invfem {
+
+// A cloth's stage in the World's step (SimObject::stage): after the solids (solid_object.hpp,
+// stage 0), so that it sees them at t + dt and they are colliders for it, never the reverse.
+inline constexpr int kClothStage = 1;
 
 // Where the inversion test of ITF04 section 8 takes its known surface normal per triangle.
 enum class InversionReference {

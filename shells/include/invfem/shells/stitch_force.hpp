@@ -27,7 +27,7 @@
 
 #include "invfem/core/integrate/force.hpp"
 #include "invfem/core/math/triangle_kernel.hpp"
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 
 namespace invfem {
 
@@ -84,6 +84,10 @@ class StitchForce final : public Force {
   void add_element_stats(ElementStats& stats) const override;
 
   const std::vector<Stitch>& stitches() const { return stitches_; }
+  // The seam points in the object's surface vertices (Force::seams), set once its surface exists
+  // (make_cloth_object): what the self-collision layer keeps touching and `invfem check` reads.
+  const std::vector<Weld>& seams() const override { return seams_; }
+  void set_seams(std::vector<Weld> seams) { seams_ = std::move(seams); }
   // L_s per stitch at the last update [m] (all 0 without sewing).
   const std::vector<double>& rest_lengths() const { return rest_; }
 
@@ -96,6 +100,7 @@ class StitchForce final : public Force {
   std::vector<double> opening_;  // g_s per stitch: its gap at the start when sewing, else empty
   std::vector<double> rest_;     // L_s per stitch at the last update
   std::vector<Vec3> gap_;        // C per stitch at the last update
+  std::vector<Weld> seams_;      // in surface vertices
 };
 
 // l_s per stitch: half the summed rest length of the boundary edges (edges of one triangle) at

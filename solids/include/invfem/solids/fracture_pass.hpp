@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 #include "invfem/solids/fracture_criterion.hpp"
 #include "invfem/solids/tet_mesh.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
@@ -42,15 +42,16 @@ struct FractureBase {
 // Rebuilds solid `o` on `mesh`'s current topology. With `change` (o holding the topology before
 // it): positions, velocities and the plastic state carried from the parents. Without (a
 // checkpoint's restore, which reads them next): positions at rest, velocities zero, Fp^-1 = Id.
-// Leaves the force to be updated at o.body.x (the World does so for an object whose node count
-// changed). Throws std::invalid_argument when o's first force is not a TetSolidForce.
-void rebuild_fractured_solid(SimObject& o, const VirtualNodeMesh& mesh, const FractureBase& base,
-                             const TopologyChange* change);
+// `force` is o's tet force, replaced by the new one in o.forces; returns the new one. Leaves the
+// force to be updated at o.body.x (the World does so for an object whose node count changed).
+TetSolidForce* rebuild_fractured_solid(SimObject& o, const TetSolidForce& force, const VirtualNodeMesh& mesh,
+                                       const FractureBase& base, const TopologyChange* change);
 
 struct FracturingSolid {
   std::string object;           // the SimObject's name
   TetMesh mesh;                 // its rest mesh (validated, positively oriented), node order of the object
   FractureCriterion criterion;
+  TetSolidForce* force = nullptr;  // the object's tet force (make_solid); null: not fracturable
 };
 
 class FracturePass final : public StepPass {
@@ -74,6 +75,7 @@ class FracturePass final : public StepPass {
     VirtualNodeMesh mesh;
     FractureBase base;
     int object = -1;  // index in the World's objects, bound at first use
+    TetSolidForce* force = nullptr;  // the object's tet force, followed through rebuilds
   };
   void bind(std::vector<SimObject>& objects);
 

@@ -6,11 +6,15 @@
 #include <vector>
 
 #include "invfem/core/integrate/edge_spring_force.hpp"
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 #include "invfem/solids/tet_mesh.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 
 namespace invfem {
+
+// A solid's stage in the World's step (SimObject::stage): the first, so that the cloths (a later
+// stage) see it at t + dt.
+inline constexpr int kSolidStage = 0;
 
 struct SolidObjectParams {
   TetMaterial material;
@@ -31,5 +35,12 @@ struct SolidObjectParams {
 // pinned nodes moving with their pins. Throws std::invalid_argument (material, masses, initial
 // positions of the wrong size or not finite) naming the problem.
 SimObject make_solid_object(const std::string& name, const TetMesh& mesh, SolidObjectParams params);
+
+// The same, with its tet force kept for what needs it back (fracture: FracturingSolid::force).
+struct SolidObject {
+  SimObject object;
+  TetSolidForce* tet_force = nullptr;  // among object.forces; null for the mass-spring baseline
+};
+SolidObject make_solid(const std::string& name, const TetMesh& mesh, SolidObjectParams params);
 
 }  // namespace invfem

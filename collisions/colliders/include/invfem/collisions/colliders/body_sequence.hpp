@@ -40,7 +40,7 @@
 #include <vector>
 
 #include "invfem/collisions/colliders/mesh_surface.hpp"
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 
 namespace invfem {
 

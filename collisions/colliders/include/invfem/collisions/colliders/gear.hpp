@@ -74,6 +74,7 @@ struct GearPairParams {
 struct GearPair {
   std::shared_ptr<MovingSurface> first;
   std::shared_ptr<MovingSurface> second;
+  std::shared_ptr<const GearSurface> first_shape, second_shape;  // their body-frame shapes (gear_triangles)
 };
 
 // The gear's closed triangle surface in its body frame: a prism over its profile r(theta)

@@ -11,7 +11,7 @@
 #include "invfem/collisions/colliders/implicit_surface.hpp"
 #include "invfem/collisions/colliders/rigid_collisions.hpp"
 #include "invfem/core/geometry/rigid_motion.hpp"
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 
 namespace invfem {
 

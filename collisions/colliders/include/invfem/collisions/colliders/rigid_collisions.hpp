@@ -25,8 +25,8 @@ struct RigidCollider {
 // fractured solid's embedded surface) becomes a MeshSurface at the first step and again after
 // each change of the solid's topology (SimObject::topology_version), refit after the solids step
 // each step, with the closest-point normal rule and the velocity of the solid's surface points
-// at t + dt. It acts on the named cloths only (never on itself or on
-// another solid), and nothing acts back on the solid.
+// at t + dt. It acts on the named cloths only, objects of a later stage (SimObject::stage; never
+// on itself or on another solid), and nothing acts back on the solid.
 struct SolidCoupling {
   std::string solid;
   std::vector<std::string> cloths;  // empty: every cloth of the world
@@ -40,12 +40,12 @@ class RigidCollisions final : public CollisionProcessor {
   explicit RigidCollisions(std::vector<RigidCollider> colliders, std::vector<SolidCoupling> couplings = {})
       : colliders_(std::move(colliders)), couplings_(std::move(couplings)) {}
 
-  // Cloths see the rigid colliders and the solids coupled to them; solids see the rigid
-  // colliders only.
+  // Every object sees the rigid colliders; the objects of a later stage than a coupled solid (the
+  // cloths) see that solid too.
   void begin_object(const SimObject& object) override;
   // Builds (first call) or refits each coupled solid's MeshSurface at t_new. Throws
-  // std::invalid_argument when a coupling names no solid of `objects`.
-  void solids_stepped(const std::vector<SimObject>& objects, double t_new, double dt) override;
+  // std::invalid_argument when a coupling names no object of a stage below `stage`.
+  void earlier_stages_stepped(const std::vector<SimObject>& objects, int stage, double t_new, double dt) override;
   // The smallest of every collider's ImplicitSurface::step_motion_limit (a coupled solid's
   // surface is a mesh: none).
   double step_motion_limit() const override;
@@ -77,6 +77,7 @@ class RigidCollisions final : public CollisionProcessor {
   std::vector<SolidCoupling> couplings_;
   std::vector<std::shared_ptr<MeshSurface>> solid_surfaces_;  // per coupling, once built
   std::vector<std::uint64_t> surface_versions_;                // the solid's topology_version it was built at
+  std::vector<int> solid_stages_;                              // the solid's stage
   std::vector<RigidCollider> active_;  // what process() uses for the current object
   std::vector<NodeConstraint> contact_scratch_;  // process(): per node, its contact if it collided
   std::vector<char> collided_scratch_;

@@ -96,7 +96,7 @@
 #include "invfem/collisions/self_collision/candidates/candidates.hpp"
 #include "invfem/core/geometry/surface.hpp"
 #include "invfem/core/math/types.hpp"
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 
 namespace invfem::collisions {
 

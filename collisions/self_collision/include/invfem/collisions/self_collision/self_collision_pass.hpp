@@ -32,15 +32,17 @@
 // starts (the first step, a rebuilt mesh, another pass moved the surfaces).
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "invfem/collisions/colliders/implicit_surface.hpp"
 #include "invfem/collisions/self_collision/broad_phase/broad_phase.hpp"
 #include "invfem/collisions/self_collision/candidates/tangles.hpp"
 #include "invfem/collisions/self_collision/collision_mesh.hpp"
 #include "invfem/collisions/self_collision/response/impact_zones.hpp"
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 
 namespace invfem::collisions {
 
@@ -78,10 +80,36 @@ void validate(const SelfCollisionSettings& settings);
 int limit_failed_step(const CollisionMesh& mesh, double dt, double thickness, const Points& v_in, Points& v,
                       std::vector<int>& projected_at);
 
+// The layer's figures, per step and summed over a frame's steps in its FrameReport record
+// (kSelfCollisionRecord; stats.jsonl "self_collision"): candidate pairs, repulsion impulses, CCD
+// hits, impact zones (count and largest in vertices), steps that ended with a collision the
+// fail-safe could not resolve, and seconds.
+struct SelfCollisionFigures {
+  long long candidates = 0, proximity_impulses = 0, ccd_hits = 0;
+  int impact_zones = 0, largest_zone = 0, unresolved_steps = 0;
+  long long tangled_pairs = 0;         // a solid boundary's edge-triangle crossings at a step's start (exempted)
+  long long body_crossings = 0;        // a cloth's edge-triangle crossings with a kinematic body at a step's start (released)
+  long long collider_projections = 0;  // vertices the layer moved into an analytic collider, put back
+  long long seam_impulses = 0;         // welds whose opening by the layer's impulses was undone (response/seams.hpp)
+  long long limited_vertices = 0;      // vertices of unresolved steps put back to the step's own motion
+  double seconds = 0;
+
+  // Adds a step's figures to the frame's record (largest_zone: the largest), in this order.
+  void add_to(PassRecord& record) const;
+  // A frame's figures from its report (all zero when the layer did not run).
+  static SelfCollisionFigures of(const FrameReport& report);
+};
+inline constexpr const char* kSelfCollisionRecord = "self_collision";
+
 class SelfCollisionPass final : public StepPass {
  public:
-  explicit SelfCollisionPass(SelfCollisionSettings settings);
+  // analytic_colliders: the shapes of the kinematic bodies whose triangles do not take part (an
+  // analytic plane, sphere or gear: KinematicBody::surface_is_shape false); a vertex the layer
+  // would carry into one is put back out along its normal (stats `collider_projections`).
+  explicit SelfCollisionPass(SelfCollisionSettings settings,
+                             std::vector<std::shared_ptr<const ImplicitSurface>> analytic_colliders = {});
   void after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport& report) override;
+  void open_record(FrameReport& report) const override { SelfCollisionFigures{}.add_to(report.pass(kSelfCollisionRecord)); }
   // kStepMotionEdges median edge lengths of the taking-part surfaces: the broad phase's candidates
   // per vertex grow with the square of its sweep in edges, and a step swept across a whole garment
   // (a body frame that jumps, steps of half a second) otherwise takes minutes and gigabytes.
@@ -109,7 +137,7 @@ class SelfCollisionPass final : public StepPass {
   void gather(const std::vector<SimObject>& objects, const StepPassInput& step);
   // Stages 1-4 on mesh_ (its inverse masses and exemptions as set), changing v. have_candidates:
   // candidates_ already holds the repulsion's candidates for these velocities and filters.
-  void resolve(double dt, FrameReport::Collisions& report, const Points& v_in, Points& v, bool have_candidates,
+  void resolve(double dt, SelfCollisionFigures& report, const Points& v_in, Points& v, bool have_candidates,
                const ZoneConstraint& constrain);
 
   // Sets mesh_.recovering (collision_mesh.hpp): the vertex pairs of the tets in boundary_tets_
@@ -119,6 +147,7 @@ class SelfCollisionPass final : public StepPass {
   int mark_recovering(bool fresh);
 
   SelfCollisionSettings settings_;
+  std::vector<std::shared_ptr<const ImplicitSurface>> analytic_colliders_;
   BroadPhase broad_phase_;
   CollisionMesh mesh_;
   bool built_ = false;

@@ -15,13 +15,14 @@ class CollisionProcessor {
  public:
   virtual ~CollisionProcessor() = default;
   // Stage hooks of the world's step (world.hpp). begin_object: the process() calls that follow
-  // are for this object (a processor may treat objects differently by name or kind: a solid's
-  // boundary collides with cloths only, never with itself). solids_stepped: every solid has
-  // stepped to t_new = t + dt and its surface was refreshed from its nodes (objects holds all of
-  // them, cloths still at t); no cloth has stepped yet. Both do nothing by default.
+  // are for this object (a processor may treat objects differently by name or stage: an earlier
+  // stage's surface collides with the later stages' objects only, never with itself).
+  // earlier_stages_stepped: every object of a stage below `stage` has stepped to t_new = t + dt
+  // and its surface was refreshed from its nodes (objects holds all of them, those of `stage` and
+  // above still at t). Both do nothing by default.
   virtual void begin_object(const SimObject& object) { (void)object; }
-  virtual void solids_stepped(const std::vector<SimObject>& objects, double t_new, double dt) {
-    (void)objects, (void)t_new, (void)dt;
+  virtual void earlier_stages_stepped(const std::vector<SimObject>& objects, int stage, double t_new, double dt) {
+    (void)objects, (void)stage, (void)t_new, (void)dt;
   }
   // The farthest [m] a node may move in one step and still have its contact with every collider
   // found (the thinnest analytic collider's half thickness): the world splits a step whose nodes

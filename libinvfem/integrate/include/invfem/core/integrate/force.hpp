@@ -4,6 +4,7 @@
 // never per element: each implementation runs its own flat element loop (parallel.hpp).
 #include <limits>
 #include <map>
+#include <vector>
 #include <string>
 
 #include "invfem/core/math/element_matrices.hpp"
@@ -29,6 +30,17 @@ struct ElementStats {
 
 // [m] a stitch within this is closed: woven seams hold to about a millimetre.
 inline constexpr double kStitchTolerance = 1e-3;
+
+// A seam point (a garment's stitch) as the self-collision layer and `invfem check` see it:
+// surface vertex i held at vertex j (k < 0: a stitch at an edge's end), or at the point
+// (1 - r) x_j + r x_k of the edge (j, k), 0 < r < 1.
+// Vertices held at one another are one point (transitively: three panels meeting at a corner);
+// a vertex on an edge touches both its ends. Primitives holding such vertices touch by
+// construction and are never collision candidates; nothing further from the seam is exempt.
+struct Weld {
+  int i = -1, j = -1, k = -1;
+  double r = 0;
+};
 
 // Per-element output fields (VTU cell data): name -> one value per element.
 using CellFields = std::map<std::string, Eigen::VectorXd>;
@@ -105,6 +117,12 @@ class Force {
   virtual void add_element_stats(ElementStats& stats) const {}
   // Per-element fields for volumetric output (e.g. det_F), at the last update_positions.
   virtual void add_cell_fields(CellFields& fields) const {}
+  // The seam points this force holds together, in the object's surface vertices (a garment's
+  // stitches); none by default.
+  virtual const std::vector<Weld>& seams() const {
+    static const std::vector<Weld> none;
+    return none;
+  }
 
  private:
   static bool without_values(bool given, ElementMatrices& out) {

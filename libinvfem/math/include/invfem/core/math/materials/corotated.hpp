@@ -11,7 +11,7 @@
 // ITF04's rotated_linear, which reads the same formula on the invertible diagonalization (s3 < 0
 // for det F < 0): here an inverted tet has |s3| where ITF04 has s3 < 0, so its energy is that of
 // the reflected, uninverted element, zero at F = R with det R = -1. An inverted element thus
-// finds a rest state inside out and is not pushed back (tests/unit/baselines.cpp). Where an
+// finds a rest state inside out and is not pushed back (tests/unit/core/integrate/baselines.cpp). Where an
 // element passes through the flat state the force jumps (R flips), which the survey's method
 // shares.
 //

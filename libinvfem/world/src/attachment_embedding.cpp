@@ -1,4 +1,4 @@
-#include "invfem/core/integrate/attachment_embedding.hpp"
+#include "invfem/core/world/attachment_embedding.hpp"
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
@@ -28,12 +28,12 @@ bool tet_weights(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, con
 
 }  // namespace
 
-std::vector<Attachment> embed_in_solid(const SimObject& solid, const Points& x, const std::vector<int>& nodes) {
-  const Points& X = solid.body.x;
-  const Tets& tets = solid.tets;
-  const TriangleSurface& boundary = solid.surface;
+std::vector<Attachment> embed_attachments(const SimObject& target, const Points& x, const std::vector<int>& nodes) {
+  const Points& X = target.body.x;
+  const Tets& tets = target.tets;
+  const TriangleSurface& boundary = target.surface;
   if (tets.rows() == 0 && boundary.tris.rows() == 0)
-    throw std::invalid_argument("attachments: solid \"" + solid.name + "\" has neither tets nor a boundary");
+    throw std::invalid_argument("attachments: object \"" + target.name + "\" has neither tets nor a boundary");
   for (int i : nodes)
     if (i < 0 || i >= x.rows())
       throw std::invalid_argument("attachments: node " + std::to_string(i) + " outside [0, " +
@@ -57,7 +57,7 @@ std::vector<Attachment> embed_in_solid(const SimObject& solid, const Points& x, 
       w = w.cwiseMax(0.0);
       w /= w.sum();
       for (int k = 0; k < 4; ++k) {
-        a.solid_nodes[static_cast<std::size_t>(k)] = tets(e, k);
+        a.target_nodes[static_cast<std::size_t>(k)] = tets(e, k);
         a.weights[static_cast<std::size_t>(k)] = w(k);
       }
       out[q] = a;
@@ -73,10 +73,10 @@ std::vector<Attachment> embed_in_solid(const SimObject& solid, const Points& x, 
       if (!(tp.distance2 < best)) continue;
       best = tp.distance2;
       for (int k = 0; k < 3; ++k) {
-        a.solid_nodes[static_cast<std::size_t>(k)] = solid.surface_nodes[static_cast<std::size_t>(boundary.tris(f, k))];
+        a.target_nodes[static_cast<std::size_t>(k)] = target.surface_nodes[static_cast<std::size_t>(boundary.tris(f, k))];
         a.weights[static_cast<std::size_t>(k)] = tp.barycentric(k);
       }
-      a.solid_nodes[3] = -1;
+      a.target_nodes[3] = -1;
       a.weights[3] = 0;
       a.offset = p - tp.point;
     }

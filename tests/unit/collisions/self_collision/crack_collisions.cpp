@@ -15,7 +15,7 @@
 #include "invfem/collisions/self_collision/response/pair_impulse.hpp"
 #include "invfem/collisions/self_collision/self_collision_pass.hpp"
 #include "invfem/core/math/materials/lame.hpp"
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 #include "invfem/solids/embedded_crack_surface.hpp"
 #include "invfem/solids/fracture_pass.hpp"
 #include "invfem/solids/solid_object.hpp"
@@ -205,10 +205,10 @@ TEST(CrackCollisions, TheFacesOfACrackThatCloseOntoEachOtherAreStopped) {
   FrameReport report;
   const std::vector<Points> x_start = {x0};
   pass.after_step(objects, StepPassInput{x_start, none, none_start, 0.0, dt}, report);
-  EXPECT_EQ(crossings(objects[0]), 0) << report.collisions.ccd_hits << " hits, " << report.collisions.impact_zones
+  EXPECT_EQ(crossings(objects[0]), 0) << collisions::SelfCollisionFigures::of(report).ccd_hits << " hits, " << collisions::SelfCollisionFigures::of(report).impact_zones
                                       << " zones";
-  EXPECT_EQ(report.collisions.unresolved_steps, 0);
-  EXPECT_GT(report.collisions.ccd_hits + report.collisions.impact_zones, 0);
+  EXPECT_EQ(collisions::SelfCollisionFigures::of(report).unresolved_steps, 0);
+  EXPECT_GT(collisions::SelfCollisionFigures::of(report).ccd_hits + collisions::SelfCollisionFigures::of(report).impact_zones, 0);
   // The upper piece's crack face ends above the lower one's: the piece was stopped, not let through.
   double lowest_top = 1, highest_bottom = -1;
   const TriangleSurface& s = objects[0].embedded.surface;

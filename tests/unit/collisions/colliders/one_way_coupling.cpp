@@ -13,9 +13,9 @@
 #include "invfem/collisions/self_collision/response/impact_zones.hpp"
 #include "invfem/collisions/self_collision/response/pair_impulse.hpp"
 #include "invfem/collisions/colliders/rigid_collisions.hpp"
-#include "invfem/core/integrate/attachment_embedding.hpp"
+#include "invfem/core/world/attachment_embedding.hpp"
 #include "invfem/core/math/materials/lame.hpp"
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 #include "invfem/shells/cloth_object.hpp"
 #include "invfem/shells/shapes.hpp"
 #include "invfem/solids/embedded_crack_surface.hpp"
@@ -96,7 +96,7 @@ TEST(OneWayCoupling, ASolidsBoundaryCollidesWithClothsOnly) {
   objects.push_back(soft_cube("solid", 0, Vec3::Zero()));
   objects.push_back(make_cloth_object("cloth", make_grid(0.1, 0.1, 1, 1), ClothObjectParams{}));
   RigidCollisions c({}, {SolidCoupling{"solid", {}, 0.0, 0.05}});
-  c.solids_stepped(objects, 0.01, 0.01);
+  c.earlier_stages_stepped(objects, kClothStage, 0.01, 0.01);
   Points x_old(1, 3), x_new(1, 3), v = Points::Zero(1, 3);
   x_old << 0.1, 0.21, 0.1;
   x_new << 0.1, 0.19, 0.1;  // 1 cm inside the cube's top face
@@ -110,12 +110,12 @@ TEST(OneWayCoupling, ASolidsBoundaryCollidesWithClothsOnly) {
   EXPECT_NEAR(found[0].normal.dot(Vec3::UnitY()), 1.0, 1e-12);
   // A coupling limited to another cloth leaves this one alone.
   RigidCollisions other({}, {SolidCoupling{"solid", {"cape"}, 0.0, 0.05}});
-  other.solids_stepped(objects, 0.01, 0.01);
+  other.earlier_stages_stepped(objects, kClothStage, 0.01, 0.01);
   other.begin_object(objects[1]);
   x_new << 0.1, 0.19, 0.1;
   EXPECT_EQ(other.process(x_old, x_new, v, 0.01, 0.01, found), 0);
   RigidCollisions unknown({}, {SolidCoupling{"nobody", {}, 0.0, 0.05}});
-  EXPECT_THROW(unknown.solids_stepped(objects, 0.01, 0.01), std::invalid_argument);
+  EXPECT_THROW(unknown.earlier_stages_stepped(objects, kClothStage, 0.01, 0.01), std::invalid_argument);
 }
 
 TEST(OneWayCoupling, AttachedVerticesStayOnTheirEmbeddingWhileTheSolidBouncesAndSquashes) {
@@ -131,12 +131,12 @@ TEST(OneWayCoupling, AttachedVerticesStayOnTheirEmbeddingWhileTheSolidBouncesAnd
   grid.x.row(0) << 0.05, 0.45, 0.05;  // inside the cube (its top is at y = 0.5)
   SimObject cloth = make_cloth_object("cloth", grid, cp);
   const int inside = 0, above = 12;          // vertex 12: (0.1, 0.51, 0.1)
-  cloth.attachments.push_back(AttachmentGroup{"cube", embed_in_solid(objects[0], cloth.body.x, {inside, above})});
+  cloth.attachments.push_back(AttachmentGroup{"cube", embed_attachments(objects[0], cloth.body.x, {inside, above})});
   const auto& a = cloth.attachments[0].vertices;
   ASSERT_EQ(a.size(), 2u);
-  EXPECT_GE(a[0].solid_nodes[3], 0);  // a tet
+  EXPECT_GE(a[0].target_nodes[3], 0);  // a tet
   EXPECT_TRUE(a[0].offset.isZero());
-  EXPECT_EQ(a[1].solid_nodes[3], -1);  // a boundary triangle
+  EXPECT_EQ(a[1].target_nodes[3], -1);  // a boundary triangle
   EXPECT_NEAR(a[1].offset(1), 0.01, 1e-12);
   for (const Attachment& e : a)
     EXPECT_NEAR((attachment_target(e, objects[0].body.x) - cloth.body.x.row(e.node).transpose()).norm(), 0.0, 1e-12);
@@ -177,7 +177,7 @@ TEST(OneWayCoupling, AFracturedSolidCollidesWithItsEmbeddedSurface) {
   objects.push_back(soft_cube("solid", 0, Vec3::Zero()));
   objects.push_back(make_cloth_object("cloth", make_grid(0.1, 0.1, 1, 1), ClothObjectParams{}));
   RigidCollisions c({}, {SolidCoupling{"solid", {}, 0.0, 0.05}});
-  c.solids_stepped(objects, 0.01, 0.01);
+  c.earlier_stages_stepped(objects, kClothStage, 0.01, 0.01);
   c.begin_object(objects[1]);
   Points x_old(1, 3), x_new(1, 3), v = Points::Zero(1, 3);
   NodeConstraints found;
@@ -196,7 +196,7 @@ TEST(OneWayCoupling, AFracturedSolidCollidesWithItsEmbeddedSurface) {
   for (int i = 0; i < tear.mesh.num_nodes(); ++i)
     if (tear.component[static_cast<std::size_t>(i)] == tear.top) solid.body.x(i, 1) += 0.1;
   solid.refresh_surface();
-  c.solids_stepped(objects, 0.02, 0.01);
+  c.earlier_stages_stepped(objects, kClothStage, 0.02, 0.01);
   c.begin_object(objects[1]);
   x_new << 0.07, 0.2, 0.07;
   EXPECT_EQ(c.process(x_old, x_new, v, 0.02, 0.01, found), 0);  // in the gap

@@ -340,7 +340,7 @@ TEST(BodySequence, ClothRestingOnAMovingBodyIsCarriedWithoutPassingThrough) {
   for (int frame = 1; frame <= 40; ++frame) {
     FrameReport r;
     world.advance_to(frame / 20.0, r);
-    unresolved += r.collisions.unresolved_steps;
+    unresolved += collisions::SelfCollisionFigures::of(r).unresolved_steps;
     ASSERT_TRUE(world.state_is_finite()) << "frame " << frame;
     const Points& x = world.objects()[0].body.x;
     double worst = INFINITY;
@@ -378,7 +378,7 @@ int run_teleport(double box_half_width) {
   for (int frame = 1; frame <= 8; ++frame) {
     FrameReport r;
     EXPECT_NO_THROW(world.advance_to(frame / 20.0, r));
-    unresolved += r.collisions.unresolved_steps;
+    unresolved += collisions::SelfCollisionFigures::of(r).unresolved_steps;
     EXPECT_TRUE(world.state_is_finite()) << "frame " << frame;
     if (!world.state_is_finite()) return unresolved;
     const Points& x = world.objects()[0].body.x;

@@ -7,7 +7,7 @@
 
 #include "invfem/core/math/materials/lame.hpp"
 #include "invfem/core/geometry/rigid_motion.hpp"
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 #include "invfem/solids/fracture_pass.hpp"
 #include "invfem/solids/solid_object.hpp"
 #include "test_meshes.hpp"
@@ -42,9 +42,10 @@ World make_world(FracturePass** pass_out = nullptr) {
   pulled.motion = Motion::constant_velocity(RigidTransform{}, Vec3::Zero(), Vec3(kPull, 0, 0), Vec3::UnitZ(), 0);
   p.pins = {held, pulled};
   std::vector<SimObject> objects;
-  objects.push_back(make_solid_object("bar", mesh, std::move(p)));
+  SolidObject bar = make_solid("bar", mesh, std::move(p));
+  objects.push_back(std::move(bar.object));
   World world(WorldSettings{}, std::move(objects), {}, nullptr);
-  FracturingSolid f{"bar", mesh, FractureCriterion{}};
+  FracturingSolid f{"bar", mesh, FractureCriterion{}, bar.tet_force};
   f.criterion.max_principal_stress = 2e4;
   auto pass = std::make_unique<FracturePass>(std::vector<FracturingSolid>{f});
   if (pass_out) *pass_out = pass.get();

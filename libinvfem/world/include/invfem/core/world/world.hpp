@@ -1,19 +1,21 @@
 #pragma once
 // The simulated world and its multi-object step: the one place where the substep loop, the
-// order in which kinds of object advance, and the energies live (DESIGN.md "Data flow").
+// order in which objects advance, and the energies live (DESIGN.md "Data flow"). The world knows
+// no kind of object: each declares its stage (SimObject::stage) and the modules that build them
+// choose the numbers (solids step before cloths).
 //
 // Each step t -> t + dt runs these stages, in this order:
-//   1. kinematic bodies move to t + dt (rigid colliders now; bodies from mesh sequences later);
-//   2. solids step (the ITF04 section 9 step, newmark_step, or the implicit step, implicit_step),
-//      in the order they were added;
-//   2b. one-way coupling (ITF04 section 10): the solids' surfaces are refreshed from their nodes
-//      and handed to the collision processor (CollisionProcessor::solids_stepped), which may make
-//      them moving colliders for the cloths; the cloths never push back;
-//   3. cloths and shells step, likewise, so that they see the solids at t + dt: the collision
+//   1. kinematic bodies move to t + dt (rigid colliders, animated bodies);
+//   2. the objects step, stage by stage in ascending SimObject::stage, in the order they were
+//      added within a stage (the ITF04 section 9 step, newmark_step, or the implicit step,
+//      implicit_step). Before every stage but the first, one-way coupling (ITF04 section 10):
+//      the surfaces of the objects of the earlier stages are refreshed from their nodes and
+//      handed to the collision processor (CollisionProcessor::earlier_stages_stepped), which may
+//      make them moving colliders for the later ones; those never push back. The collision
 //      processor is told which object each step is for (CollisionProcessor::begin_object), and
-//      attached cloth vertices (SimObject::attachments) are held as Full constraints on their
-//      targets in the solids at t + dt;
-//   4. after-step passes: every object's surface is refreshed from its nodes, then each StepPass
+//      attached vertices (SimObject::attachments) are held as Full constraints on their targets
+//      in objects of earlier stages, at t + dt;
+//   3. after-step passes: every object's surface is refreshed from its nodes, then each StepPass
 //      runs in the order added (the BFA02 self-collision pass goes here). With no pass, surfaces
 //      are refreshed once, when advance_to returns.
 // dt is solver.max_dt, with the ITF04 step also the smallest stable step of every object,
@@ -50,64 +52,57 @@ struct PinGroup {
   std::optional<Motion> motion;  // empty: held still
 };
 
-enum class ObjectKind { Solid, Cloth };
-
-// A seam point (a garment's stitch) as the self-collision layer and `invfem check` see it:
-// surface vertex i held at vertex j (k < 0: a stitch at an edge's end), or at the point
-// (1 - r) x_j + r x_k of the edge (j, k), 0 < r < 1.
-// Vertices held at one another are one point (transitively: three panels meeting at a corner);
-// a vertex on an edge touches both its ends. Primitives holding such vertices touch by
-// construction and are never collision candidates; nothing further from the seam is exempt.
-struct Weld {
-  int i = -1, j = -1, k = -1;
-  double r = 0;
-};
-
-// A cloth vertex tied to a solid (one-way coupling, ITF04 section 10: a cape tied at the
-// shoulders). The vertex follows target = sum_k weights[k] x_solid(solid_nodes[k]) + offset:
-// inside a tet, the tet's 4 nodes by barycentric weights (offset 0); otherwise the closest
-// boundary triangle's 3 nodes (solid_nodes[3] = -1, weights[3] = 0) and offset, the world-space
-// vector from that closest point to the vertex when the embedding was found (it keeps its gap
-// to the surface; it does not turn with the solid).
+// A node tied to another object, of an earlier stage (one-way coupling, ITF04 section 10: a cape
+// tied at the shoulders). The node follows target = sum_k weights[k] x_other(target_nodes[k]) +
+// offset: inside a tet, the tet's 4 nodes by barycentric weights (offset 0); otherwise the
+// closest boundary triangle's 3 nodes (target_nodes[3] = -1, weights[3] = 0) and offset, the
+// world-space vector from that closest point to the node when the embedding was found (it keeps
+// its gap to the surface; it does not turn with the other object).
 struct Attachment {
-  int node = -1;                           // the cloth's node
-  std::array<int, 4> solid_nodes{-1, -1, -1, -1};
+  int node = -1;                           // the attached object's node
+  std::array<int, 4> target_nodes{-1, -1, -1, -1};
   std::array<double, 4> weights{0, 0, 0, 0};
   Vec3 offset = Vec3::Zero();              // [m]
 };
 
-// The attachments of one cloth to one solid, named (the world resolves the name).
+// The attachments of one object to another, named (the world resolves the name).
 struct AttachmentGroup {
-  std::string solid;
+  std::string target;  // the object the nodes are tied to
   std::vector<Attachment> vertices;
 };
 
 // One simulated object: its nodes (Body), the forces acting on them, its pins, and its surface.
 struct SimObject {
   std::string name;
-  ObjectKind kind = ObjectKind::Solid;
+  // The step's stage (World stage 2): objects step in ascending stage, and the objects of earlier
+  // stages are colliders for the later ones (one-way coupling). The modules choose the numbers.
+  int stage = 0;
+  // What ImplicitSettings' Preconditioner::Auto means for this object: Auto itself (block Jacobi,
+  // switching to the multigrid on a hard solve) or a fixed choice (a shell: block Jacobi, as the
+  // multigrid's rigid-motion near null space does not help it).
+  Preconditioner auto_preconditioner = Preconditioner::Auto;
   Body body;
   std::vector<std::unique_ptr<Force>> forces;
   std::vector<PinGroup> pins;
-  // What is written, rendered and collided: a solid's boundary, a cloth itself. Surface vertex s
+  // What is written, rendered and collided: a volume's boundary, a sheet itself. Surface vertex s
   // is body node surface_nodes[s]; positions are refreshed before after-step passes and at the
   // end of every advance_to (refresh_surface).
   TriangleSurface surface;
   std::vector<int> surface_nodes;
-  // A fracturing solid once it is cut: its material surface embedded in the element copies
-  // (embedded_surface.hpp; the enlarged mesh's boundary `surface` shows each cut element's
-  // copies whole, so the two sides of a crack would overlap by one element). Written and drawn
-  // instead of `surface` (output_surface) when not empty; refreshed with it. Empty otherwise.
+  // The material surface embedded in the elements, when it differs from the mesh's boundary
+  // (a cut volume: embedded_surface.hpp; its boundary `surface` shows each cut element's copies
+  // whole, so the two sides of a crack would overlap by one element). Written and drawn instead
+  // of `surface` (material_surface) when not empty; refreshed with it. Empty otherwise.
   EmbeddedSurface embedded;
   // Counts the changes of this object's topology (nodes, tets, surfaces): a pass that changes it
   // (fracture) increments it, and what caches an object's topology (the self-collision layer's
   // CollisionMesh, a coupling's collider BVH) rebuilds when it differs from the value it saw.
   std::uint64_t topology_version = 0;
-  // The seam points of a garment's stitches, in surface vertices (Weld).
-  std::vector<Weld> welds;
-  Tets tets;  // solids: the tet mesh, for volumetric output; empty otherwise
-  // Cloths: vertices that follow a solid (held as Full constraints toward their targets at the
-  // step's end; the solid steps first). Empty for solids.
+  // The object's tet mesh when it is a volume (#tets x 4 node indices): volumetric output, the
+  // self-collision layer's boundary tets. Empty for a sheet.
+  Tets tets;
+  // Nodes that follow objects of earlier stages (held as Full constraints toward their targets at
+  // the step's end; those objects have stepped).
   std::vector<AttachmentGroup> attachments;
 
   std::vector<Force*> force_pointers() const;
@@ -145,7 +140,7 @@ class KinematicBody {
 
 struct FrameReport;
 
-// What an after-step pass sees of the step (stage 4): per object, its node positions at the
+// What an after-step pass sees of the step (stage 3): per object, its node positions at the
 // step's start (the objects hold the end-of-step state); per kinematic body, its surface's vertex
 // positions at the step's start (empty when it has no surface), the bodies being at t + dt.
 struct StepPassInput {
@@ -155,8 +150,9 @@ struct StepPassInput {
   double t, dt;
 };
 
-// A pass run after every step (stage 4), such as the self-collision layer (collisions/); it may
-// change the objects' end-of-step positions and velocities, and adds its figures to the report.
+// A pass run after every step (stage 3), such as the self-collision layer (collisions/); it may
+// change the objects' end-of-step positions and velocities, and adds its figures to the report
+// (its PassRecord; FrameReport::unresolved_steps when it leaves a collision unresolved).
 // The world then updates the forces of every object whose positions it changed. A pass may also
 // change an object's topology (its nodes, forces, surface, tets and pins: fracture); the world
 // then updates its forces too (the implicit step rebuilds its workspace for the new node count).
@@ -164,6 +160,9 @@ class StepPass {
  public:
   virtual ~StepPass() = default;
   virtual void after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport& report) = 0;
+  // Adds the pass's record with its figures at zero (World::measure), so that a frame without a
+  // step (frame 0) reports them too; a pass without a record adds nothing.
+  virtual void open_record(FrameReport& report) const { (void)report; }
   // The farthest [m] anything may move in one step among these objects for the pass to do its
   // work within bounds (World::advance_to splits a step that would move further); infinity: none.
   virtual double step_motion_limit(const std::vector<SimObject>& objects) const {
@@ -200,7 +199,7 @@ struct WorldSettings {
   // sweep. Infinity: the passes', colliders' and bodies' limits only.
   double max_step_motion = std::numeric_limits<double>::infinity();
   // Retried steps: a step after which a pass reports a collision it could not resolve
-  // (FrameReport::Collisions::unresolved_steps) is taken again from its start as two steps of
+  // (FrameReport::unresolved_steps) is taken again from its start as two steps of
   // half its length, up to this many halvings of a frame's steps; the last try's result stands.
   // A shorter step gives the self-collision layer a smaller sweep to order, so a tangle from one
   // pinched step is met before it forms rather than frozen in a rigid zone. 0: never retried.
@@ -217,6 +216,21 @@ class SubstepLimitError : public std::runtime_error {
   long long limit;
 };
 
+// One after-step pass's figures over a frame (FrameReport::passes), under the pass's name (the
+// run's stats.jsonl writes each record as an object of that name): named values in the order
+// first added, each summed over the frame's steps (add) or the largest of them (keep_largest). A
+// figure named "seconds" is the pass's wall-clock time.
+struct PassRecord {
+  std::string name;
+  std::vector<std::pair<std::string, double>> figures;
+
+  double& figure(const std::string& key);      // added at 0 when missing
+  double value(const std::string& key) const;  // 0 when missing
+  const double* find_figure(const std::string& key) const;  // nullptr when missing
+  void add(const std::string& key, double v) { figure(key) += v; }
+  void keep_largest(const std::string& key, double v);
+};
+
 // Per-frame figures, summed over objects.
 struct FrameReport {
   double kinetic = 0, elastic = 0, gravity = 0;  // [J]; gravity potential is -m g.x
@@ -228,19 +242,13 @@ struct FrameReport {
   // iteration cap (or without descent) above the tolerance, with the worst final residual.
   int newton_iterations = 0, newton_capped = 0;
   double newton_worst_residual = 0;
-  // After-step self-collision pass (collisions/self_collision_pass.hpp), summed over the frame's
-  // steps: candidate pairs, repulsion impulses, CCD hits, impact zones (count and largest in
-  // vertices), steps that ended with a collision the fail-safe could not resolve, and seconds.
-  struct Collisions {
-    long long candidates = 0, proximity_impulses = 0, ccd_hits = 0;
-    int impact_zones = 0, largest_zone = 0, unresolved_steps = 0;
-    long long tangled_pairs = 0;         // a solid boundary's edge-triangle crossings at a step's start (exempted)
-    long long body_crossings = 0;        // a cloth's edge-triangle crossings with a kinematic body at a step's start (released)
-    long long collider_projections = 0;  // vertices the layer moved into an analytic collider, put back
-    long long seam_impulses = 0;         // welds whose opening by the layer's impulses was undone (response/seams.hpp)
-    long long limited_vertices = 0;      // vertices of unresolved steps put back to the step's own motion
-    double seconds = 0;
-  } collisions;
+  // After-step passes (StepPass): each one's own record, in the order first reported; and the
+  // frame's steps after which a pass reported a collision it could not resolve (the counted tries:
+  // WorldSettings::max_step_retries).
+  std::vector<PassRecord> passes;
+  int unresolved_steps = 0;
+  PassRecord& pass(const std::string& name);               // added empty when missing
+  const PassRecord* find_pass(const std::string& name) const;  // nullptr when missing
   // Wall-clock seconds of the frame's steps per object (objects() order): its integrator step,
   // with the collider and attachment processing inside it; and the refit of the solids' surfaces
   // as colliders for the cloths (one-way coupling, stage 2b).
@@ -263,10 +271,10 @@ struct StepMotion {
 
 class World {
  public:
-  // Objects are stepped by kind (stage order above), in the given order within a kind. Throws
+  // Objects are stepped by stage (SimObject::stage), in the given order within a stage. Throws
   // std::invalid_argument for two objects or bodies with one name, or an object whose surface map
-  // or pins name a node it does not have, or an attachment naming no solid of the world or a
-  // node outside its cloth or solid.
+  // or pins name a node it does not have, or an attachment naming no object of an earlier stage
+  // or a node outside either object.
   World(WorldSettings settings, std::vector<SimObject> objects,
         std::vector<std::shared_ptr<KinematicBody>> kinematic, std::unique_ptr<CollisionProcessor> collisions);
 
@@ -291,7 +299,7 @@ class World {
   // The motion-bounded steps' common limit [m]: the smallest of WorldSettings::max_step_motion
   // and the passes' step_motion_limit() (the colliders and bodies may bound further).
   double step_motion_limit() const;
-  // Energies and element figures at the current state.
+  // Energies and element figures at the current state; every pass's record opened (StepPass::open_record).
   void measure(FrameReport& report) const;
   // What is not finite in the current state, "" when nothing is: the first object whose
   // positions, velocities, kinetic or gravity energy or a force's elastic energy is not finite
@@ -320,9 +328,8 @@ class World {
   StepMotion step_motion(double dt, double limit, const std::vector<Points>& kinematic_start);
   // Pins and attachments of object k for a step of length dt from the current state.
   NodeConstraints constraints_of(std::size_t k, double dt) const;
-  // settings_.implicit for object o: ImplicitSettings::preconditioner Auto is block Jacobi for a
-  // cloth (the multigrid, with rigid motions as its near null space, does not help a shell: the
-  // quick dress took as many CG iterations with it, 42 s against 8.8 s) and stays Auto for a solid.
+  // settings_.implicit for object o: ImplicitSettings::preconditioner Auto is the object's
+  // auto_preconditioner.
   ImplicitSettings implicit_settings(const SimObject& o) const;
   void apply_state(StateReader& in);
 
@@ -334,7 +341,8 @@ class World {
   std::vector<std::unique_ptr<StepPass>> passes_;
   std::vector<ImplicitWorkspace> implicit_;  // per object, for the implicit integrator
   std::vector<NewmarkWorkspace> newmark_;    // per object, for the ITF04 step
-  std::vector<std::vector<int>> attached_solid_;  // per object, per attachment group: the solid's index
+  std::vector<std::vector<int>> attached_to_;  // per object, per attachment group: the other object's index
+  std::vector<int> stages_;                       // the objects' distinct stages, ascending
 };
 
 }  // namespace invfem

@@ -744,7 +744,7 @@ SimObject sheet_object(const std::string& name, int n, double width, double heig
   append_grid(tmp, name, n, width, height, Vec3::Zero());
   SimObject o;
   o.name = name;
-  o.kind = ObjectKind::Cloth;
+  o.stage = 1;  // a cloth's (shells/cloth_object.hpp)
   o.body.x = tmp.x0;
   o.body.v = Points::Zero(tmp.x0.rows(), 3);
   o.body.mass = Eigen::VectorXd::Ones(tmp.x0.rows());
@@ -789,8 +789,8 @@ TEST(SelfCollisionPass, StopsASheetTunnellingThroughAnotherAndConservesMomentum)
     append_surface(after, objects[k].name, objects[k].surface.tris, x_start[k],
                    (objects[k].body.x - x_start[k]) / dt, Eigen::VectorXd::Ones(25), false);
   EXPECT_EQ(colliding_pairs(after, after.v, dt, 0.0), 0)
-      << report.collisions.candidates << " candidates, " << report.collisions.proximity_impulses << " repulsions, "
-      << report.collisions.ccd_hits << " hits, " << report.collisions.impact_zones << " zones";
+      << collisions::SelfCollisionFigures::of(report).candidates << " candidates, " << collisions::SelfCollisionFigures::of(report).proximity_impulses << " repulsions, "
+      << collisions::SelfCollisionFigures::of(report).ccd_hits << " hits, " << collisions::SelfCollisionFigures::of(report).impact_zones << " zones";
   // Without the pass, the same step crosses.
   CollisionMesh before;
   Points v_fall = Points::Zero(25, 3);
@@ -798,9 +798,9 @@ TEST(SelfCollisionPass, StopsASheetTunnellingThroughAnotherAndConservesMomentum)
   append_surface(before, "lower", objects[0].surface.tris, x_start[0], Points::Zero(25, 3), Eigen::VectorXd::Ones(25), false);
   append_surface(before, "upper", objects[1].surface.tris, x_start[1], v_fall, Eigen::VectorXd::Ones(25), false);
   EXPECT_GT(colliding_pairs(before, before.v, dt, 0.0), 0);
-  EXPECT_GT(report.collisions.candidates, 0);
-  EXPECT_GT(report.collisions.ccd_hits + report.collisions.impact_zones, 0);
-  EXPECT_EQ(report.collisions.unresolved_steps, 0);
+  EXPECT_GT(collisions::SelfCollisionFigures::of(report).candidates, 0);
+  EXPECT_GT(collisions::SelfCollisionFigures::of(report).ccd_hits + collisions::SelfCollisionFigures::of(report).impact_zones, 0);
+  EXPECT_EQ(collisions::SelfCollisionFigures::of(report).unresolved_steps, 0);
   Vec3 p = Vec3::Zero();
   for (const auto& o : objects) p += o.body.v.colwise().sum().transpose();
   EXPECT_NEAR(p.y(), 25 * (-0.05 / dt), 1e-9);  // momentum of the falling sheet, now shared
@@ -877,8 +877,8 @@ TEST(SelfCollisionPass, StopsASolidsBoundaryNodeAtItsOwnTetsBoundaryFace) {
   pass.after_step(objects, StepPassInput{x_start, none, none_start, 0.0, dt}, report);
   // The apex stays inside, below its tet's boundary face (the tet flat at most, not inverted).
   EXPECT_GT(outward.dot(centroid - node(o.body.x, apex)), 0) << "the apex crossed its tet's boundary face";
-  EXPECT_GT(report.collisions.ccd_hits + report.collisions.impact_zones, 0);
-  EXPECT_EQ(report.collisions.unresolved_steps, 0);
+  EXPECT_GT(collisions::SelfCollisionFigures::of(report).ccd_hits + collisions::SelfCollisionFigures::of(report).impact_zones, 0);
+  EXPECT_EQ(collisions::SelfCollisionFigures::of(report).unresolved_steps, 0);
   EXPECT_EQ(node(o.body.x, centre), centre_end);  // the interior is the elements' business
   EXPECT_LT(six_volume(o.body.x, centre_tet), 0);
 }
@@ -911,7 +911,7 @@ TEST(SelfCollisionPass, KinematicSheetPushesClothInsteadOfPassingThroughIt) {
   FrameReport report;
   pass.after_step(objects, StepPassInput{x_start, kinematic, kinematic_start, 0.0, 0.01}, report);
   EXPECT_GT(objects[0].body.x.col(1).minCoeff(), 0.03);  // carried up with the plate
-  EXPECT_EQ(report.collisions.unresolved_steps, 0);
+  EXPECT_EQ(collisions::SelfCollisionFigures::of(report).unresolved_steps, 0);
 }
 
 TEST(SelfCollisionPass, ReleasesAClothThatStartsCrossingABodySoItComesOut) {
@@ -936,21 +936,21 @@ TEST(SelfCollisionPass, ReleasesAClothThatStartsCrossingABodySoItComesOut) {
   SelfCollisionPass pass({});
   FrameReport report;
   pass.after_step(objects, StepPassInput{x_start, kinematic, kinematic_start, 0.0, dt}, report);
-  EXPECT_GT(report.collisions.body_crossings, 0);
+  EXPECT_GT(collisions::SelfCollisionFigures::of(report).body_crossings, 0);
   EXPECT_NEAR(objects[0].body.x(middle, 1), 0.01, 1e-12);
   EXPECT_GT(objects[0].body.x.col(1).minCoeff(), 0.0);
   // The next step starts free of the body: nothing is released.
   FrameReport next;
   const std::vector<Points> x_next = {objects[0].body.x};
   pass.after_step(objects, StepPassInput{x_next, kinematic, kinematic_start, dt, dt}, next);
-  EXPECT_EQ(next.collisions.body_crossings, 0);
+  EXPECT_EQ(collisions::SelfCollisionFigures::of(next).body_crossings, 0);
   // That step ended clean, so the next start is searched only because something else (here the
   // test, as another pass might) put the vertex back under the plate after it: still found.
   FrameReport moved;
   std::vector<Points> x_moved = {objects[0].body.x};
   x_moved[0](middle, 1) = -0.005;
   pass.after_step(objects, StepPassInput{x_moved, kinematic, kinematic_start, 2 * dt, dt}, moved);
-  EXPECT_GT(moved.collisions.body_crossings, 0);
+  EXPECT_GT(collisions::SelfCollisionFigures::of(moved).body_crossings, 0);
 }
 
 // A tangle (an edge of a solid's boundary through one of its triangles at the step's start)
@@ -1119,9 +1119,9 @@ TEST(SelfCollisionPass, LetsAMirroredSolidTurnBackThroughItself) {
   SelfCollisionPass pass({});
   // A first step that does not move (a start the layer did not make), then the way back.
   FrameReport still = step_pair(pass, objects, mirrored, mirrored, 0, dt);
-  EXPECT_EQ(still.collisions.unresolved_steps, 0);
+  EXPECT_EQ(collisions::SelfCollisionFigures::of(still).unresolved_steps, 0);
   FrameReport back = step_pair(pass, objects, mirrored, rest, dt, dt);
-  EXPECT_EQ(back.collisions.unresolved_steps, 0);
+  EXPECT_EQ(collisions::SelfCollisionFigures::of(back).unresolved_steps, 0);
   for (int n = 0; n < 5; ++n)
     EXPECT_TRUE(objects[0].body.x.row(n).isApprox(rest.row(n), 1e-12)) << "node " << n << " held: "
                                                                          << objects[0].body.x.row(n);
@@ -1155,7 +1155,7 @@ TEST(SelfCollisionPass, ACheckpointKeepsWhichTetsRecover) {
 
   SelfCollisionPass a({});
   FrameReport first = step_pair(a, a_objects, rest, inside, 0, dt);
-  ASSERT_EQ(first.collisions.unresolved_steps, 0);
+  ASSERT_EQ(collisions::SelfCollisionFigures::of(first).unresolved_steps, 0);
   ASSERT_TRUE(a_objects[0].body.x.row(3).isApprox(inside.row(3), 1e-12)) << "no boundary event: d goes where sent";
   const Points after_first = a_objects[0].body.x;
   StateWriter saved;

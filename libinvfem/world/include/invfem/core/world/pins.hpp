@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 
 namespace invfem {
 

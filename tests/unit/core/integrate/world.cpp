@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "invfem/core/integrate/pins.hpp"
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/pins.hpp"
+#include "invfem/core/world/world.hpp"
 
 namespace invfem {
 namespace {
@@ -72,11 +72,14 @@ class LoggingPass final : public StepPass {
   }
 };
 
-// A three-node object (one triangle) with a LoggingSpring.
-SimObject make_object(const std::string& name, ObjectKind kind, double y) {
+// The stages the modules give their objects (solids/solid_object.hpp, shells/cloth_object.hpp).
+constexpr int kSolid = 0, kCloth = 1;
+
+// A three-node object (one triangle) with a LoggingSpring, of that stage.
+SimObject make_object(const std::string& name, int stage, double y) {
   SimObject o;
   o.name = name;
-  o.kind = kind;
+  o.stage = stage;
   o.body.x.resize(3, 3);
   o.body.x << 0, y, 0, 1, y, 0, 0, y, 1;
   o.body.v = Points::Zero(3, 3);
@@ -93,8 +96,8 @@ SimObject make_object(const std::string& name, ObjectKind kind, double y) {
 World make_world(std::shared_ptr<LoggingBody> body = std::make_shared<LoggingBody>()) {
   std::vector<SimObject> objects;
   // Added cloth first: the world must still step the solid before it.
-  objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
-  objects.push_back(make_object("solid", ObjectKind::Solid, 1.0));
+  objects.push_back(make_object("cloth", kCloth, 2.0));
+  objects.push_back(make_object("solid", kSolid, 1.0));
   WorldSettings settings;
   settings.max_dt = 0.01;
   return World(settings, std::move(objects), {body}, nullptr);
@@ -130,7 +133,7 @@ TEST(World, SurfacesFollowTheirNodes) {
 
 TEST(World, PinsLandExactlyOnTheirMovingTargetsAndHeldPinsStayBitExact) {
   std::vector<SimObject> objects;
-  objects.push_back(make_object("cloth", ObjectKind::Cloth, 1.0));
+  objects.push_back(make_object("cloth", kCloth, 1.0));
   SimObject& o = objects.back();
   const Vec3 velocity(0.3, -0.2, 0.1);
   o.pins.push_back(make_pin_group(o.body.x, {0}, Motion::constant_velocity({}, Vec3::Zero(), velocity, Vec3::UnitZ(), 0),
@@ -164,8 +167,8 @@ TEST(World, MeasureSumsEnergiesOfEveryObject) {
 TEST(World, NonFiniteStateNamesTheObjectAndTheQuantity) {
   const auto world_with = [](const std::function<void(Body&)>& edit) {
     std::vector<SimObject> objects;
-    objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
-    objects.push_back(make_object("solid", ObjectKind::Solid, 1.0));
+    objects.push_back(make_object("cloth", kCloth, 2.0));
+    objects.push_back(make_object("solid", kSolid, 1.0));
     edit(objects[1].body);
     return World(WorldSettings{}, std::move(objects), {}, nullptr);
   };
@@ -184,7 +187,7 @@ TEST(World, NonFiniteStateNamesTheObjectAndTheQuantity) {
 // max_dt; a frame needing more steps than max_substeps throws before any step is taken.
 TEST(World, SubstepLimitStopsAdvanceBeforeItsSteps) {
   std::vector<SimObject> objects;
-  objects.push_back(make_object("solid", ObjectKind::Solid, 1.0));
+  objects.push_back(make_object("solid", kSolid, 1.0));
   WorldSettings settings;
   settings.max_dt = 0.01;
   settings.max_substeps = 50;
@@ -239,7 +242,7 @@ TEST(World, MotionBoundedStepsSplitAStepInWhichABodyMovesTooFar) {
   // 34 over the frame (equal ones over what is left: rounding may add one).
   auto body = std::make_shared<SlidingBody>(100.0);
   std::vector<SimObject> objects;
-  objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+  objects.push_back(make_object("cloth", kCloth, 2.0));
   objects.back().body.gravity = Vec3::Zero();
   WorldSettings settings;
   settings.max_dt = 0.01;
@@ -267,7 +270,7 @@ TEST(World, MotionBoundedStepsSplitAStepInWhichANodeWouldTravelTooFar) {
   // A node at 10 m/s travels 10 cm in a 0.01 s step: 1 cm a step needs 10 steps.
   auto fast_cloth = [] {
     std::vector<SimObject> objects;
-    objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+    objects.push_back(make_object("cloth", kCloth, 2.0));
     objects.back().body.gravity = Vec3::Zero();
     objects.back().body.v.row(1) = Vec3(0, 0, 10).transpose();
     return objects;
@@ -294,7 +297,7 @@ TEST(World, MotionBoundedStepsSplitAStepInWhichANodeWouldTravelTooFar) {
 TEST(World, MotionBoundedStepsRespectTheSubstepLimit) {
   auto body = std::make_shared<SlidingBody>(100.0);
   std::vector<SimObject> objects;
-  objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+  objects.push_back(make_object("cloth", kCloth, 2.0));
   WorldSettings settings;
   settings.max_dt = 0.01;
   settings.max_step_motion = 1e-4;  // 10,000 steps a step
@@ -313,7 +316,7 @@ class FailingLongStepsPass final : public StepPass {
   explicit FailingLongStepsPass(double longest) : longest_(longest) {}
   void after_step(std::vector<SimObject>&, const StepPassInput& step, FrameReport& report) override {
     dts.push_back(step.dt);
-    if (step.dt > longest_) ++report.collisions.unresolved_steps;
+    if (step.dt > longest_) ++report.unresolved_steps;
   }
   std::vector<double> dts;  // of every try
 
@@ -330,7 +333,7 @@ TEST(World, AStepAPassLeavesUnresolvedIsRetriedAtHalfItsLength) {
   FrameReport r;
   world.advance_to(0.01, r);
   EXPECT_EQ(r.retried_steps, 2);
-  EXPECT_EQ(r.collisions.unresolved_steps, 0);  // the failed tries do not count
+  EXPECT_EQ(r.unresolved_steps, 0);  // the failed tries do not count
   EXPECT_EQ(r.substeps, 4);
   EXPECT_DOUBLE_EQ(world.time(), 0.01);
   const std::vector<double> tries = {0.01, 0.005, 0.0025, 0.0025, 0.0025, 0.0025};
@@ -338,8 +341,8 @@ TEST(World, AStepAPassLeavesUnresolvedIsRetriedAtHalfItsLength) {
   for (std::size_t k = 0; k < tries.size(); ++k) EXPECT_NEAR(seen->dts[k], tries[k], 1e-15) << k;
   // The retried frame ends bit for bit where steps of 2.5 ms from the start end.
   std::vector<SimObject> objects;
-  objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
-  objects.push_back(make_object("solid", ObjectKind::Solid, 1.0));
+  objects.push_back(make_object("cloth", kCloth, 2.0));
+  objects.push_back(make_object("solid", kSolid, 1.0));
   WorldSettings quarter;
   quarter.max_dt = 0.0025;
   World direct(quarter, std::move(objects), {std::make_shared<LoggingBody>()}, nullptr);
@@ -354,7 +357,7 @@ TEST(World, AStepAPassLeavesUnresolvedIsRetriedAtHalfItsLength) {
 // One cloth with a FailingLongStepsPass(0.003).
 World failing_cloth_world(const WorldSettings& settings) {
   std::vector<SimObject> objects;
-  objects.push_back(make_object("cloth", ObjectKind::Cloth, 2.0));
+  objects.push_back(make_object("cloth", kCloth, 2.0));
   World world(settings, std::move(objects), {}, nullptr);
   world.add_pass(std::make_unique<FailingLongStepsPass>(0.003));
   return world;
@@ -370,7 +373,7 @@ TEST(World, RetriedStepsStopAtTheirLimitAndTheLastTryStands) {
     World world = failing_cloth_world(settings);
     FrameReport r;
     world.advance_to(0.01, r);
-    return std::array<int, 3>{r.retried_steps, r.substeps, r.collisions.unresolved_steps};
+    return std::array<int, 3>{r.retried_steps, r.substeps, r.unresolved_steps};
   };
   // 10 ms fails, then two 5 ms steps fail and stand.
   EXPECT_EQ(frame(1, 0), (std::array<int, 3>{1, 2, 2}));
@@ -415,11 +418,11 @@ TEST(World, SaveRestoreRoundTripsAndABadStreamLeavesTheWorldUnchanged) {
 
 TEST(World, RejectsDuplicateNamesAndBadMaps) {
   std::vector<SimObject> objects;
-  objects.push_back(make_object("a", ObjectKind::Solid, 0));
-  objects.push_back(make_object("a", ObjectKind::Cloth, 1));
+  objects.push_back(make_object("a", kSolid, 0));
+  objects.push_back(make_object("a", kCloth, 1));
   EXPECT_THROW(World(WorldSettings{}, std::move(objects), {}, nullptr), std::invalid_argument);
   std::vector<SimObject> bad;
-  bad.push_back(make_object("a", ObjectKind::Solid, 0));
+  bad.push_back(make_object("a", kSolid, 0));
   bad.back().surface_nodes[1] = 7;
   EXPECT_THROW(World(WorldSettings{}, std::move(bad), {}, nullptr), std::invalid_argument);
 }

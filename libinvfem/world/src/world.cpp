@@ -1,4 +1,4 @@
-#include "invfem/core/integrate/world.hpp"
+#include "invfem/core/world/world.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -37,11 +37,46 @@ NodeConstraints SimObject::pin_constraints(double t, double dt) const {
   return out;
 }
 
+double& PassRecord::figure(const std::string& key) {
+  for (auto& [k, v] : figures)
+    if (k == key) return v;
+  return figures.emplace_back(key, 0.0).second;
+}
+
+const double* PassRecord::find_figure(const std::string& key) const {
+  for (const auto& [k, v] : figures)
+    if (k == key) return &v;
+  return nullptr;
+}
+
+double PassRecord::value(const std::string& key) const {
+  const double* v = find_figure(key);
+  return v ? *v : 0.0;
+}
+
+void PassRecord::keep_largest(const std::string& key, double v) {
+  double& f = figure(key);
+  f = std::max(f, v);
+}
+
+PassRecord& FrameReport::pass(const std::string& name) {
+  for (PassRecord& p : passes)
+    if (p.name == name) return p;
+  passes.push_back(PassRecord{name, {}});
+  return passes.back();
+}
+
+const PassRecord* FrameReport::find_pass(const std::string& name) const {
+  for (const PassRecord& p : passes)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
 Vec3 attachment_target(const Attachment& a, const Points& x) {
   Vec3 p = a.offset;
   for (int k = 0; k < 4; ++k)
-    if (a.solid_nodes[static_cast<std::size_t>(k)] >= 0)
-      p += a.weights[static_cast<std::size_t>(k)] * x.row(a.solid_nodes[static_cast<std::size_t>(k)]).transpose();
+    if (a.target_nodes[static_cast<std::size_t>(k)] >= 0)
+      p += a.weights[static_cast<std::size_t>(k)] * x.row(a.target_nodes[static_cast<std::size_t>(k)]).transpose();
   return p;
 }
 
@@ -79,27 +114,30 @@ World::World(WorldSettings settings, std::vector<SimObject> objects,
                                       " outside [0, " + std::to_string(n) + ")");
     }
   }
-  attached_solid_.resize(objects_.size());
+  attached_to_.resize(objects_.size());
   for (std::size_t k = 0; k < objects_.size(); ++k) {
     const SimObject& o = objects_[k];
     for (const AttachmentGroup& g : o.attachments) {
-      const std::string what = "world: object \"" + o.name + "\" is attached to \"" + g.solid + "\"";
-      const auto it = std::find_if(objects_.begin(), objects_.end(), [&](const SimObject& s) { return s.name == g.solid; });
-      if (it == objects_.end() || it->kind != ObjectKind::Solid || &*it == &o)
-        throw std::invalid_argument(what + ", which is no solid of the world");
+      const std::string what = "world: object \"" + o.name + "\" is attached to \"" + g.target + "\"";
+      const auto it = std::find_if(objects_.begin(), objects_.end(), [&](const SimObject& s) { return s.name == g.target; });
+      if (it == objects_.end() || it->stage >= o.stage)
+        throw std::invalid_argument(what + ", which is no object of an earlier stage");
       const Eigen::Index ns = it->body.x.rows();
       for (const Attachment& a : g.vertices) {
         if (a.node < 0 || a.node >= o.body.x.rows())
           throw std::invalid_argument(what + ": attached node " + std::to_string(a.node) + " outside [0, " +
                                       std::to_string(o.body.x.rows()) + ")");
-        for (int s : a.solid_nodes)
+        for (int s : a.target_nodes)
           if (s < -1 || s >= ns)
             throw std::invalid_argument(what + ": embedding node " + std::to_string(s) + " outside [0, " +
                                         std::to_string(ns) + ")");
       }
-      attached_solid_[k].push_back(static_cast<int>(it - objects_.begin()));
+      attached_to_[k].push_back(static_cast<int>(it - objects_.begin()));
     }
   }
+  for (const SimObject& o : objects_) stages_.push_back(o.stage);
+  std::sort(stages_.begin(), stages_.end());
+  stages_.erase(std::unique(stages_.begin(), stages_.end()), stages_.end());
   for (const auto& k : kinematic_)
     if (!names.insert(k->name()).second)
       throw std::invalid_argument("world: two objects or bodies are named \"" + k->name() + "\"");
@@ -118,7 +156,7 @@ NodeConstraints World::constraints_of(std::size_t k, double dt) const {
   std::vector<char> held(static_cast<std::size_t>(o.body.x.rows()), 0);
   for (const NodeConstraint& c : out) held[static_cast<std::size_t>(c.node)] = 1;
   for (std::size_t g = 0; g < o.attachments.size(); ++g) {
-    const Points& xs = objects_[static_cast<std::size_t>(attached_solid_[k][g])].body.x;
+    const Points& xs = objects_[static_cast<std::size_t>(attached_to_[k][g])].body.x;
     for (const Attachment& a : o.attachments[g].vertices) {
       if (held[static_cast<std::size_t>(a.node)]) continue;
       held[static_cast<std::size_t>(a.node)] = 1;
@@ -156,8 +194,7 @@ double World::substeps_for(double duration) const {
 
 ImplicitSettings World::implicit_settings(const SimObject& o) const {
   ImplicitSettings s = settings_.implicit;
-  if (s.preconditioner == Preconditioner::Auto && o.kind != ObjectKind::Solid)
-    s.preconditioner = Preconditioner::BlockJacobi;
+  if (s.preconditioner == Preconditioner::Auto) s.preconditioner = o.auto_preconditioner;
   return s;
 }
 
@@ -195,7 +232,6 @@ StepMotion World::step_motion(double dt, double limit, const std::vector<Points>
 }
 
 void World::advance_to(double t_end, FrameReport& report) {
-  const std::vector<ObjectKind> stage_order = {ObjectKind::Solid, ObjectKind::Cloth};
   const double motion_limit = step_motion_limit();
   const bool bounded = motion_bounded(motion_limit);
   double bounded_dt = std::numeric_limits<double>::infinity();  // the frame's shortened step, once one was
@@ -265,18 +301,18 @@ void World::advance_to(double t_end, FrameReport& report) {
     }
     // 1. Kinematic bodies.
     for (const auto& k : kinematic_) k->move_to(time_ + dt);
-    // 2, 3. Solids, then cloths.
-    for (ObjectKind kind : stage_order) {
-      if (kind == ObjectKind::Cloth && collisions_) {  // 2b. the solids at t + dt, for the cloths
+    // 2. The objects, stage by stage.
+    for (std::size_t stage = 0; stage < stages_.size(); ++stage) {
+      if (stage > 0 && collisions_) {  // the earlier stages at t + dt, for this one (one-way coupling)
         const auto t0 = std::chrono::steady_clock::now();
         for (auto& o : objects_)
-          if (o.kind == ObjectKind::Solid) o.refresh_surface();
-        collisions_->solids_stepped(objects_, time_ + dt, dt);
+          if (o.stage < stages_[stage]) o.refresh_surface();
+        collisions_->earlier_stages_stepped(objects_, stages_[stage], time_ + dt, dt);
         report.coupling_seconds += since(t0);
       }
       for (std::size_t k = 0; k < objects_.size(); ++k) {
         SimObject& o = objects_[k];
-        if (o.kind != kind) continue;
+        if (o.stage != stages_[stage]) continue;
         const auto t0 = std::chrono::steady_clock::now();
         if (collisions_) collisions_->begin_object(o);
         const NodeConstraints held = constraints_of(k, dt);
@@ -298,7 +334,7 @@ void World::advance_to(double t_end, FrameReport& report) {
         }
       }
     }
-    // 4. After-step passes, on refreshed surfaces (without passes nothing reads the surfaces
+    // 3. After-step passes, on refreshed surfaces (without passes nothing reads the surfaces
     // until the frame is done: they are refreshed once, below).
     if (!passes_.empty()) {
       for (auto& o : objects_) o.refresh_surface();
@@ -328,10 +364,16 @@ void World::advance_to(double t_end, FrameReport& report) {
       // (within the substep limit); the report keeps the failed try's seconds only.
       const double half = dt / 2;
       if (may_retry && within_limit(taken - 1, steps_over(left, half)) &&
-          report.collisions.unresolved_steps > report_before.collisions.unresolved_steps) {
+          report.unresolved_steps > report_before.unresolved_steps) {
         report_before.object_seconds = report.object_seconds;
         report_before.coupling_seconds = report.coupling_seconds;
-        report_before.collisions.seconds = report.collisions.seconds;
+        for (const PassRecord& p : report.passes) {
+          const bool had = report_before.find_pass(p.name) != nullptr;
+          PassRecord& kept = report_before.pass(p.name);
+          if (!had)  // the record's figures in their order, the failed try's counts dropped
+            for (const auto& [key, value] : p.figures) kept.figure(key) = 0;
+          if (p.find_figure("seconds")) kept.figure("seconds") = p.value("seconds");
+        }
         report = std::move(report_before);
         ++report.retried_steps;
         StateReader back(before.bytes());
@@ -374,6 +416,7 @@ double gravity_energy(const Body& b) { return -((b.mass.transpose() * b.x) * b.g
 }  // namespace
 
 void World::measure(FrameReport& r) const {
+  for (const auto& p : passes_) p->open_record(r);
   for (const auto& o : objects_) {
     const Body& b = o.body;
     r.kinetic += kinetic_energy(b);

@@ -1,4 +1,4 @@
-#include "invfem/core/integrate/pins.hpp"
+#include "invfem/core/world/pins.hpp"
 
 #include <stdexcept>
 

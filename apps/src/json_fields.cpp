@@ -1,5 +1,7 @@
 #include "json_fields.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -249,14 +251,15 @@ Fields Fields::object_or_empty(const std::string& key) const {
 }
 
 void Fields::reject_unknown(std::initializer_list<const char*> known) const {
+  reject_unknown_keys(std::vector<std::string>(known.begin(), known.end()));
+}
+
+void Fields::reject_unknown_keys(const std::vector<std::string>& known) const {
   for (auto it = j_.begin(); it != j_.end(); ++it) {
-    bool ok = false;
-    for (const char* k : known) ok = ok || it.key() == k;
-    if (!ok) {
-      std::string list;
-      for (const char* k : known) list += std::string(list.empty() ? "" : ", ") + k;
-      throw InputError(file_ + ": " + path_of(it.key()) + ": unknown field (known fields: " + list + ")");
-    }
+    if (std::find(known.begin(), known.end(), it.key()) != known.end()) continue;
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    throw InputError(file_ + ": " + path_of(it.key()) + ": unknown field (known fields: " + list + ")");
   }
 }
 

@@ -62,6 +62,7 @@ class Fields {
   std::string path_of(const std::string& key) const { return path_ + "." + key; }
   // Throws for any key of the object not in `known`.
   void reject_unknown(std::initializer_list<const char*> known) const;
+  void reject_unknown_keys(const std::vector<std::string>& known) const;
 
   [[noreturn]] void fail(const std::string& key, const std::string& expected,
                          const std::string& found_detail = "") const;

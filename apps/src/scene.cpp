@@ -37,35 +37,11 @@ ScalarTrack parse_track(const Fields& f, const std::string& key, double fallback
 }
 
 MaterialSpec parse_material(const Fields& f) {
-  f.reject_unknown({"model", "young", "poisson", "density", "damping", "damping_model", "compression_limit",
-                    "hardening_deformation", "hardening_strength", "strength"});
+  MaterialSpec::fields().reject_unknown(f);
   MaterialSpec m;
-  parse_model_choice(f, m.model, m.compression_limit, m.hardening_deformation, m.hardening_strength);
-  m.young = f.number_in("young", m.young, 0, 1e13);
-  m.poisson = f.number("poisson", m.poisson);
-  if (!(m.poisson > -1 && m.poisson < 0.5))
-    f.fail("poisson", "a Poisson's ratio in (-1, 0.5) (0.5 is incompressible: use 0.49 or less)");
-  m.density = f.number("density", m.density);
-  if (!(m.density > 0 && m.density <= 1e6)) f.fail("density", "a density > 0 and <= 1e6 [kg/m^3]");
-  m.damping = f.number_in("damping", m.damping, 0, 10);
-  m.damping_model = f.string("damping_model", m.damping_model);
-  if (m.damping_model != "rotated" && m.damping_model != "spin_free")
-    f.fail("damping_model", "\"rotated\" or \"spin_free\"");
+  MaterialSpec::fields().read(f, m);
   m.strength = parse_track(f, "strength", 1.0);
   return m;
-}
-
-void parse_model_choice(const Fields& f, std::string& model, double& compression_limit, double& hardening_deformation,
-                        double& hardening_strength) {
-  model = f.string("model", model);
-  static const std::set<std::string> models{"rotated_linear", "neo_hookean", "stvk", "spline", "corotated", "mass_spring"};
-  if (!models.count(model))
-    f.fail("model", "one of rotated_linear, neo_hookean, stvk, spline (ITF04) or the baselines corotated, mass_spring");
-  compression_limit = f.number("compression_limit", compression_limit);
-  if (!(compression_limit > 0 && compression_limit < 1)) f.fail("compression_limit", "a number in (0, 1)");
-  hardening_deformation = f.number("hardening_deformation", hardening_deformation);
-  if (!(hardening_deformation > 0 && hardening_deformation < 1)) f.fail("hardening_deformation", "a number in (0, 1)");
-  hardening_strength = f.number_in("hardening_strength", hardening_strength, 1, 1e3);
 }
 
 Transform parse_transform(const Fields& f) {
@@ -112,29 +88,20 @@ std::filesystem::path parse_mesh_path(const Fields& f, const std::string& key, c
 }
 
 PlasticitySpec parse_plasticity(const Fields& f) {
-  f.reject_unknown({"yield", "deviatoric_only", "preserve_volume", "max_stretch"});
+  PlasticitySpec::fields().reject_unknown(f);
   PlasticitySpec p;
-  p.yield = f.number("yield", p.yield);
-  if (!(p.yield > 0 && p.yield < 10)) f.fail("yield", "a yield log-strain in (0, 10)");
-  p.deviatoric_only = f.boolean("deviatoric_only", p.deviatoric_only);
-  p.preserve_volume = f.boolean("preserve_volume", p.preserve_volume);
-  p.max_stretch = f.number("max_stretch", p.max_stretch);
-  if (!(p.max_stretch > 1 && p.max_stretch <= 1e6)) f.fail("max_stretch", "a stretch limit in (1, 1e6]");
+  PlasticitySpec::fields().read(f, p);
   return p;
 }
 
 FractureSpec parse_fracture(const Fields& f) {
-  f.reject_unknown({"max_principal_stress", "max_plastic_strain", "front_fraction", "max_cuts_per_step", "max_elements",
-                    "seed"});
+  FractureSpec::fields().reject_unknown(f);
   FractureSpec s;
   if (f.has("max_principal_stress")) s.max_principal_stress = f.number_in("max_principal_stress", 1e6, 1e-6, 1e12);
   if (f.has("max_plastic_strain")) s.max_plastic_strain = f.number_in("max_plastic_strain", 1, 1e-6, 10);
   if (!s.max_principal_stress && !s.max_plastic_strain)
     f.fail("max_principal_stress", "a threshold: max_principal_stress [Pa] and/or max_plastic_strain");
-  s.front_fraction = f.number("front_fraction", s.front_fraction);
-  if (!(s.front_fraction > 0 && s.front_fraction <= 1)) f.fail("front_fraction", "a fraction in (0, 1]");
-  s.max_cuts_per_step = f.integer("max_cuts_per_step", s.max_cuts_per_step, 1, 1000000);
-  s.max_elements = f.integer("max_elements", s.max_elements, 0, 1000000000);
+  FractureSpec::fields().read(f, s);  // front_fraction, max_cuts_per_step, max_elements
   if (f.has("seed")) {
     const Fields b = f.object("seed");
     b.reject_unknown({"point", "normal", "min", "max", "factor"});
@@ -161,7 +128,7 @@ FractureSpec parse_fracture(const Fields& f) {
 }
 
 PlasticGoalSpec parse_plastic_goal(const Fields& f) {
-  f.reject_unknown({"scale", "center"});
+  PlasticGoalSpec::fields().reject_unknown(f);
   PlasticGoalSpec g;
   g.scale = f.vec3("scale", g.scale, limits::kScale);
   for (double x : g.scale)
@@ -171,14 +138,11 @@ PlasticGoalSpec parse_plastic_goal(const Fields& f) {
 }
 
 FiberSpec parse_fiber(const Fields& f) {
-  f.reject_unknown({"direction", "k_passive", "k_active", "max_contraction", "activation"});
+  FiberSpec::fields().reject_unknown(f);
   FiberSpec fb;
   fb.direction = f.vec3("direction", fb.direction, limits::kDirection);
   if (std::hypot(fb.direction[0], fb.direction[1], fb.direction[2]) < 1e-12) f.fail("direction", "a non-zero vector");
-  fb.k_passive = f.number_in("k_passive", fb.k_passive, 0, 1e12);
-  fb.k_active = f.number_in("k_active", fb.k_active, 0, 1e12);
-  fb.max_contraction = f.number("max_contraction", fb.max_contraction);
-  if (!(fb.max_contraction >= 0 && fb.max_contraction < 1)) f.fail("max_contraction", "a number in [0, 1)");
+  FiberSpec::fields().read(f, fb);  // k_passive, k_active, max_contraction
   fb.activation = parse_track(f, "activation", 0.0);
   for (const auto& [t, a] : fb.activation.keys)
     if (a > 1) f.fail("activation", "activation levels in [0, 1]");
@@ -186,7 +150,7 @@ FiberSpec parse_fiber(const Fields& f) {
 }
 
 SolidInitialShapeSpec parse_solid_initial_shape(const Fields& f, const std::filesystem::path& dir, bool check_files) {
-  f.reject_unknown({"file", "transform", "scramble", "seed", "size"});
+  SolidInitialShapeSpec::fields().reject_unknown(f);
   SolidInitialShapeSpec s;
   if (f.has("file") == f.has("scramble"))
     f.fail("file", "either a \"file\" or a \"scramble\"", f.has("file") ? "both" : "neither");
@@ -202,7 +166,7 @@ SolidInitialShapeSpec parse_solid_initial_shape(const Fields& f, const std::file
   s.scramble = f.string("scramble");
   const auto kind = scramble_kind_from_name(s.scramble);
   if (!kind) f.fail("scramble", "one of " + scramble_kind_names());
-  s.seed = f.integer("seed", s.seed, 0, 2147483647);
+  SolidInitialShapeSpec::fields().read(f, s);  // seed
   if (*kind == ScrambleKind::Box) {
     if (!f.has("size")) f.fail("size", "the box's edge [m] (a box scramble needs a size)");
     s.size = f.number("size");
@@ -331,23 +295,19 @@ SequenceSpec parse_sequence(const Fields& f, const std::filesystem::path& dir, b
   return q;
 }
 
-// A mesh or sequence collider's offset: >= 0 and below its query radius.
-double parse_offset(const Fields& f, double query_radius) {
-  const double offset = f.number_in("offset", 1e-3, 0, 1);
+// A mesh or sequence collider's or a cloth coupling's offset (read by its table, >= 0): below its
+// query radius.
+void check_offset(const Fields& f, double offset, double query_radius) {
   if (!(offset < query_radius)) f.fail("offset", "an offset below query_radius (" + std::to_string(query_radius) + " m)");
-  return offset;
 }
 
 ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, bool check_files) {
-  f.reject_unknown({"name", "type", "point", "normal", "radius", "half_extents", "half_height", "teeth",
-                    "outer_radius", "root_radius", "thickness", "clearance", "mesh", "query_radius", "offset", "transform",
-                    "motion", "friction", "frames", "files", "fps", "start_time", "start_frame", "after_end"});
+  const auto& table = ColliderSpec::fields();
+  table.reject_unknown(f);
   ColliderSpec c;
   c.name = f.object_name("name");
-  c.type = f.string("type", c.type);
-  static const std::set<std::string> types{"plane", "sphere", "box", "cylinder", "gears", "mesh", "sequence"};
-  if (!types.count(c.type)) f.fail("type", "one of plane, sphere, box, cylinder, gears, mesh, sequence");
-  c.friction = f.number_in("friction", c.friction, 0, 100);
+  // Every type's; the others are read by type below (a plane reads none of them).
+  rows_of(table, {"type", "friction"}).read(f, c);
   if (c.type != "sequence")
     for (const char* k : {"frames", "files", "fps", "start_time", "start_frame", "after_end"})
       if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a " + c.type + " collider (it belongs to a sequence)");
@@ -356,8 +316,8 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
                           "root_radius", "thickness", "clearance", "mesh", "motion"})
       if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a sequence (its frames give its shape and motion)");
     c.sequence = parse_sequence(f, dir, check_files);
-    c.query_radius = f.number_in("query_radius", c.query_radius, 1e-9, 1e4);
-    c.offset = parse_offset(f, c.query_radius);
+    rows_of(table, {"query_radius", "offset"}).read(f, c);
+    check_offset(f, c.offset, c.query_radius);
     c.transform = parse_transform(f.object_or_empty("transform"));
     return c;
   }
@@ -369,23 +329,18 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
     if (std::hypot(c.normal[0], c.normal[1], c.normal[2]) < 1e-12) f.fail("normal", "a non-zero vector");
     return c;
   }
-  c.radius = f.number_in("radius", c.radius, 1e-6, 1e4);
+  if (c.type != "mesh" && f.has("offset"))
+    f.fail("offset", "no \"offset\" on an analytic collider (mesh and sequence only)");
+  // Every analytic size is checked whatever the type; type and friction again, unchanged.
+  table.read(f, c);
   c.half_extents = f.vec3("half_extents", c.half_extents, limits::kLength);
   for (double h : c.half_extents)
     if (!(h > 0)) f.fail("half_extents", "three half extents > 0");
-  c.half_height = f.number_in("half_height", c.half_height, 1e-6, 1e4);
-  c.teeth = f.integer("teeth", c.teeth, 3, 1000);
-  c.outer_radius = f.number_in("outer_radius", c.outer_radius, 1e-6, 1e4);
-  c.root_radius = f.number_in("root_radius", c.root_radius, 1e-6, 1e4);
   if (c.type == "gears" && !(c.root_radius < c.outer_radius)) f.fail("root_radius", "a root radius below outer_radius");
-  c.thickness = f.number_in("thickness", c.thickness, 1e-6, 1e4);
-  c.clearance = f.number_in("clearance", c.clearance, 0, 1e4);
   if (c.type == "mesh") {
     c.mesh = parse_mesh_path(f, "mesh", dir, check_files);
+    check_offset(f, c.offset, c.query_radius);
   }
-  c.query_radius = f.number_in("query_radius", c.query_radius, 1e-9, 1e4);
-  if (c.type == "mesh") c.offset = parse_offset(f, c.query_radius);
-  else if (f.has("offset")) f.fail("offset", "no \"offset\" on an analytic collider (mesh and sequence only)");
   c.transform = parse_transform(f.object_or_empty("transform"));
   c.motion = parse_motion(f.object_or_empty("motion"));
   if (c.motion.kind == MotionSpec::Kind::Keyframed && f.has("transform"))
@@ -396,18 +351,16 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
 }
 
 RenderSpec parse_render(const Fields& f) {
-  f.reject_unknown({"width", "height", "ground", "camera"});
+  RenderSpec::fields().reject_unknown(f);
   RenderSpec r;
-  r.width = f.integer("width", r.width, 16, 8192);
-  r.height = f.integer("height", r.height, 16, 8192);
-  r.ground = f.boolean("ground", r.ground);
+  RenderSpec::fields().read(f, r);
   if (f.has("camera")) {
     const Fields c = f.object("camera");
-    c.reject_unknown({"position", "target", "fov_degrees"});
+    CameraSpec::fields().reject_unknown(c);
     r.camera.automatic = false;
     r.camera.position = c.vec3("position", r.camera.position, limits::kLength);
     r.camera.target = c.vec3("target", r.camera.target, limits::kLength);
-    r.camera.fov_degrees = c.number_in("fov_degrees", r.camera.fov_degrees, 1, 170);
+    CameraSpec::fields().read(c, r.camera);
     const auto& p = r.camera.position;
     const auto& t = r.camera.target;
     if (std::hypot(p[0] - t[0], p[1] - t[1], p[2] - t[2]) < 1e-9)
@@ -475,53 +428,26 @@ using namespace scene_detail;
 Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bool check_files) {
   const std::string fname = file.string();
   Fields root(j, fname, "$");
-  root.reject_unknown({"name", "fps", "frames", "gravity", "solver", "self_collision", "solids", "cloths", "colliders",
-                      "render", "quick"});
+  Scene::fields().reject_unknown(root);
   Scene s;
   s.file = file;
   s.name = root.string("name", file.stem().string());
-  s.fps = root.number_in("fps", s.fps, 1, 10000);
-  s.frames = root.integer("frames", s.frames, 0, 1000000);
+  Scene::fields().read(root, s);  // fps, frames
   s.gravity = root.vec3("gravity", s.gravity, limits::kAcceleration);
 
   const Fields solver = root.object_or_empty("solver");
-  solver.reject_unknown({"integrator", "linear", "preconditioner", "cfl", "max_dt", "cg_tolerance", "cg_max_iterations",
-                         "newton_tolerance", "newton_max_iterations", "max_substeps_per_frame", "max_step_motion",
-                         "max_step_retries"});
+  SolverSpec::fields().reject_unknown(solver);
   s.solver.integrator = solver.string("integrator", "");
   if (!s.solver.integrator.empty() && s.solver.integrator != "itf04" && s.solver.integrator != "implicit")
     solver.fail("integrator", "\"itf04\" or \"implicit\"");
-  s.solver.linear = solver.string("linear", s.solver.linear);
-  if (s.solver.linear != "cg" && s.solver.linear != "direct")
-    solver.fail("linear", "\"cg\" or \"direct\"");
-  s.solver.preconditioner = solver.string("preconditioner", s.solver.preconditioner);
-  if (s.solver.preconditioner != "auto" && s.solver.preconditioner != "block_jacobi" && s.solver.preconditioner != "amg")
-    solver.fail("preconditioner", "\"auto\", \"block_jacobi\" or \"amg\"");
-  s.solver.cfl = solver.number_in("cfl", s.solver.cfl, 1e-3, 1);
   const bool max_dt_given = j.contains("solver") && j["solver"].is_object() && j["solver"].contains("max_dt");
-  s.solver.max_dt = solver.number_in("max_dt", s.solver.max_dt, 1e-9, 1);
-  s.solver.cg_tolerance = solver.number_in("cg_tolerance", s.solver.cg_tolerance, 1e-14, 1e-1);
-  s.solver.cg_max_iterations = solver.integer("cg_max_iterations", s.solver.cg_max_iterations, 1, 100000);
-  s.solver.newton_tolerance = solver.number_in("newton_tolerance", s.solver.newton_tolerance, 1e-12, 1);
-  s.solver.newton_max_iterations = solver.integer("newton_max_iterations", s.solver.newton_max_iterations, 1, 1000);
-  s.solver.max_substeps_per_frame =
-      solver.integer("max_substeps_per_frame", s.solver.max_substeps_per_frame, 1, 2147483647);
-  s.solver.max_step_motion = solver.number_in("max_step_motion", s.solver.max_step_motion, 0, 1e3);
-  s.solver.max_step_retries = solver.integer("max_step_retries", s.solver.max_step_retries, 0, 10);
+  SolverSpec::fields().read(solver, s.solver);
 
   const Fields sc = root.object_or_empty("self_collision");
-  sc.reject_unknown({"enabled", "thickness", "ccd_distance", "friction", "impulse_passes", "max_zone_iterations",
-                     "colliders"});
-  s.self_collision.enabled = sc.boolean("enabled", s.self_collision.enabled);
-  s.self_collision.thickness = sc.number_in("thickness", s.self_collision.thickness, 1e-9, 1);
-  s.self_collision.ccd_distance = sc.number_in("ccd_distance", s.self_collision.ccd_distance, 0, 1);
+  SelfCollisionSpec::fields().reject_unknown(sc);
+  SelfCollisionSpec::fields().read(sc, s.self_collision);
   if (!(s.self_collision.ccd_distance < s.self_collision.thickness))
     sc.fail("ccd_distance", "a distance below the thickness");
-  s.self_collision.friction = sc.number_in("friction", s.self_collision.friction, 0, 10);
-  s.self_collision.impulse_passes = sc.integer("impulse_passes", s.self_collision.impulse_passes, 0, 1000);
-  s.self_collision.max_zone_iterations =
-      sc.integer("max_zone_iterations", s.self_collision.max_zone_iterations, 1, 100000);
-  s.self_collision.colliders = sc.boolean("colliders", s.self_collision.colliders);
 
   const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
   std::set<std::string> names;
@@ -534,18 +460,14 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
     if (!j["solids"].is_array()) root.fail("solids", "an array of solid objects");
     for (std::size_t i = 0; i < j["solids"].size(); ++i) {
       Fields f(j["solids"][i], fname, "$.solids[" + std::to_string(i) + "]");
-      f.reject_unknown({"name", "mesh", "mesh_resolution", "transform", "velocity", "material", "pin_boxes",
-                        "plasticity", "plastic_goal", "fiber", "initial_shape", "self_collision", "cloth_coupling",
-                        "fracture"});
+      SolidSpec::fields().reject_unknown(f);
       SolidSpec solid;
       if (f.has("cloth_coupling")) {
         const Fields c = f.object("cloth_coupling");
-        c.reject_unknown({"enabled", "cloths", "friction", "query_radius", "offset"});
+        ClothCouplingSpec::fields().reject_unknown(c);
         auto& cc = solid.cloth_coupling;
-        cc.enabled = c.boolean("enabled", cc.enabled);
-        cc.friction = c.number_in("friction", cc.friction, 0, 10);
-        cc.query_radius = c.number_in("query_radius", cc.query_radius, 1e-6, 1e3);
-        cc.offset = parse_offset(c, cc.query_radius);
+        ClothCouplingSpec::fields().read(c, cc);
+        check_offset(c, cc.offset, cc.query_radius);
         if (c.has("cloths")) {
           const auto& v = c.raw("cloths");
           if (!v.is_array()) c.fail("cloths", "an array of cloth names");
@@ -556,12 +478,11 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
         }
       }
       solid.name = f.object_name("name");
-      solid.self_collision = f.boolean("self_collision", solid.self_collision);
+      SolidSpec::fields().read(f, solid);  // mesh_resolution, self_collision
       unique_name(f, solid.name);
       solid.mesh = parse_mesh_path(f, "mesh", dir, check_files);
       solid.transform = parse_transform(f.object_or_empty("transform"));
       solid.velocity = f.vec3("velocity", solid.velocity, limits::kSpeed);
-      solid.mesh_resolution = f.integer("mesh_resolution", solid.mesh_resolution, 2, 1000);
       solid.material = parse_material(f.object_or_empty("material"));
       solid.pin_boxes = parse_pin_boxes(f, &solid.pin_box_motions);
       if (f.has("plasticity")) solid.plasticity = parse_plasticity(f.object("plasticity"));
@@ -689,10 +610,7 @@ nlohmann::json motion_json(const MotionSpec& m) {
   return j;
 }
 
-nlohmann::json plasticity_json(const PlasticitySpec& p) {
-  return {{"yield", p.yield}, {"deviatoric_only", p.deviatoric_only}, {"preserve_volume", p.preserve_volume},
-          {"max_stretch", p.max_stretch}};
-}
+nlohmann::json plasticity_json(const PlasticitySpec& p) { return fields_json(p); }
 
 nlohmann::json solid_initial_shape_json(const SolidInitialShapeSpec& s) {
   if (!s.file.empty()) {
@@ -700,34 +618,26 @@ nlohmann::json solid_initial_shape_json(const SolidInitialShapeSpec& s) {
     if (s.transform) j["transform"] = transform_json(*s.transform);
     return j;
   }
-  nlohmann::json j{{"scramble", s.scramble}, {"seed", s.seed}};
+  nlohmann::json j = fields_json(s);  // seed
+  j["scramble"] = s.scramble;
   if (s.scramble == "box") j["size"] = s.size;
   return j;
 }
 
 nlohmann::json solid_json(const SolidSpec& o) {
-  const auto& m = o.material;
-  nlohmann::json j{
-      {"name", o.name},
-      {"self_collision", o.self_collision},
-      {"cloth_coupling", {{"enabled", o.cloth_coupling.enabled}, {"cloths", o.cloth_coupling.cloths},
-                          {"friction", o.cloth_coupling.friction}, {"query_radius", o.cloth_coupling.query_radius},
-                          {"offset", o.cloth_coupling.offset}}},
-      {"mesh", o.mesh.string()},
-      {"mesh_resolution", o.mesh_resolution},
-      {"transform", transform_json(o.transform)},
-      {"velocity", o.velocity},
-      {"material", {{"model", m.model}, {"young", m.young}, {"poisson", m.poisson}, {"density", m.density},
-                    {"damping", m.damping}, {"damping_model", m.damping_model},
-                    {"compression_limit", m.compression_limit},
-                    {"hardening_deformation", m.hardening_deformation},
-                    {"hardening_strength", m.hardening_strength}, {"strength", track_json(m.strength)}}},
-      {"pin_boxes", pin_boxes_json(o.pin_boxes, &o.pin_box_motions)}};
+  nlohmann::json j = fields_json(o);  // mesh_resolution, self_collision
+  j["name"] = o.name;
+  j["cloth_coupling"] = fields_json(o.cloth_coupling);
+  j["cloth_coupling"]["cloths"] = o.cloth_coupling.cloths;
+  j["mesh"] = o.mesh.string();
+  j["transform"] = transform_json(o.transform);
+  j["velocity"] = o.velocity;
+  j["material"] = fields_json(o.material);
+  j["material"]["strength"] = track_json(o.material.strength);
+  j["pin_boxes"] = pin_boxes_json(o.pin_boxes, &o.pin_box_motions);
   if (o.plasticity) j["plasticity"] = plasticity_json(*o.plasticity);
   if (o.fracture) {
-    nlohmann::json f{{"front_fraction", o.fracture->front_fraction},
-                     {"max_cuts_per_step", o.fracture->max_cuts_per_step},
-                     {"max_elements", o.fracture->max_elements}};
+    nlohmann::json f = fields_json(*o.fracture);  // front_fraction, max_cuts_per_step, max_elements
     if (o.fracture->max_principal_stress) f["max_principal_stress"] = *o.fracture->max_principal_stress;
     if (o.fracture->max_plastic_strain) f["max_plastic_strain"] = *o.fracture->max_plastic_strain;
     if (const auto& seed = o.fracture->seed) {
@@ -738,38 +648,32 @@ nlohmann::json solid_json(const SolidSpec& o) {
     j["fracture"] = f;
   }
   if (o.plastic_goal) j["plastic_goal"] = {{"scale", o.plastic_goal->scale}, {"center", o.plastic_goal->center}};
-  if (o.fiber)
-    j["fiber"] = {{"direction", o.fiber->direction}, {"k_passive", o.fiber->k_passive},
-                  {"k_active", o.fiber->k_active}, {"max_contraction", o.fiber->max_contraction},
-                  {"activation", track_json(o.fiber->activation)}};
+  if (o.fiber) {
+    j["fiber"] = fields_json(*o.fiber);  // k_passive, k_active, max_contraction
+    j["fiber"]["direction"] = o.fiber->direction;
+    j["fiber"]["activation"] = track_json(o.fiber->activation);
+  }
   if (o.initial_shape) j["initial_shape"] = solid_initial_shape_json(*o.initial_shape);
   return j;
 }
 
+// The fields of c's type only (parse_collider).
 nlohmann::json collider_json(const ColliderSpec& c) {
-  nlohmann::json j{{"name", c.name}, {"type", c.type}, {"friction", c.friction}};
+  const auto& table = ColliderSpec::fields();
+  nlohmann::json j{{"name", c.name}};
+  rows_of(table, {"type", "friction"}).write(j, c);
   if (c.type == "plane") {
     j["point"] = c.point;
     j["normal"] = c.normal;
     return j;
   }
-  if (c.type == "sphere") j["radius"] = c.radius;
+  if (c.type == "sphere") rows_of(table, {"radius"}).write(j, c);
   if (c.type == "box") j["half_extents"] = c.half_extents;
-  if (c.type == "cylinder") {
-    j["radius"] = c.radius;
-    j["half_height"] = c.half_height;
-  }
-  if (c.type == "gears") {
-    j["teeth"] = c.teeth;
-    j["outer_radius"] = c.outer_radius;
-    j["root_radius"] = c.root_radius;
-    j["thickness"] = c.thickness;
-    j["clearance"] = c.clearance;
-  }
+  if (c.type == "cylinder") rows_of(table, {"radius", "half_height"}).write(j, c);
+  if (c.type == "gears") rows_of(table, {"teeth", "outer_radius", "root_radius", "thickness", "clearance"}).write(j, c);
   if (c.type == "mesh") {
     j["mesh"] = c.mesh.string();
-    j["query_radius"] = c.query_radius;
-    j["offset"] = c.offset;
+    rows_of(table, {"query_radius", "offset"}).write(j, c);
   }
   if (c.type == "sequence") {
     const SequenceSpec& q = c.sequence;
@@ -783,8 +687,7 @@ nlohmann::json collider_json(const ColliderSpec& c) {
     if (q.start_frame) j["start_frame"] = *q.start_frame;
     else j["start_time"] = q.start_time;
     j["after_end"] = q.after_end;
-    j["query_radius"] = c.query_radius;
-    j["offset"] = c.offset;
+    rows_of(table, {"query_radius", "offset"}).write(j, c);
     j["transform"] = transform_json(c.transform);
     return j;
   }
@@ -800,38 +703,24 @@ nlohmann::json collider_json(const ColliderSpec& c) {
 nlohmann::json to_json(const Scene& s) {
   nlohmann::json j;
   j["name"] = s.name;
-  j["fps"] = s.fps;
-  j["frames"] = s.frames;
+  Scene::fields().write(j, s);  // fps, frames
   j["gravity"] = s.gravity;
-  j["solver"] = {{"integrator", s.solver.integrator},
-                 {"linear", s.solver.linear},
-                 {"preconditioner", s.solver.preconditioner},
-                 {"cfl", s.solver.cfl},
-                 {"max_dt", s.solver.max_dt},
-                 {"cg_tolerance", s.solver.cg_tolerance},
-                 {"cg_max_iterations", s.solver.cg_max_iterations},
-                 {"newton_tolerance", s.solver.newton_tolerance},
-                 {"newton_max_iterations", s.solver.newton_max_iterations},
-                 {"max_substeps_per_frame", s.solver.max_substeps_per_frame},
-                 {"max_step_motion", s.solver.max_step_motion},
-                 {"max_step_retries", s.solver.max_step_retries}};
-  j["self_collision"] = {{"enabled", s.self_collision.enabled},
-                         {"thickness", s.self_collision.thickness},
-                         {"ccd_distance", s.self_collision.ccd_distance},
-                         {"friction", s.self_collision.friction},
-                         {"impulse_passes", s.self_collision.impulse_passes},
-                         {"max_zone_iterations", s.self_collision.max_zone_iterations},
-                         {"colliders", s.self_collision.colliders}};
+  j["solver"] = {{"integrator", s.solver.integrator}};
+  SolverSpec::fields().write(j["solver"], s.solver);
+  j["self_collision"] = nlohmann::json::object();
+  SelfCollisionSpec::fields().write(j["self_collision"], s.self_collision);
   j["solids"] = nlohmann::json::array();
   for (const auto& o : s.solids) j["solids"].push_back(solid_json(o));
   j["cloths"] = nlohmann::json::array();
   for (const auto& c : s.cloths) j["cloths"].push_back(cloth_json(c));
   j["colliders"] = nlohmann::json::array();
   for (const auto& c : s.colliders) j["colliders"].push_back(collider_json(c));
-  j["render"] = {{"width", s.render.width}, {"height", s.render.height}, {"ground", s.render.ground}};
-  if (!s.render.camera.automatic)
-    j["render"]["camera"] = {{"position", s.render.camera.position}, {"target", s.render.camera.target},
-                             {"fov_degrees", s.render.camera.fov_degrees}};
+  j["render"] = fields_json(s.render);  // width, height, ground
+  if (!s.render.camera.automatic) {
+    j["render"]["camera"] = fields_json(s.render.camera);  // fov_degrees
+    j["render"]["camera"]["position"] = s.render.camera.position;
+    j["render"]["camera"]["target"] = s.render.camera.target;
+  }
   return j;
 }
 

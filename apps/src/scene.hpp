@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "invfem/core/math/scalar_track.hpp"
+#include "scene_field.hpp"
 
 namespace invfem::app {
 
@@ -26,6 +27,8 @@ struct MaterialSpec {
   double hardening_deformation = 0.5;     // spline: t
   double hardening_strength = 7;          // spline: r
   ScalarTrack strength = ScalarTrack::constant(1.0);  // multiplies the moduli over time
+
+  static const FieldTable<MaterialSpec>& fields();  // scene_fields.cpp
 };
 
 struct Transform {
@@ -73,6 +76,8 @@ struct FractureSpec {
     double factor = 0.5;                   // in (0, 1]
   };
   std::optional<Seed> seed;
+
+  static const FieldTable<FractureSpec>& fields();  // scene_fields.cpp
 };
 
 struct PlasticitySpec {       // ITF04 6.3
@@ -80,11 +85,15 @@ struct PlasticitySpec {       // ITF04 6.3
   bool deviatoric_only = false;
   bool preserve_volume = false;
   double max_stretch = 10;    // the limit on Fp's singular values (and their inverses)
+
+  static const FieldTable<PlasticitySpec>& fields();  // scene_fields.cpp
 };
 
 struct PlasticGoalSpec {      // ITF04 7: control toward the rest shape scaled per axis
   std::array<double, 3> scale{1, 1, 1};
   std::array<double, 3> center{0, 0, 0};
+
+  static const FieldTable<PlasticGoalSpec>& fields();  // scene_fields.cpp
 };
 
 struct FiberSpec {            // ITF04 6.1: transversely isotropic muscle fibers
@@ -93,6 +102,8 @@ struct FiberSpec {            // ITF04 6.1: transversely isotropic muscle fibers
   double k_active = 0;        // [Pa]
   double max_contraction = 0.3;
   ScalarTrack activation = ScalarTrack::constant(0.0);
+
+  static const FieldTable<FiberSpec>& fields();  // scene_fields.cpp
 };
 
 // Where a solid starts: node positions from a file (same nodes, same order as its mesh) or a
@@ -103,6 +114,8 @@ struct SolidInitialShapeSpec {
   std::string scramble;                // point | line | plane | mirror | box
   int seed = 0;
   double size = 0;                     // box: edge of the cube about the centroid [m]
+
+  static const FieldTable<SolidInitialShapeSpec>& fields();  // scene_fields.cpp
 };
 
 // One-way coupling (ITF04 section 10): the solid's deformed boundary is a moving collider for
@@ -113,6 +126,8 @@ struct ClothCouplingSpec {
   double friction = 0.3;            // Coulomb coefficient between the cloth and the solid
   double query_radius = 0.05;       // [m] contact search distance
   double offset = 1e-3;             // [m] the collision surface lies this far outside the boundary
+
+  static const FieldTable<ClothCouplingSpec>& fields();  // scene_fields.cpp
 };
 
 struct SolidSpec {
@@ -132,6 +147,8 @@ struct SolidSpec {
   // pin_boxes[k]'s motion (Fixed: held still), about the box's pinned nodes' centre at rest.
   std::vector<MotionSpec> pin_box_motions;
   std::optional<FractureSpec> fracture;
+
+  static const FieldTable<SolidSpec>& fields();  // scene_fields.cpp
 };
 
 struct ClothMaterialSpec {
@@ -146,11 +163,15 @@ struct ClothMaterialSpec {
   double damping = 0.01;          // k [s] for the in-plane rotated damping
   double bending_stiffness = 1e-4;  // BMF03 k_e [N m]
   double bending_damping = 1e-5;    // BMF03 k_d [N m s]
+
+  static const FieldTable<ClothMaterialSpec>& fields();  // scene_fields.cpp
 };
 
 struct GridSpec {
   double width = 1, height = 1;   // [m], in the x-z plane before the transform
   int nx = 20, ny = 20;
+
+  static const FieldTable<GridSpec>& fields();  // scene_fields.cpp
 };
 
 // A generated shell: the upper half of a torus about the y axis (its tube angle in [0, pi]),
@@ -160,11 +181,15 @@ struct HalfTorusSpec {
   double minor_radius = 0.2;  // r [m], tube
   int around = 70;            // cells around the axis
   int across = 25;            // cells across the tube
+
+  static const FieldTable<HalfTorusSpec>& fields();  // scene_fields.cpp
 };
 
 struct BendingPlasticitySpec {     // ITF04 8: plastic rest angles
   double yield_degrees = 5;        // gamma_b
   double max_change_degrees = 90;  // limit on |theta_p - theta_0|
+
+  static const FieldTable<BendingPlasticitySpec>& fields();  // scene_fields.cpp
 };
 
 struct StitchSpec {
@@ -176,9 +201,11 @@ struct StitchSpec {
     double r = 0;
   };
   std::vector<Extra> list;
-  double stiffness = 1e3;                   // [N/m]
-  double damping = 0;                       // [N s/m]
+  double stiffness = 1e3;                   // [N/m^2] per metre of seam
+  double damping = 0;                       // [N s/m^2] per metre of seam
   double closing_speed = 0;                 // [m/s] sewing: rest lengths close from the start gaps; 0: closed
+
+  static const FieldTable<StitchSpec>& fields();  // scene_fields.cpp
 };
 
 // Pinned vertices, chosen by index list, box (rest positions) or group, held still or moved.
@@ -218,18 +245,24 @@ struct ClothSpec {
   std::vector<std::int64_t> pin_vertices;  // vertex indices of the mesh, held in place (checked when built)
   std::vector<PinBox> pin_boxes;  // every vertex whose world rest position lies in a box
   std::vector<PinSpec> pins;      // general pins (with groups and motions)
+
+  static const FieldTable<ClothSpec>& fields();  // scene_fields.cpp
 };
 
 struct CameraSpec {
   bool automatic = true;          // framed around the objects' first frame
   std::array<double, 3> position{0, 1, 4}, target{0, 0.5, 0};
   double fov_degrees = 35;
+
+  static const FieldTable<CameraSpec>& fields();  // scene_fields.cpp
 };
 
 struct RenderSpec {
   int width = 640, height = 480;
   bool ground = true;
   CameraSpec camera;
+
+  static const FieldTable<RenderSpec>& fields();  // scene_fields.cpp
 };
 
 // A body from a mesh sequence (collisions/body_sequence.hpp): its frame files, by pattern or list.
@@ -260,6 +293,8 @@ struct ColliderSpec {
   Transform transform;                        // body -> world at rest (not with keyframes)
   MotionSpec motion;
   double friction = 0.3;
+
+  static const FieldTable<ColliderSpec>& fields();  // scene_fields.cpp
 };
 
 struct SolverSpec {
@@ -283,6 +318,8 @@ struct SolverSpec {
   // [m] motion-bounded steps (WorldSettings::max_step_motion); 0: the colliders' limits only.
   double max_step_motion = 0;
   int max_step_retries = 3;  // WorldSettings::max_step_retries
+
+  static const FieldTable<SolverSpec>& fields();  // scene_fields.cpp
 };
 
 // The self-collision layer (collisions/self_collision_pass.hpp), run after every step on every
@@ -295,6 +332,8 @@ struct SelfCollisionSpec {
   int impulse_passes = 3;
   int max_zone_iterations = 100;
   bool colliders = true;        // mesh colliders' triangles take part (infinite mass)
+
+  static const FieldTable<SelfCollisionSpec>& fields();  // scene_fields.cpp
 };
 
 struct Scene {
@@ -310,6 +349,8 @@ struct Scene {
   std::vector<ColliderSpec> colliders;
   RenderSpec render;
   nlohmann::json quick;           // field overrides for a quick-resolution run (--quick)
+
+  static const FieldTable<Scene>& fields();  // scene_fields.cpp
 };
 
 // Parse and validate. Throws InputError naming the file, the JSON path, what was expected and
@@ -323,5 +364,10 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
 
 // The scene with every default filled in (what OUT/scene.json holds).
 nlohmann::json to_json(const Scene& scene);
+
+// The field tables of apps/scenes/README.md, generated from the specs' field tables
+// (scene_fields.cpp): (section, Markdown table). The document holds each between the lines
+// `<!-- fields: SECTION -->` and `<!-- /fields -->`.
+std::vector<std::pair<std::string, std::string>> scene_field_tables();
 
 }  // namespace invfem::app

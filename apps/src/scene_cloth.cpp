@@ -8,20 +8,9 @@ namespace invfem::app::scene_detail {
 namespace {
 
 ClothMaterialSpec parse_cloth_material(const Fields& f) {
-  f.reject_unknown({"model", "young", "poisson", "compression_limit", "hardening_deformation", "hardening_strength",
-                    "density", "thickness", "damping", "bending_stiffness", "bending_damping"});
+  ClothMaterialSpec::fields().reject_unknown(f);
   ClothMaterialSpec m;
-  parse_model_choice(f, m.model, m.compression_limit, m.hardening_deformation, m.hardening_strength);
-  m.young = f.number_in("young", m.young, 0, 1e13);
-  m.poisson = f.number("poisson", m.poisson);
-  if (!(m.poisson > -1 && m.poisson < 0.5)) f.fail("poisson", "a Poisson's ratio in (-1, 0.5)");
-  m.density = f.number("density", m.density);
-  if (!(m.density > 0 && m.density < 1e5)) f.fail("density", "a density in (0, 1e5) [kg/m^3]");
-  m.thickness = f.number("thickness", m.thickness);
-  if (!(m.thickness > 0 && m.thickness < 1)) f.fail("thickness", "a thickness in (0, 1) [m]");
-  m.damping = f.number_in("damping", m.damping, 0, 10);
-  m.bending_stiffness = f.number_in("bending_stiffness", m.bending_stiffness, 0, 1e6);
-  m.bending_damping = f.number_in("bending_damping", m.bending_damping, 0, 1e6);
+  ClothMaterialSpec::fields().read(f, m);
   return m;
 }
 
@@ -71,12 +60,9 @@ AttachmentSpec parse_attachment(const Fields& f) {
 }
 
 StitchSpec parse_stitches(const Fields& f) {
-  f.reject_unknown({"from_mesh", "list", "stiffness", "damping", "closing_speed"});
+  StitchSpec::fields().reject_unknown(f);
   StitchSpec s;
-  s.from_mesh = f.boolean("from_mesh", s.from_mesh);
-  s.stiffness = f.number_in("stiffness", s.stiffness, 1e-6, 1e9);
-  s.damping = f.number_in("damping", s.damping, 0, 1e6);
-  s.closing_speed = f.number_in("closing_speed", s.closing_speed, 0, 100);
+  StitchSpec::fields().read(f, s);  // from_mesh, stiffness, damping, closing_speed
   if (f.has("list")) {
     const auto& v = f.raw("list");
     if (!v.is_array()) f.fail("list", "an array of [i, j, k, r] stitches");
@@ -102,36 +88,26 @@ StitchSpec parse_stitches(const Fields& f) {
 }  // namespace
 
 ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool check_files) {
-  f.reject_unknown({"name", "mesh", "grid", "half_torus", "rest_shape", "initial_shape", "transform", "velocity",
-                    "material", "plasticity", "bending_plasticity", "inversion_test", "stitches", "pin_vertices",
-                    "pin_boxes", "pins", "self_collision", "attachments"});
+  ClothSpec::fields().reject_unknown(f);
   ClothSpec c;
   c.name = f.object_name("name");
-  c.self_collision = f.boolean("self_collision", c.self_collision);
+  ClothSpec::fields().read(f, c);  // rest_shape, self_collision
   const int shapes = int(f.has("mesh")) + int(f.has("grid")) + int(f.has("half_torus"));
   if (shapes > 1) f.fail("mesh", "one of \"mesh\", \"grid\" or \"half_torus\", not several");
   if (f.has("mesh")) {
     c.mesh = parse_mesh_path(f, "mesh", dir, check_files);
   } else if (f.has("half_torus")) {
     const Fields h = f.object("half_torus");
-    h.reject_unknown({"major_radius", "minor_radius", "around", "across"});
+    HalfTorusSpec::fields().reject_unknown(h);
     HalfTorusSpec t;
-    t.major_radius = h.number_in("major_radius", t.major_radius, 1e-4, 1e4);
-    t.minor_radius = h.number_in("minor_radius", t.minor_radius, 1e-5, 1e4);
+    HalfTorusSpec::fields().read(h, t);
     if (!(t.minor_radius < t.major_radius)) h.fail("minor_radius", "a tube radius below major_radius");
-    t.around = h.integer("around", t.around, 3, 4000);
-    t.across = h.integer("across", t.across, 1, 4000);
     c.half_torus = t;
   } else {
     const Fields g = f.object_or_empty("grid");
-    g.reject_unknown({"width", "height", "nx", "ny"});
-    c.grid.width = g.number_in("width", c.grid.width, 1e-4, 1e4);
-    c.grid.height = g.number_in("height", c.grid.height, 1e-4, 1e4);
-    c.grid.nx = g.integer("nx", c.grid.nx, 1, 2000);
-    c.grid.ny = g.integer("ny", c.grid.ny, 1, 2000);
+    GridSpec::fields().reject_unknown(g);
+    GridSpec::fields().read(g, c.grid);
   }
-  c.rest_shape = f.string("rest_shape", c.rest_shape);
-  if (c.rest_shape != "mesh" && c.rest_shape != "pattern") f.fail("rest_shape", "\"mesh\" or \"pattern\"");
   if (c.rest_shape == "pattern" && c.mesh.empty())
     f.fail("rest_shape", "\"mesh\" for a grid or shape (a pattern comes from a mesh file's vt lines)");
   if (f.has("initial_shape")) {
@@ -147,10 +123,9 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
   if (f.has("plasticity")) c.plasticity = parse_plasticity(f.object("plasticity"));
   if (f.has("bending_plasticity")) {
     const Fields b = f.object("bending_plasticity");
-    b.reject_unknown({"yield_degrees", "max_change_degrees"});
+    BendingPlasticitySpec::fields().reject_unknown(b);
     BendingPlasticitySpec bp;
-    bp.yield_degrees = b.number_in("yield_degrees", bp.yield_degrees, 0, 180);
-    bp.max_change_degrees = b.number_in("max_change_degrees", bp.max_change_degrees, 1e-6, 360);
+    BendingPlasticitySpec::fields().read(b, bp);
     c.bending_plasticity = bp;
   }
   if (f.has("inversion_test")) {
@@ -191,38 +166,27 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
 }
 
 nlohmann::json cloth_json(const ClothSpec& c) {
-  const auto& m = c.material;
-  nlohmann::json j{{"name", c.name},
-                   {"self_collision", c.self_collision},
-                   {"rest_shape", c.rest_shape},
-                   {"transform", transform_json(c.transform)},
-                   {"velocity", c.velocity},
-                   {"material", {{"model", m.model}, {"young", m.young}, {"poisson", m.poisson},
-                                 {"compression_limit", m.compression_limit},
-                                 {"hardening_deformation", m.hardening_deformation},
-                                 {"hardening_strength", m.hardening_strength}, {"density", m.density},
-                                 {"thickness", m.thickness}, {"damping", m.damping},
-                                 {"bending_stiffness", m.bending_stiffness}, {"bending_damping", m.bending_damping}}},
-                   {"stitches", {{"from_mesh", c.stitches.from_mesh}, {"list", stitch_list_json(c.stitches)},
-                                 {"stiffness", c.stitches.stiffness}, {"damping", c.stitches.damping},
-                                 {"closing_speed", c.stitches.closing_speed}}},
-                   {"pin_vertices", c.pin_vertices},
-                   {"pin_boxes", pin_boxes_json(c.pin_boxes)}};
+  nlohmann::json j = fields_json(c);  // rest_shape, self_collision
+  j["name"] = c.name;
+  j["transform"] = transform_json(c.transform);
+  j["velocity"] = c.velocity;
+  j["material"] = fields_json(c.material);
+  j["stitches"] = fields_json(c.stitches);
+  j["stitches"]["list"] = stitch_list_json(c.stitches);
+  j["pin_vertices"] = c.pin_vertices;
+  j["pin_boxes"] = pin_boxes_json(c.pin_boxes);
   if (!c.mesh.empty())
     j["mesh"] = c.mesh.string();
   else if (c.half_torus)
-    j["half_torus"] = {{"major_radius", c.half_torus->major_radius}, {"minor_radius", c.half_torus->minor_radius},
-                       {"around", c.half_torus->around}, {"across", c.half_torus->across}};
+    j["half_torus"] = fields_json(*c.half_torus);
   else
-    j["grid"] = {{"width", c.grid.width}, {"height", c.grid.height}, {"nx", c.grid.nx}, {"ny", c.grid.ny}};
+    j["grid"] = fields_json(c.grid);
   if (!c.initial_shape.empty()) {
     j["initial_shape"] = {{"mesh", c.initial_shape.string()}};
     if (c.initial_transform) j["initial_shape"]["transform"] = transform_json(*c.initial_transform);
   }
   if (c.plasticity) j["plasticity"] = plasticity_json(*c.plasticity);
-  if (c.bending_plasticity)
-    j["bending_plasticity"] = {{"yield_degrees", c.bending_plasticity->yield_degrees},
-                               {"max_change_degrees", c.bending_plasticity->max_change_degrees}};
+  if (c.bending_plasticity) j["bending_plasticity"] = fields_json(*c.bending_plasticity);
   if (c.inversion_test == "direction")
     j["inversion_test"] = c.inversion_direction;
   else

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <initializer_list>
 #include <vector>
 
 #include "json_fields.hpp"
@@ -11,16 +12,32 @@
 
 namespace invfem::app::scene_detail {
 
+// The rows of `table` with these keys, as a table of their own (in the table's order): a collider
+// reads and writes only the fields of its type.
+template <class S>
+FieldTable<S> rows_of(const FieldTable<S>& table, std::initializer_list<const char*> keys) {
+  std::vector<Field<S>> rows;
+  for (const auto& d : table.fields())
+    for (const char* k : keys)
+      if (d.key == k) rows.push_back(d);
+  return FieldTable<S>(std::move(rows));
+}
+
+// The fields of `spec`'s table that have a member, as a JSON object (the rows without one are the
+// caller's to add).
+template <class S>
+nlohmann::json fields_json(const S& spec) {
+  nlohmann::json j = nlohmann::json::object();
+  S::fields().write(j, spec);
+  return j;
+}
+
 ScalarTrack parse_track(const Fields& f, const std::string& key, double fallback);
 Transform parse_transform(const Fields& f);
 // With `motions`, each box may also hold a "motion" (parse_motion), appended there (solids).
 std::vector<PinBox> parse_pin_boxes(const Fields& f, std::vector<MotionSpec>* motions = nullptr);
 PinBox parse_pin_box(const Fields& b, bool with_motion = false);
 PlasticitySpec parse_plasticity(const Fields& f);
-// The fields choosing a constitutive model: model, compression_limit, hardening_deformation,
-// hardening_strength (solids' and cloths' materials alike).
-void parse_model_choice(const Fields& f, std::string& model, double& compression_limit, double& hardening_deformation,
-                        double& hardening_strength);
 MotionSpec parse_motion(const Fields& f);
 // A mesh path relative to the scene file's folder, made absolute; checked to exist if asked.
 std::filesystem::path parse_mesh_path(const Fields& f, const std::string& key, const std::filesystem::path& dir,

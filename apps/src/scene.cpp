@@ -97,11 +97,9 @@ PlasticitySpec parse_plasticity(const Fields& f) {
 FractureSpec parse_fracture(const Fields& f) {
   FractureSpec::fields().reject_unknown(f);
   FractureSpec s;
-  if (f.has("max_principal_stress")) s.max_principal_stress = f.number_in("max_principal_stress", 1e6, 1e-6, 1e12);
-  if (f.has("max_plastic_strain")) s.max_plastic_strain = f.number_in("max_plastic_strain", 1, 1e-6, 10);
+  FractureSpec::fields().read(f, s);
   if (!s.max_principal_stress && !s.max_plastic_strain)
     f.fail("max_principal_stress", "a threshold: max_principal_stress [Pa] and/or max_plastic_strain");
-  FractureSpec::fields().read(f, s);  // front_fraction, max_cuts_per_step, max_elements
   if (f.has("seed")) {
     const Fields b = f.object("seed");
     b.reject_unknown({"point", "normal", "min", "max", "factor"});
@@ -637,9 +635,7 @@ nlohmann::json solid_json(const SolidSpec& o) {
   j["pin_boxes"] = pin_boxes_json(o.pin_boxes, &o.pin_box_motions);
   if (o.plasticity) j["plasticity"] = plasticity_json(*o.plasticity);
   if (o.fracture) {
-    nlohmann::json f = fields_json(*o.fracture);  // front_fraction, max_cuts_per_step, max_elements
-    if (o.fracture->max_principal_stress) f["max_principal_stress"] = *o.fracture->max_principal_stress;
-    if (o.fracture->max_plastic_strain) f["max_plastic_strain"] = *o.fracture->max_plastic_strain;
+    nlohmann::json f = fields_json(*o.fracture);
     if (const auto& seed = o.fracture->seed) {
       nlohmann::json sj{{"point", seed->point}, {"normal", seed->normal}, {"factor", seed->factor}};
       if (seed->min) sj["min"] = *seed->min, sj["max"] = *seed->max;

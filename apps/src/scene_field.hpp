@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -28,7 +29,9 @@ struct Range {
 };
 
 template <class S> struct Field {
-  using Member = std::variant<std::monostate, double S::*, int S::*, bool S::*, std::string S::*>;
+  // An optional number is read only when given (no default: "none"), and written only when set.
+  using Member =
+      std::variant<std::monostate, double S::*, std::optional<double> S::*, int S::*, bool S::*, std::string S::*>;
   std::string key;
   Member member;                     // monostate: documented here, read by hand
   std::string unit = "–";
@@ -75,7 +78,12 @@ template <class S> class FieldTable {
   void write(nlohmann::json& j, const S& spec) const {
     for (const auto& d : fields_)
       std::visit([&](auto m) {
-        if constexpr (!std::is_same_v<decltype(m), std::monostate>) j[d.key] = spec.*m;
+        using M = decltype(m);
+        if constexpr (std::is_same_v<M, std::optional<double> S::*>) {
+          if (spec.*m) j[d.key] = *(spec.*m);
+        } else if constexpr (!std::is_same_v<M, std::monostate>) {
+          j[d.key] = spec.*m;
+        }
       }, d.member);
   }
   // The table's rows for the document, defaults from a default-constructed spec.
@@ -93,12 +101,17 @@ template <class S> class FieldTable {
 
  private:
   static void read_one(const Fields&, S&, const Field<S>&, std::monostate) {}
-  static void read_one(const Fields& f, S& s, const Field<S>& d, double S::*m) {
-    const double x = f.number(d.key, s.*m);
+  static void read_one(const Fields& f, S& s, const Field<S>& d, double S::*m) { s.*m = checked(f, d, s.*m); }
+  static void read_one(const Fields& f, S& s, const Field<S>& d, std::optional<double> S::*m) {
+    if (f.has(d.key)) s.*m = checked(f, d, 0.0);
+  }
+  // The number at d.key (fallback when absent) within d.range.
+  static double checked(const Fields& f, const Field<S>& d, double fallback) {
+    const double x = f.number(d.key, fallback);
     const Range& r = d.range;
     if (r.open_lo ? !(x > r.lo) : !(x >= r.lo)) f.fail(d.key, d.expected.empty() ? range_expected(r, false) : d.expected);
     if (r.open_hi ? !(x < r.hi) : !(x <= r.hi)) f.fail(d.key, d.expected.empty() ? range_expected(r, false) : d.expected);
-    s.*m = x;
+    return x;
   }
   static void read_one(const Fields& f, S& s, const Field<S>& d, int S::*m) {
     s.*m = f.integer(d.key, s.*m, static_cast<int>(d.range.lo), static_cast<int>(d.range.hi));
@@ -114,6 +127,10 @@ template <class S> class FieldTable {
   static void describe(const S&, const Field<S>&, std::monostate, FieldRow&) {}
   static void describe(const S& defaults, const Field<S>& d, double S::*m, FieldRow& r) {
     r.default_text = format_number(defaults.*m);
+    r.meaning = with_sentence(r.meaning, range_sentence(d.range));
+  }
+  static void describe(const S&, const Field<S>& d, std::optional<double> S::*, FieldRow& r) {
+    r.default_text = "none";
     r.meaning = with_sentence(r.meaning, range_sentence(d.range));
   }
   static void describe(const S& defaults, const Field<S>& d, int S::*m, FieldRow& r) {

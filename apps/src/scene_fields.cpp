@@ -207,14 +207,11 @@ const FieldTable<FiberSpec>& FiberSpec::fields() {
 const FieldTable<FractureSpec>& FractureSpec::fields() {
   using S = FractureSpec;
   static const FieldTable<S> table({
-      {.key = "max_principal_stress", .unit = "Pa",
+      {.key = "max_principal_stress", .member = &S::max_principal_stress, .unit = "Pa", .range = {1e-6, 1e12},
        .description = "cut where the largest principal stress (first Piola-Kirchhoff, in the element's diagonal "
-                      "frame; tension only) exceeds this, in [1e-6, 1e12]",
-       .default_text = "none"},
-      {.key = "max_plastic_strain",
-       .description = "or where the accumulated plastic strain max‖log λ(Fp)‖ exceeds this, in [1e-6, 10]; needs "
-                      "`plasticity`",
-       .default_text = "none"},
+                      "frame; tension only) exceeds this"},
+      {.key = "max_plastic_strain", .member = &S::max_plastic_strain, .range = {1e-6, 10},
+       .description = "or where the accumulated plastic strain max‖log λ(Fp)‖ exceeds this; needs `plasticity`"},
       {.key = "front_fraction", .member = &S::front_fraction, .range = {0, 1, true, false},
        .expected = "a fraction in (0, 1]",
        .description = "an element already touched by a cut (the crack front) is cut at this fraction of the "

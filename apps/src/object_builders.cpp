@@ -25,6 +25,8 @@
 #include "json_fields.hpp"
 #include "material_factory.hpp"
 #include "solid_surface_check.hpp"
+#include "welds_file.hpp"
+#include "invfem/collisions/certificate/intersection_count.hpp"
 
 namespace invfem::app {
 
@@ -204,6 +206,36 @@ std::vector<int> pinned_vertices(const PinSpec& p, const Garment& g, const Point
   return checked_vertices(p.vertices, x0.rows(), what);
 }
 
+// Warnings a cloth earns at load, each with its count and first example (a solid's surface gets
+// its own in solid_surface_check): a pattern whose scale is far from the mesh's (outside
+// [kPatternScaleLow, kPatternScaleHigh]: a rest shape that much smaller or larger than the garment,
+// usually a texture layout in [0, 1] read as a pattern), and a start that crosses itself (the
+// certificate's count, seams exempt as in `invfem check`), which the self-collision layer cannot
+// undo.
+constexpr double kPatternScaleLow = 0.5, kPatternScaleHigh = 2;  // a sewing pattern is the garment's size
+void warn_about_cloth_start(const ClothSpec& spec, const Garment& g, const Points& x0) {
+  const std::string file = spec.mesh.empty() ? "cloth \"" + spec.name + "\"" : spec.mesh.string();
+  if (const double s = pattern_scale(g); s > 0 && (s < kPatternScaleLow || s > kPatternScaleHigh)) {
+    std::ostringstream w;
+    w << "warning: " << file << ": the pattern's edges are a median " << s << " times the mesh's (outside ["
+      << kPatternScaleLow << ", " << kPatternScaleHigh << "]): its vt may be a texture layout, not a pattern in "
+      << "metres; the rest shape is that much " << (s < 1 ? "smaller" : "larger") << " than the garment\n";
+    std::cerr << w.str();
+  }
+  TriangleSurface start{x0, g.surface.tris, file};
+  std::vector<Weld> seams;
+  for (const Stitch& st : g.stitches) seams.push_back(stitch_weld(st));
+  const certificate::IntersectionCount c = certificate::count_intersections({&start}, {welds_from_seams(seams).welds}, 1);
+  if (c.self_total() > 0) {
+    std::ostringstream w;
+    w << "warning: " << file << ": the cloth starts crossing itself: " << c.self_total()
+      << " pairs of triangles intersect (first: triangles " << c.examples[0].triangle_a << " and "
+      << c.examples[0].triangle_b << "); the self-collision layer keeps crossings from forming, it does not undo "
+      << "them (`invfem check OUT --frames 0-0`)\n";
+    std::cerr << w.str();
+  }
+}
+
 Garment load_cloth_geometry(const ClothSpec& spec) {
   if (!spec.mesh.empty()) {
     Garment g = load_garment(spec.mesh.string(), GarmentLoadOptions{spec.rest_shape == "pattern"});
@@ -241,6 +273,7 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
     check_object_size(*g.initial, spec.initial_transform.value_or(spec.transform).scale, where + ": initial shape");
   const Points& x0 = g.initial ? *g.initial : g.surface.x;
   const int n = static_cast<int>(x0.rows());
+  warn_about_cloth_start(spec, g, x0);
   const auto& m = spec.material;
   ClothObjectParams params;
   params.thickness = m.thickness;

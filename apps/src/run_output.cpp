@@ -7,6 +7,7 @@
 
 #include "invfem/core/io/atomic_file.hpp"
 #include "invfem/core/io/obj_writer.hpp"
+#include "invfem/core/io/pc2_writer.hpp"
 #include "invfem/core/io/ply_writer.hpp"
 #include "invfem/core/io/usd_writer.hpp"
 #include "invfem/core/io/vtu_writer.hpp"
@@ -61,11 +62,11 @@ std::set<std::string> parse_formats(const std::string& list) {
   std::set<std::string> out;
   std::stringstream ss(list);
   for (std::string f; std::getline(ss, f, ',');) {
-    if (f != "obj" && f != "ply" && f != "vtu" && f != "usd")
-      throw InputError("--format: unknown format \"" + f + "\" (choose from obj, ply, vtu, usd)");
+    if (f != "obj" && f != "ply" && f != "vtu" && f != "usd" && f != "pc2")
+      throw InputError("--format: unknown format \"" + f + "\" (choose from obj, ply, vtu, usd, pc2)");
     out.insert(f);
   }
-  if (out.empty()) throw InputError("--format: no format given (choose from obj, ply, vtu, usd)");
+  if (out.empty()) throw InputError("--format: no format given (choose from obj, ply, vtu, usd, pc2)");
   return out;
 }
 
@@ -100,29 +101,62 @@ RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World&
   const double fps = scene.fps;
   csv_ = first_frame > 0 ? keep_rows_before(resume_csv, first_frame, true, false) : kCsvHeader;
   if (first_frame > 0) stats_ = keep_rows_before(read_file(dir_ / "stats.jsonl"), first_frame, false, true);
-  for (const auto& o : world.objects()) {
-    if (formats_.count("vtu") && o.tets.rows()) {
-      pvd_[o.name] = std::make_unique<PvdWriter>((dir_ / (o.name + ".pvd")).string());
-      for (int f = 0; f < first_frame; ++f)
-        if (std::filesystem::exists(dir_ / "frames" / o.name / (frame_name(f) + ".vtu")))
-          pvd_[o.name]->add(f / fps, vtu_entry(o.name, f));
-    }
-    if (formats_.count("usd")) {
-      usd_[o.name] = std::make_unique<UsdaAnimationWriter>((dir_ / "frames" / (o.name + ".usda")).string(), o.name,
-                                                           o.material_surface().tris, fps);
-      // A resumed run rebuilds the animation's earlier samples from the OBJ frames.
-      for (int f = 0; f < first_frame; ++f) {
-        const auto obj = dir_ / "frames" / o.name / (frame_name(f) + ".obj");
-        if (std::filesystem::exists(obj)) {
-          const TriangleSurface s = read_obj_surface(obj.string());
-          usd_[o.name]->add_frame(f, s.x, s.tris);
-        }
+  // Point caches (OUT/<name>.pc2), objects' and kinematic bodies' alike, in their frames' vertex
+  // order; a resumed run drops the samples from its first frame on.
+  if (formats_.count("pc2")) {
+    auto cache = [&](const std::string& name, const Points& x) {
+      pc2_[name] = std::make_unique<Pc2Writer>((dir_ / (name + ".pc2")).string(), x.rows(), first_frame);
+    };
+    for (const auto& o : world.objects()) cache(o.name, o.material_surface().x);
+    for (const auto& k : world.kinematic_bodies())
+      if (const TriangleSurface* s = k->surface(); s && s->x.rows() > 0) cache(k->name(), s->x);
+  }
+  // ParaView series (OUT/<name>.pvd), objects' and kinematic bodies' alike.
+  auto series = [&](const std::string& name) {
+    pvd_[name] = std::make_unique<PvdWriter>((dir_ / (name + ".pvd")).string());
+    for (int f = 0; f < first_frame; ++f)
+      if (std::filesystem::exists(dir_ / "frames" / name / (frame_name(f) + ".vtu"))) pvd_[name]->add(f / fps, vtu_entry(name, f));
+  };
+  if (formats_.count("vtu")) {
+    for (const auto& o : world.objects()) series(o.name);
+    for (const auto& k : world.kinematic_bodies())
+      if (k->surface()) series(k->name());
+  }
+  // One animated USD layer per object and per kinematic body (frames/<name>.usda), with a
+  // garment's texture coordinates; a resumed run rebuilds its earlier samples from the OBJ frames.
+  auto layer = [&](const std::string& name, const TriangleSurface& m) {
+    usd_[name] = std::make_unique<UsdaAnimationWriter>((dir_ / "frames" / (name + ".usda")).string(), name, m.tris, fps);
+    if (m.uv.rows() > 0 && m.uv_tris.rows() == m.tris.rows()) usd_[name]->set_texture_coordinates(m.uv, m.uv_tris);
+    for (int f = 0; f < first_frame; ++f) {
+      const auto obj = dir_ / "frames" / name / (frame_name(f) + ".obj");
+      if (std::filesystem::exists(obj)) {
+        const TriangleSurface s = read_obj_surface(obj.string());
+        usd_[name]->add_frame(f, s.x, s.tris);
       }
     }
+  };
+  if (formats_.count("usd")) {
+    for (const auto& o : world.objects()) layer(o.name, o.material_surface());
+    for (const auto& k : world.kinematic_bodies())
+      if (const TriangleSurface* s = k->surface(); s && s->tris.rows() > 0) layer(k->name(), *s);
   }
 }
 
 RunOutput::~RunOutput() = default;
+
+void RunOutput::add_to_cache(const std::string& name, const Points& x) {
+  const auto it = pc2_.find(name);
+  if (it == pc2_.end()) return;
+  if (x.rows() != it->second->points()) {
+    // A point cache holds one vertex count: a solid that fractured leaves it at its last frame.
+    std::fprintf(stderr, "warning: %s.pc2 ends at frame %d: \"%s\" now has %lld vertices, not %lld (fracture)\n",
+                 name.c_str(), it->second->start_frame() + it->second->samples() - 1, name.c_str(), static_cast<long long>(x.rows()),
+                 static_cast<long long>(it->second->points()));
+    pc2_.erase(it);
+    return;
+  }
+  it->second->add(x);
+}
 
 std::string RunOutput::frame_name(int frame) {
   char buf[16];
@@ -135,21 +169,44 @@ void RunOutput::write_frame(int frame, const World& world, const FrameReport& r)
     const auto base = dir_ / "frames" / o.name / frame_name(frame);
     const TriangleSurface& surface = o.material_surface();  // a cut solid's embedded surface
     if (formats_.count("obj")) write_obj(base.string() + ".obj", surface);
-    if (formats_.count("ply")) write_ply(base.string() + ".ply", surface.x, surface.tris);
+    if (formats_.count("ply")) {
+      const auto uv = per_vertex_uv(surface);  // a garment's, where it has one per vertex
+      write_ply(base.string() + ".ply", surface.x, surface.tris, PlyEncoding::binary_little_endian,
+                uv.rows() > 0 ? &uv : nullptr);
+    }
     // Each frame with its own triangles: a fracturing solid's topology changes (usd_writer.hpp).
     if (auto it = usd_.find(o.name); it != usd_.end()) it->second->add_frame(frame, surface.x, surface.tris);
     if (auto it = pvd_.find(o.name); it != pvd_.end()) {
       VtuFields fields;
-      for (const auto& f : o.forces) f->add_cell_fields(fields.cell_scalars);
-      fields.point_vectors["velocity"] = o.body.v;
-      write_vtu(base.string() + ".vtu", o.body.x, o.tets, fields);
+      if (o.tets.rows()) {  // a solid: its tets, det F and inverted flags per cell
+        for (const auto& f : o.forces) f->add_cell_fields(fields.cell_scalars);
+        fields.point_vectors["velocity"] = o.body.v;
+        write_vtu(base.string() + ".vtu", o.body.x, o.tets, fields);
+      } else {  // a cloth: its surface (vertex s is node surface_nodes[s])
+        Points v(static_cast<Eigen::Index>(o.surface_nodes.size()), 3);
+        for (std::size_t s = 0; s < o.surface_nodes.size(); ++s) v.row(static_cast<Eigen::Index>(s)) = o.body.v.row(o.surface_nodes[s]);
+        fields.point_vectors["velocity"] = v;
+        write_vtu(base.string() + ".vtu", o.surface.x, o.surface.tris, fields);
+      }
       it->second->add(world.time(), vtu_entry(o.name, frame));
     }
   }
   // Kinematic bodies, placed at this frame's time: for previews and for the user's own renders.
+  for (const auto& k : world.kinematic_bodies()) {
+    const TriangleSurface* s = k->surface();
+    if (!s) continue;
+    const std::string base = (dir_ / "frames" / k->name() / frame_name(frame)).string();
+    if (formats_.count("obj")) write_obj(base + ".obj", *s);
+    if (formats_.count("ply")) write_ply(base + ".ply", s->x, s->tris);
+    if (auto it = pvd_.find(k->name()); it != pvd_.end()) {
+      write_vtu(base + ".vtu", s->x, s->tris);
+      it->second->add(world.time(), vtu_entry(k->name(), frame));
+    }
+    if (auto it = usd_.find(k->name()); it != usd_.end()) it->second->add_frame(frame, s->x, s->tris);
+  }
+  for (const auto& o : world.objects()) add_to_cache(o.name, o.material_surface().x);
   for (const auto& k : world.kinematic_bodies())
-    if (const TriangleSurface* s = k->surface(); s && formats_.count("obj"))
-      write_obj((dir_ / "frames" / k->name() / (frame_name(frame) + ".obj")).string(), *s);
+    if (const TriangleSurface* s = k->surface()) add_to_cache(k->name(), s->x);
   char row[512];
   std::snprintf(row, sizeof row, "%d,%.6f,%.9g,%.9g,%.9g,%.9g,%d,%d,%.9g,%.9g,%.9g,%d,%d\n", frame, world.time(),
                 r.kinetic, r.elastic, r.gravity, r.kinetic + r.elastic + r.gravity, r.elements.inverted,

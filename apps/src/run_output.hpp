@@ -19,6 +19,7 @@
 namespace invfem {
 class PvdWriter;
 class UsdaAnimationWriter;
+class Pc2Writer;
 }
 
 namespace invfem::app {
@@ -58,6 +59,9 @@ class RunOutput {
   std::string stats_;  // likewise for stats.jsonl
   std::map<std::string, std::unique_ptr<PvdWriter>> pvd_;
   std::map<std::string, std::unique_ptr<UsdaAnimationWriter>> usd_;
+  std::map<std::string, std::unique_ptr<Pc2Writer>> pc2_;  // per object or body, with --format pc2
+  // Appends x to name's point cache, if it has one (dropped, with a warning, when x's vertex count changed).
+  void add_to_cache(const std::string& name, const Points& x);
 };
 
 }  // namespace invfem::app

@@ -74,6 +74,11 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   set_pinned_velocities(o, 0.0);
   o.surface = extract_surface(o.body.x, surface.tris, o.surface_nodes);
   o.surface.source = surface.source;
+  // The source's texture coordinates and panels go to every output frame (same triangle order).
+  o.surface.uv = surface.uv;
+  o.surface.uv_tris = surface.uv_tris;
+  o.surface.groups = surface.groups;
+  o.surface.triangle_group = surface.triangle_group;
   std::vector<int> vertex_of(static_cast<std::size_t>(o.body.x.rows()), -1);
   for (std::size_t s = 0; s < o.surface_nodes.size(); ++s) vertex_of[static_cast<std::size_t>(o.surface_nodes[s])] = static_cast<int>(s);
   auto surface_vertex = [&](int node) { return node < 0 ? -1 : vertex_of[static_cast<std::size_t>(node)]; };

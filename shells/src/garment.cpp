@@ -113,6 +113,21 @@ void check_garment(const Garment& g) {
 
 }  // namespace
 
+double pattern_scale(const Garment& g) {
+  if (g.pattern.size() != static_cast<std::size_t>(g.surface.tris.rows())) return 0;
+  std::vector<double> ratios;
+  ratios.reserve(3 * g.pattern.size());
+  for (Eigen::Index t = 0; t < g.surface.tris.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const double edge3 = (g.surface.x.row(g.surface.tris(t, (k + 1) % 3)) - g.surface.x.row(g.surface.tris(t, k))).norm();
+      const double edge2 = (g.pattern[static_cast<std::size_t>(t)][(k + 1) % 3] - g.pattern[static_cast<std::size_t>(t)][k]).norm();
+      if (edge3 > 0) ratios.push_back(edge2 / edge3);
+    }
+  if (ratios.empty()) return 0;
+  std::nth_element(ratios.begin(), ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2), ratios.end());
+  return ratios[ratios.size() / 2];
+}
+
 Garment load_garment(const std::string& path, const GarmentLoadOptions& options) {
   Garment g;
   if (!is_obj(path)) {
@@ -133,6 +148,15 @@ Garment load_garment(const std::string& path, const GarmentLoadOptions& options)
   g.surface = TriangleSurface{f.v, f.faces, path};
   g.groups = f.groups;
   g.triangle_group = f.face_group;
+  // The texture coordinates as the file has them, for the output frames: per face corner (f v/vt
+  // on every face), or one per vertex (C-IPC: as many vt as v, faces without vt indices).
+  const bool per_corner = f.faces.rows() > 0 && (f.face_vt.array() >= 0).all();
+  if (per_corner || (f.vt.rows() == f.v.rows() && (f.face_vt.array() < 0).all())) {
+    g.surface.uv = f.vt;
+    g.surface.uv_tris = per_corner ? f.face_vt : f.faces;
+  }
+  g.surface.groups = f.groups;
+  g.surface.triangle_group = f.face_group;
   if (options.pattern) g.pattern = pattern_of(f);
   for (const ObjFile::Extra& e : f.extra) {
     if (e.keyword == "stitch")

@@ -71,6 +71,25 @@ SurfaceEdges surface_edges(const Tris& tris, Eigen::Index num_vertices) {
   return out;
 }
 
+Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> per_vertex_uv(const TriangleSurface& s) {
+  Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> out;
+  if (s.uv.rows() == 0 || s.uv_tris.rows() != s.tris.rows()) return out;
+  std::vector<int> of(static_cast<std::size_t>(s.x.rows()), -1);  // each vertex's uv index
+  for (Eigen::Index t = 0; t < s.tris.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      int& j = of[static_cast<std::size_t>(s.tris(t, k))];
+      if (j >= 0 && j != s.uv_tris(t, k)) return out;  // two uv on one vertex: per corner only
+      j = s.uv_tris(t, k);
+    }
+  out.resize(s.x.rows(), 2);
+  for (Eigen::Index v = 0; v < s.x.rows(); ++v) {
+    const int j = of[static_cast<std::size_t>(v)];
+    if (j < 0 || j >= s.uv.rows()) return {};
+    out.row(v) = s.uv.row(j);
+  }
+  return out;
+}
+
 TriangleSurface extract_surface(const Points& x, const Tris& tris, std::vector<int>& nodes) {
   const Eigen::Index n = x.rows();
   std::vector<int> compact(static_cast<std::size_t>(n), -1);

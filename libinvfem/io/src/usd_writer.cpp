@@ -70,6 +70,36 @@ int UsdaAnimationWriter::topology_of(const Tris& tris) {
   return static_cast<int>(topologies_.size()) - 1;
 }
 
+void UsdaAnimationWriter::set_texture_coordinates(const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>& uv,
+                                                  const Tris& uv_tris) {
+  const Tris& tris = topologies_.front().tris;
+  const std::string who = "UsdaAnimationWriter(" + path_ + ")";
+  if (uv_tris.rows() != tris.rows())
+    throw std::invalid_argument(who + ": " + std::to_string(uv_tris.rows()) + " uv triangles for " +
+                                std::to_string(tris.rows()) + " triangles");
+  if (!uv.allFinite()) throw std::invalid_argument(who + ": a non-finite texture coordinate");
+  std::string st = "[", indices = "[";
+  for (Eigen::Index i = 0; i < uv.rows(); ++i) {
+    if (i) st += ", ";
+    st += '(';
+    append_real(st, uv(i, 0));
+    st += ", ";
+    append_real(st, uv(i, 1));
+    st += ')';
+  }
+  for (Eigen::Index t = 0; t < uv_tris.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int j = uv_tris(t, k);
+      if (j < 0 || j >= uv.rows())
+        throw std::invalid_argument(who + ": triangle " + std::to_string(t) + " uv index " + std::to_string(j) +
+                                    " outside [0, " + std::to_string(uv.rows()) + ")");
+      if (t || k) indices += ", ";
+      indices += std::to_string(j);
+    }
+  st_ = st + "]";
+  st_indices_ = indices + "]";
+}
+
 bool UsdaAnimationWriter::topology_varies() const {
   for (const auto& [k, f] : frames_)
     if (f.topology != 0) return true;
@@ -172,6 +202,10 @@ std::string UsdaAnimationWriter::render() const {
   out += "        int[] faceVertexIndices = " + first_topology.indices + "\n";
   if (varies) samples("faceVertexIndices", &Topology::indices);
   out += "        uniform token orientation = \"rightHanded\"\n";
+  if (!st_.empty() && !varies) {
+    out += "        texCoord2f[] primvars:st = " + st_ + " (\n            interpolation = \"faceVarying\"\n        )\n";
+    out += "        int[] primvars:st:indices = " + st_indices_ + "\n";
+  }
   out += "        point3f[] points = " + frames_.begin()->second.points + "\n";
   out += "        point3f[] points.timeSamples = {\n";
   for (const auto& [k, f] : frames_) {

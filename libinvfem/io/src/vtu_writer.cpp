@@ -70,14 +70,19 @@ std::string xml_escape(const std::string& s) {
   return out;
 }
 
-void write_vtu(const std::string& path, const Points& x, const Tets& tets, const VtuFields& fields) {
+namespace {
+// One cell type: K corners a cell (4: VTK_TETRA = 10, 3: VTK_TRIANGLE = 5).
+template <class Cells>
+void write_cells(const std::string& path, const Points& x, const Cells& cells, const VtuFields& fields,
+                 const char* cell_name, const char* vtk_type) {
+  constexpr int K = Cells::ColsAtCompileTime;
   const std::string who = "write_vtu(" + path + ")";
-  const Eigen::Index n = x.rows(), m = tets.rows();
+  const Eigen::Index n = x.rows(), m = cells.rows();
   detail::check_finite_points(who, x);
-  detail::check_indices(who, "tet", tets, n);
-  // Offsets are Int32: 4m must fit.
-  if (m > std::numeric_limits<int>::max() / 4)
-    throw std::invalid_argument(who + ": " + std::to_string(m) + " tets exceed the Int32 offsets");
+  detail::check_indices(who, cell_name, cells, n);
+  // Offsets are Int32: K m must fit.
+  if (m > std::numeric_limits<int>::max() / K)
+    throw std::invalid_argument(who + ": " + std::to_string(m) + " " + cell_name + "s exceed the Int32 offsets");
   for (const auto& [name, v] : fields.cell_scalars) check_field(who, "cell", name, v.data(), v.size(), m, 1);
   for (const auto& [name, v] : fields.point_scalars) check_field(who, "point", name, v.data(), v.size(), n, 1);
   for (const auto& [name, v] : fields.point_vectors) check_field(who, "point", name, v.data(), v.size(), n, 3);
@@ -94,11 +99,11 @@ void write_vtu(const std::string& path, const Points& x, const Tets& tets, const
   append_values(out, 3 * n, [&](std::string& o, Eigen::Index i) { append_real(o, x.data()[i]); });
   out += "      </Points>\n      <Cells>\n";
   open_array(out, "Int32", "connectivity", 1);
-  append_values(out, 4 * m, [&](std::string& o, Eigen::Index i) { o += std::to_string(tets.data()[i]); });
+  append_values(out, K * m, [&](std::string& o, Eigen::Index i) { o += std::to_string(cells.data()[i]); });
   open_array(out, "Int32", "offsets", 1);
-  append_values(out, m, [&](std::string& o, Eigen::Index i) { o += std::to_string(4 * (i + 1)); });
+  append_values(out, m, [&](std::string& o, Eigen::Index i) { o += std::to_string(K * (i + 1)); });
   open_array(out, "UInt8", "types", 1);
-  append_values(out, m, [&](std::string& o, Eigen::Index) { o += "10"; });
+  append_values(out, m, [&](std::string& o, Eigen::Index) { o += vtk_type; });
   out += "      </Cells>\n";
   if (!fields.cell_scalars.empty()) {
     out += "      <CellData>\n";
@@ -122,6 +127,15 @@ void write_vtu(const std::string& path, const Points& x, const Tets& tets, const
   }
   out += "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
   atomic_write(path, out);
+}
+}  // namespace
+
+void write_vtu(const std::string& path, const Points& x, const Tets& tets, const VtuFields& fields) {
+  write_cells(path, x, tets, fields, "tet", "10");
+}
+
+void write_vtu(const std::string& path, const Points& x, const Tris& tris, const VtuFields& fields) {
+  write_cells(path, x, tris, fields, "triangle", "5");
 }
 
 PvdWriter::PvdWriter(std::string path) : path_(std::move(path)) {}

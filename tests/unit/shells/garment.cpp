@@ -9,6 +9,8 @@
 #include <string>
 
 #include "invfem/core/io/mesh_error.hpp"
+#include "invfem/core/io/obj_file.hpp"
+#include "invfem/core/io/obj_writer.hpp"
 #include "invfem/core/math/triangle_kernel.hpp"
 #include "invfem/shells/cloth_object.hpp"
 #include "invfem/shells/garment.hpp"
@@ -88,6 +90,30 @@ TEST(Garment, PerCornerVtGivesTheSameRestLengthsAsPerVertexVt) {
     EXPECT_NEAR(ra.area[e], rb.area[e], 1e-14);
   }
   EXPECT_LT((ra.node_area - rb.node_area).norm(), 1e-14);
+}
+
+// The source's texture coordinates and panels reach the frames: a cloth's OBJ frame, read back,
+// has the file's vt, the same vt on every face corner and the same panels, for both conventions.
+TEST(Garment, FramesKeepTheSourcesTextureCoordinatesAndPanels) {
+  TempDir t;
+  for (const auto& [name, text] : {std::pair{"per_vertex.obj", per_vertex_obj()}, std::pair{"per_corner.obj", per_corner_obj()}}) {
+    SCOPED_TRACE(name);
+    const std::string source = t.file(name, text);
+    const ObjFile in = read_obj_file(source);
+    const SimObject o = make_cloth_object("dress", load_garment(source), {});
+    const std::string frame = (std::filesystem::path(source).parent_path() / "frame.obj").string();
+    write_obj(frame, o.surface);
+    const ObjFile out = read_obj_file(frame);
+    EXPECT_EQ(out.v.rows(), in.v.rows());
+    EXPECT_EQ(out.faces, in.faces);
+    EXPECT_EQ(out.vt, in.vt);
+    EXPECT_EQ(out.face_vt, in.face_vt);
+    EXPECT_EQ(out.groups, in.groups);
+    EXPECT_EQ(out.face_group, in.face_group);
+  }
+  // A file without vt writes none, and its frames stay plain "f a b c".
+  const SimObject plain = make_cloth_object("sheet", load_garment(t.file("plain.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n")), {});
+  EXPECT_EQ(plain.surface.uv.rows(), 0);
 }
 
 TEST(Garment, PatternRestShapeDrivesTheClothAndRestAnglesAreFlat) {

@@ -40,6 +40,11 @@ struct GarmentLoadOptions {
 // vertex in no triangle, or a degenerate (zero-area) rest or pattern triangle.
 Garment load_garment(const std::string& path, const GarmentLoadOptions& options = {});
 
+// The median over every triangle edge of its pattern length over its 3D length (g.surface.x): 1
+// for a pattern in the mesh's units, far from it for a texture layout (vt in [0, 1]) taken for a
+// pattern. 0 when the garment has no pattern.
+double pattern_scale(const Garment& garment);
+
 // A garment made of a generated surface (one panel, no pattern, no stitches), checked the same way.
 Garment garment_from_surface(TriangleSurface surface);
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -176,6 +177,41 @@ TEST(PlyWriter, BinaryLayoutIsExactLittleEndian) {
     for (int k = 0; k < 3; ++k)
       EXPECT_EQ(static_cast<std::int32_t>(le(faces + 13 * t + 1 + 4 * k, 4)), m.tris(t, k));
   }
+}
+
+// Per-vertex texture coordinates (a garment with one vt per vertex) follow z as s and t; a
+// per-corner layout with a seam vertex gives no per-vertex uv, and the file none.
+TEST(PlyWriter, TextureCoordinatesPerVertexAreSAndT) {
+  TempDir dir;
+  TriangleSurface m = curved_sheet(3, 2);
+  m.uv.resize(m.x.rows(), 2);
+  for (Eigen::Index i = 0; i < m.x.rows(); ++i) m.uv.row(i) << 0.5 * static_cast<double>(i), 0.25;
+  m.uv_tris = m.tris;
+  const auto uv = per_vertex_uv(m);
+  ASSERT_EQ(uv.rows(), m.x.rows());
+  const std::string p = dir.path("uv.ply");
+  write_ply(p, m.x, m.tris, PlyEncoding::ascii, &uv);
+  std::istringstream in(slurp(p));
+  std::string line;
+  std::vector<std::string> header;
+  while (std::getline(in, line) && line != "end_header") header.push_back(line);
+  EXPECT_NE(std::find(header.begin(), header.end(), "property double s"), header.end());
+  EXPECT_NE(std::find(header.begin(), header.end(), "property double t"), header.end());
+  for (Eigen::Index i = 0; i < m.x.rows(); ++i) {
+    double v[5];
+    in >> v[0] >> v[1] >> v[2] >> v[3] >> v[4];
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(v[k], m.x(i, k));
+    EXPECT_EQ(v[3], uv(i, 0));
+    EXPECT_EQ(v[4], uv(i, 1));
+  }
+  // A vertex of two triangles given another uv in one of them: two uv on one vertex.
+  std::vector<int> uses(static_cast<std::size_t>(m.x.rows()), 0);
+  for (Eigen::Index t = 0; t < m.tris.rows(); ++t)
+    for (int k = 0; k < 3; ++k) ++uses[static_cast<std::size_t>(m.tris(t, k))];
+  int corner = 0;
+  while (uses[static_cast<std::size_t>(m.tris(0, corner))] < 2) ++corner;
+  m.uv_tris(0, corner) = (m.uv_tris(0, corner) + 1) % static_cast<int>(m.uv.rows());
+  EXPECT_EQ(per_vertex_uv(m).rows(), 0);
 }
 
 TEST(PlyWriter, RejectsBadInputWithoutTouchingTheFile) {
@@ -458,6 +494,39 @@ TEST(UsdaWriter, EveryIntermediateFileIsStructurallyValid) {
   if (std::system("command -v usdcat > /dev/null 2>&1") == 0) {
     EXPECT_EQ(std::system(("usdcat '" + p + "' > /dev/null").c_str()), 0);
   }
+}
+
+// A garment's texture coordinates reach the layer as the indexed face-varying primvar st: one
+// index per face corner, into the uv list as the surface holds them.
+TEST(UsdaWriter, TextureCoordinatesAreAFaceVaryingPrimvar) {
+  TempDir dir;
+  const TriangleSurface m = curved_sheet(3, 2);
+  Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> uv(m.x.rows(), 2);
+  for (Eigen::Index i = 0; i < m.x.rows(); ++i) uv.row(i) << 0.25 * static_cast<double>(i), 1.0 - 0.125 * static_cast<double>(i);
+  const std::string p = dir.path("dress.usda");
+  UsdaAnimationWriter usd(p, "dress", m.tris, 25);
+  usd.set_texture_coordinates(uv, m.tris);  // one uv per vertex: the corners index it as the faces do
+  usd.add_frame(0, m.x);
+  const std::string text = slurp(p);
+  ASSERT_NO_THROW(check_usda(text));
+  std::string st, indices;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    if (line.find("texCoord2f[] primvars:st = ") != std::string::npos) st = line.substr(line.find(" = ") + 3);
+    if (line.find("int[] primvars:st:indices = ") != std::string::npos) indices = line.substr(line.find(" = ") + 3);
+  }
+  EXPECT_NE(text.find("interpolation = \"faceVarying\""), std::string::npos);
+  const std::vector<double> values = usda_numbers(st.substr(0, st.rfind(" (")));
+  ASSERT_EQ(values.size(), static_cast<std::size_t>(2 * uv.rows()));
+  for (Eigen::Index i = 0; i < uv.rows(); ++i) {
+    EXPECT_EQ(values[static_cast<std::size_t>(2 * i)], uv(i, 0));
+    EXPECT_EQ(values[static_cast<std::size_t>(2 * i + 1)], uv(i, 1));
+  }
+  const std::vector<double> corners = usda_numbers(indices);
+  ASSERT_EQ(corners.size(), static_cast<std::size_t>(3 * m.tris.rows()));
+  for (Eigen::Index t = 0; t < m.tris.rows(); ++t)
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(corners[static_cast<std::size_t>(3 * t + k)], m.tris(t, k));
+  EXPECT_THROW(usd.set_texture_coordinates(uv, Tris(1, 3)), std::invalid_argument);
 }
 
 TEST(UsdaWriter, ATopologyThatChangesIsTimeSampledWhereItChanges) {

@@ -19,6 +19,14 @@ struct TriangleSurface {
   Points x;            // #V x 3 vertex positions [m]; row i is vertex i
   Tris tris;           // #F x 3 vertex indices, counter-clockwise seen from the front (outside)
   std::string source;  // the file it came from, or a description; named in error messages
+  // What the source file carried for the tools downstream (a garment's texture coordinates and
+  // panels), written back with every frame; empty when it had none. uv_tris(t, k) indexes uv for
+  // corner k of triangle t (one uv per vertex: uv_tris == tris; per corner: a seam vertex has
+  // several). triangle_group[t] indexes groups.
+  Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> uv{};  // #UV x 2
+  Tris uv_tris{};                                                   // #F x 3, or empty
+  std::vector<std::string> groups{};                                // panel names
+  std::vector<int> triangle_group{};                                // #F, or empty
 
   Eigen::Index num_vertices() const { return x.rows(); }
   Eigen::Index num_triangles() const { return tris.rows(); }
@@ -30,6 +38,11 @@ inline Vec3 triangle_normal(const Points& x, const Tris& tris, Eigen::Index t) {
   const Vec3 x0 = x.row(tris(t, 0)).transpose();
   return (x.row(tris(t, 1)).transpose() - x0).cross(x.row(tris(t, 2)).transpose() - x0);
 }
+
+// The surface's texture coordinates as one (u, v) per vertex (#V x 2) when every corner of each
+// vertex uses one uv (a garment with one vt per vertex); empty when it has none or a vertex has
+// several (a seam in a per-corner layout).
+Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> per_vertex_uv(const TriangleSurface& s);
 
 // Throws std::invalid_argument naming `what` for: no vertex or no triangle, a non-finite position
 // (naming the vertex), an index outside [0, #V) or a triangle repeating a vertex (naming the

@@ -13,7 +13,10 @@ enum class PlyEncoding { binary_little_endian, ascii };
 // little-endian whatever the host. Throws std::invalid_argument naming the path for a non-finite
 // position or an index outside [0, n); std::runtime_error (from atomic_write) if the file cannot
 // be written.
+// vertex_uv (#V x 2, or null): per-vertex texture coordinates, as "property double s" and
+// "property double t" after z (assimp, Blender and MeshLab read them as UVs).
 void write_ply(const std::string& path, const Points& x, const Tris& tris,
-               PlyEncoding encoding = PlyEncoding::binary_little_endian);
+               PlyEncoding encoding = PlyEncoding::binary_little_endian,
+               const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>* vertex_uv = nullptr);
 
 }  // namespace invfem

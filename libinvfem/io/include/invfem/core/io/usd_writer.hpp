@@ -40,6 +40,13 @@ class UsdaAnimationWriter {
   void add_frame(int frame, const Points& x, const Tris& tris);
   // True once some frame's triangles differ from the constructor's.
   bool topology_varies() const;
+  // The surface's texture coordinates (uv: #UV x 2; uv_tris: #F x 3 indices into uv, per face
+  // corner, as TriangleSurface holds them), written as the indexed face-varying primvar
+  // primvars:st (texCoord2f[] with primvars:st:indices) while the topology does not vary.
+  // Throws std::invalid_argument for a uv_tris of another shape than the triangles, an index
+  // outside [0, #UV) or a non-finite coordinate.
+  void set_texture_coordinates(const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>& uv,
+                               const Tris& uv_tris);
 
   const std::string& path() const { return path_; }
   const std::string& prim_name() const { return prim_; }
@@ -65,6 +72,7 @@ class UsdaAnimationWriter {
   double fps_;
   Eigen::Index num_points_ = -1;  // fixed by the first frame
   std::map<int, Frame> frames_;
+  std::string st_, st_indices_;  // primvars:st and its indices, "" when none
 };
 
 // A valid USD identifier made from `name` (see UsdaAnimationWriter's constructor).

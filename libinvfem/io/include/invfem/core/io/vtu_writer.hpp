@@ -23,6 +23,9 @@ struct VtuFields {
 // path for a non-finite position or field value (with the field name and row), an index outside
 // [0, n), or a field of the wrong length; std::runtime_error if the file cannot be written.
 void write_vtu(const std::string& path, const Points& x, const Tets& tets, const VtuFields& fields = {});
+// The same for a triangle surface (a cloth, a collider): connectivity 3m, offsets 3, 6, .., types
+// all 5 = VTK_TRIANGLE.
+void write_vtu(const std::string& path, const Points& x, const Tris& tris, const VtuFields& fields = {});
 
 // A .pvd collection: each add() appends a (time, file) entry and rewrites the whole .pvd
 // atomically, so a killed run leaves a valid collection of the frames written so far.

@@ -1,5 +1,6 @@
 #include "run_output.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -99,6 +100,8 @@ RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World&
       if (!f->seams().empty())
         atomic_write(dir_ / "frames" / o.name / "welds.txt", welds_text(o.name, welds_from_seams(f->seams())));
   const double fps = scene.fps;
+  fps_ = fps;
+  first_usd_frame_ = first_frame;
   csv_ = first_frame > 0 ? keep_rows_before(resume_csv, first_frame, true, false) : kCsvHeader;
   if (first_frame > 0) stats_ = keep_rows_before(read_file(dir_ / "stats.jsonl"), first_frame, false, true);
   // Point caches (OUT/<name>.pc2), objects' and kinematic bodies' alike, in their frames' vertex
@@ -132,6 +135,7 @@ RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World&
       if (std::filesystem::exists(obj)) {
         const TriangleSurface s = read_obj_surface(obj.string());
         usd_[name]->add_frame(f, s.x, s.tris);
+        first_usd_frame_ = std::min(first_usd_frame_, f);
       }
     }
   };
@@ -165,6 +169,19 @@ std::string RunOutput::frame_name(int frame) {
 }
 
 void RunOutput::write_frame(int frame, const World& world, const FrameReport& r) {
+  write_frame_files(frame, world);
+  // One USD stage for the shot (OUT/shot.usda), referencing every object's and body's layer.
+  if (!usd_.empty()) {
+    std::vector<std::pair<std::string, std::string>> layers;
+    for (const auto& o : world.objects()) layers.emplace_back(o.name, "frames/" + o.name + ".usda");
+    for (const auto& k : world.kinematic_bodies())
+      if (usd_.count(k->name())) layers.emplace_back(k->name(), "frames/" + k->name() + ".usda");
+    atomic_write(dir_ / "shot.usda", usda_stage(layers, first_usd_frame_, frame, fps_));
+  }
+  write_frame_rows(frame, world, r);
+}
+
+void RunOutput::write_frame_files(int frame, const World& world) {
   for (const auto& o : world.objects()) {
     const auto base = dir_ / "frames" / o.name / frame_name(frame);
     const TriangleSurface& surface = o.material_surface();  // a cut solid's embedded surface
@@ -207,6 +224,9 @@ void RunOutput::write_frame(int frame, const World& world, const FrameReport& r)
   for (const auto& o : world.objects()) add_to_cache(o.name, o.material_surface().x);
   for (const auto& k : world.kinematic_bodies())
     if (const TriangleSurface* s = k->surface()) add_to_cache(k->name(), s->x);
+}
+
+void RunOutput::write_frame_rows(int frame, const World& world, const FrameReport& r) {
   char row[512];
   std::snprintf(row, sizeof row, "%d,%.6f,%.9g,%.9g,%.9g,%.9g,%d,%d,%.9g,%.9g,%.9g,%d,%d\n", frame, world.time(),
                 r.kinetic, r.elastic, r.gravity, r.kinetic + r.elastic + r.gravity, r.elements.inverted,

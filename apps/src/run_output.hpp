@@ -60,6 +60,11 @@ class RunOutput {
   std::map<std::string, std::unique_ptr<PvdWriter>> pvd_;
   std::map<std::string, std::unique_ptr<UsdaAnimationWriter>> usd_;
   std::map<std::string, std::unique_ptr<Pc2Writer>> pc2_;  // per object or body, with --format pc2
+  double fps_ = 30;
+  int first_usd_frame_ = 0;  // the USD layers' first time code
+  // write_frame's parts: every object's and body's files; the rows of energies.csv and stats.jsonl.
+  void write_frame_files(int frame, const World& world);
+  void write_frame_rows(int frame, const World& world, const FrameReport& r);
   // Appends x to name's point cache, if it has one (dropped, with a warning, when x's vertex count changed).
   void add_to_cache(const std::string& name, const Points& x);
 };

@@ -24,6 +24,13 @@ for dir in "$out"/frames/*/; do
     [ -f "$out/$entry" ] || { echo "FAIL: $name.pvd names $entry, which does not exist"; fail=1; }
   done
 done
+# One stage for the shot: it references every layer, each of which exists.
+[ -f "$out/shot.usda" ] || { echo "FAIL: no shot.usda"; fail=1; }
+for ref in $(grep -o '@[^@]*@' "$out/shot.usda" | tr -d @); do
+  [ -f "$out/$ref" ] || { echo "FAIL: shot.usda references $ref, which does not exist"; fail=1; }
+done
+[ "$(grep -c '@' "$out/shot.usda")" = "$(ls "$out"/frames/*.usda | wc -l)" ] || { echo "FAIL: shot.usda misses a layer"; fail=1; }
+grep -q 'endTimeCode = 2' "$out/shot.usda" || { echo "FAIL: shot.usda does not end at frame 2"; fail=1; }
 [ "$fail" = 0 ] || exit 1
 if command -v python3 >/dev/null && python3 -c "import vtk" 2>/dev/null; then
   python3 - "$out" <<'PY'

@@ -30,6 +30,21 @@ void append_vec(std::string& out, double a, double b, double c) {
 
 }  // namespace
 
+std::string usda_stage(const std::vector<std::pair<std::string, std::string>>& layers, int first, int last, double fps) {
+  if (!(std::isfinite(fps) && fps > 0)) throw std::invalid_argument("usda_stage: fps must be finite and > 0");
+  if (last < first) throw std::invalid_argument("usda_stage: last frame before first");
+  std::string rate;
+  append_real(rate, fps);
+  std::string out = "#usda 1.0\n(\n    defaultPrim = \"shot\"\n    endTimeCode = " + std::to_string(last) +
+                    "\n    framesPerSecond = " + rate + "\n    metersPerUnit = 1\n    startTimeCode = " +
+                    std::to_string(first) + "\n    timeCodesPerSecond = " + rate + "\n    upAxis = \"Y\"\n)\n\n";
+  out += "def Xform \"shot\"\n{\n";
+  for (const auto& [name, path] : layers)
+    out += "    def \"" + usd_identifier(name) + "\" (\n        prepend references = @" + path + "@\n    )\n    {\n    }\n";
+  out += "}\n";
+  return out;
+}
+
 std::string usd_identifier(const std::string& name) {
   std::string id;
   for (char c : name) {

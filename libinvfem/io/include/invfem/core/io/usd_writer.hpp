@@ -78,4 +78,11 @@ class UsdaAnimationWriter {
 // A valid USD identifier made from `name` (see UsdaAnimationWriter's constructor).
 std::string usd_identifier(const std::string& name);
 
+// One USD stage for a whole shot: a layer whose default prim /shot (Xform) holds one prim per
+// object or body, each referencing that one's animated layer (`layers`: (name, path relative to
+// the stage's folder), in order), with the layers' metadata (upAxis "Y", metersPerUnit 1,
+// time codes = frames at `fps`, from `first` to `last`). usdview, Houdini and Blender open it as
+// the shot. Throws std::invalid_argument for fps <= 0 or non-finite or last < first.
+std::string usda_stage(const std::vector<std::pair<std::string, std::string>>& layers, int first, int last, double fps);
+
 }  // namespace invfem

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 
 #include "invfem/collisions/self_collision/candidates/tangles.hpp"
 #include "invfem/collisions/self_collision/response/ccd_impulses.hpp"
@@ -31,37 +32,35 @@ SelfCollisionPass::SelfCollisionPass(SelfCollisionSettings settings,
   validate(settings_);
 }
 
+namespace {
+// Every figure with its record key, in stats.jsonl order: the one list add_to and of share.
+template <class Figures, class Visit> void visit_figures(Figures& f, Visit&& visit) {
+  visit("candidates", f.candidates);
+  visit("proximity_impulses", f.proximity_impulses);
+  visit("ccd_hits", f.ccd_hits);
+  visit("impact_zones", f.impact_zones);
+  visit("largest_zone", f.largest_zone);
+  visit("unresolved_steps", f.unresolved_steps);
+  visit("tangled_pairs", f.tangled_pairs);
+  visit("body_crossings", f.body_crossings);
+  visit("collider_projections", f.collider_projections);
+  visit("seam_impulses", f.seam_impulses);
+  visit("limited_vertices", f.limited_vertices);
+  visit("seconds", f.seconds);
+}
+}  // namespace
+
 void SelfCollisionFigures::add_to(PassRecord& record) const {
-  record.add("candidates", static_cast<double>(candidates));
-  record.add("proximity_impulses", static_cast<double>(proximity_impulses));
-  record.add("ccd_hits", static_cast<double>(ccd_hits));
-  record.add("impact_zones", impact_zones);
-  record.keep_largest("largest_zone", largest_zone);
-  record.add("unresolved_steps", unresolved_steps);
-  record.add("tangled_pairs", static_cast<double>(tangled_pairs));
-  record.add("body_crossings", static_cast<double>(body_crossings));
-  record.add("collider_projections", static_cast<double>(collider_projections));
-  record.add("seam_impulses", static_cast<double>(seam_impulses));
-  record.add("limited_vertices", static_cast<double>(limited_vertices));
-  record.add("seconds", seconds);
+  visit_figures(*this, [&](const std::string& key, const auto& value) {
+    if (key == "largest_zone") record.keep_largest(key, static_cast<double>(value));  // a frame's largest zone
+    else record.add(key, static_cast<double>(value));
+  });
 }
 
 SelfCollisionFigures SelfCollisionFigures::of(const FrameReport& report) {
   SelfCollisionFigures f;
-  const PassRecord* r = report.find_pass(kSelfCollisionRecord);
-  if (!r) return f;
-  f.candidates = static_cast<long long>(r->value("candidates"));
-  f.proximity_impulses = static_cast<long long>(r->value("proximity_impulses"));
-  f.ccd_hits = static_cast<long long>(r->value("ccd_hits"));
-  f.impact_zones = static_cast<int>(r->value("impact_zones"));
-  f.largest_zone = static_cast<int>(r->value("largest_zone"));
-  f.unresolved_steps = static_cast<int>(r->value("unresolved_steps"));
-  f.tangled_pairs = static_cast<long long>(r->value("tangled_pairs"));
-  f.body_crossings = static_cast<long long>(r->value("body_crossings"));
-  f.collider_projections = static_cast<long long>(r->value("collider_projections"));
-  f.seam_impulses = static_cast<long long>(r->value("seam_impulses"));
-  f.limited_vertices = static_cast<long long>(r->value("limited_vertices"));
-  f.seconds = r->value("seconds");
+  if (const PassRecord* r = report.find_pass(kSelfCollisionRecord))
+    visit_figures(f, [&](const std::string& key, auto& value) { value = static_cast<std::decay_t<decltype(value)>>(r->value(key)); });
   return f;
 }
 

@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages invfem needs, only those missing (a second run takes a second).
-# Sourced by apps/quickstart.sh and tests/run.sh.
+# Run by apps/quickstart.sh and tests/run.sh; `deps.sh --tests` adds the readers the tests judge
+# outputs with (VTK's Python module, ffmpeg). assimp-testmodels holds the rigged characters the
+# skinned scenes and tests use (/usr/share/assimp/models).
 set -euo pipefail
 INVFEM_PACKAGES=(build-essential cmake pkg-config libeigen3-dev libassimp-dev libembree-dev
                  libosmesa6-dev libtbb-dev libpng-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev
-                 libgmp-dev)
+                 libgmp-dev assimp-testmodels)
+if [ "${1:-}" = "--tests" ]; then INVFEM_PACKAGES+=(python3-vtk9 ffmpeg); fi
 missing=()
 for p in "${INVFEM_PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

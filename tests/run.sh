@@ -4,7 +4,7 @@
 # the golden files instead of comparing against them.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-bash "$root/apps/deps.sh"
+bash "$root/apps/deps.sh" --tests
 build="$root/build"
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j"$(nproc)"

@@ -192,7 +192,7 @@ std::vector<Source> run_sources(const fs::path& out, const ParsedArgs& args) {
         if (!c.is_object() || !c.contains("name") || !c["name"].is_string() || !c.contains("type") ||
             !c["type"].is_string())
           continue;
-        if (c["type"] == "mesh" || c["type"] == "sequence") {
+        if (c["type"] == "mesh" || c["type"] == "sequence" || c["type"] == "skinned") {
           bodies.insert(c["name"].get<std::string>());
           continue;
         }

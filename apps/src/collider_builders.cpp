@@ -8,6 +8,8 @@
 #include "invfem/collisions/colliders/gear.hpp"
 #include "invfem/collisions/colliders/mesh_surface.hpp"
 #include "invfem/collisions/colliders/moving_surface.hpp"
+#include "invfem/collisions/colliders/skinned_body.hpp"
+#include "invfem/core/io/skinned_file.hpp"
 #include "invfem/core/io/surface_io.hpp"
 #include "json_fields.hpp"
 #include "object_builders.hpp"
@@ -66,13 +68,28 @@ Colliders build_colliders(const Scene& scene) {
         s.start_time = c.sequence.start_time;
         s.linear = c.transform.scale * rotation_of(c.transform);
         s.translation = to_vec(c.transform.translate);
-        s.after_end = c.sequence.after_end == "loop" ? SequenceEnd::Loop : SequenceEnd::Hold;
+        s.after_end = c.sequence.after_end == "loop" ? AnimationEnd::Loop : AnimationEnd::Hold;
         s.friction = c.friction;
         s.mesh.query_radius = c.query_radius;
         s.mesh.offset = c.offset;
         auto body = std::make_shared<BodySequence>(c.name, std::move(s));
         colliders.collision.push_back({body->implicit(), body->friction()});
         colliders.sequences.push_back(body);
+        colliders.bodies.push_back(std::move(body));
+      } else if (c.type == "skinned") {
+        SkinnedCharacter character = read_skinned_character(c.skinned.file.string());
+        SkinnedBodySettings s;
+        s.clip = find_clip(character, c.skinned.clip);
+        s.start_time = c.skinned.start_time;
+        s.pre_roll = c.skinned.pre_roll;
+        s.after_end = c.skinned.after_end == "loop" ? AnimationEnd::Loop : AnimationEnd::Hold;
+        s.linear = c.transform.scale * rotation_of(c.transform);
+        s.translation = to_vec(c.transform.translate);
+        s.friction = c.friction;
+        s.mesh.query_radius = c.query_radius;
+        s.mesh.offset = c.offset;
+        auto body = std::make_shared<SkinnedBody>(c.name, std::move(character), std::move(s));
+        colliders.collision.push_back({body->implicit(), body->friction()});
         colliders.bodies.push_back(std::move(body));
       } else if (c.type == "plane") {
         out.push_back(std::make_shared<RigidBody>(c.name, std::make_shared<PlaneSurface>(to_vec(c.point), to_vec(c.normal)),

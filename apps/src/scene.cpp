@@ -293,6 +293,24 @@ SequenceSpec parse_sequence(const Fields& f, const std::filesystem::path& dir, b
   return q;
 }
 
+// A "skinned" collider's file and clip (its name, or its index as a number or a string) and timing.
+SkinnedSpec parse_skinned(const Fields& f, const std::filesystem::path& dir, bool check_files) {
+  SkinnedSpec k;
+  if (!f.has("file")) f.fail("file", "the character's file (glTF, FBX, Collada, .x: anything assimp reads with bones)");
+  k.file = parse_mesh_path(f, "file", dir, check_files);
+  if (f.has("clip")) {
+    const auto& v = f.raw("clip");
+    if (v.is_number_integer() && v.get<long long>() >= 0) k.clip = std::to_string(v.get<long long>());
+    else if (v.is_string() && !v.get<std::string>().empty()) k.clip = v.get<std::string>();
+    else f.fail("clip", "the clip's name (a string) or its index (an integer >= 0)");
+  }
+  k.start_time = f.number_in("start_time", k.start_time, -1e9, 1e9);
+  k.pre_roll = f.number_in("pre_roll", k.pre_roll, 0, 1e6);
+  k.after_end = f.string("after_end", k.after_end);
+  if (k.after_end != "hold" && k.after_end != "loop") f.fail("after_end", "\"hold\" or \"loop\"");
+  return k;
+}
+
 // A mesh or sequence collider's or a cloth coupling's offset (read by its table, >= 0): below its
 // query radius.
 void check_offset(const Fields& f, double offset, double query_radius) {
@@ -307,8 +325,25 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
   // Every type's; the others are read by type below (a plane reads none of them).
   rows_of(table, {"type", "friction"}).read(f, c);
   if (c.type != "sequence")
-    for (const char* k : {"frames", "files", "fps", "start_time", "start_frame", "after_end"})
+    for (const char* k : {"frames", "files", "fps", "start_frame"})
       if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a " + c.type + " collider (it belongs to a sequence)");
+  if (c.type != "skinned")
+    for (const char* k : {"file", "clip", "pre_roll"})
+      if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a " + c.type + " collider (it belongs to a skinned body)");
+  if (c.type != "sequence" && c.type != "skinned")
+    for (const char* k : {"start_time", "after_end"})
+      if (f.has(k))
+        f.fail(k, std::string("no \"") + k + "\" on a " + c.type + " collider (it belongs to a sequence or a skinned body)");
+  if (c.type == "skinned") {
+    for (const char* k : {"point", "normal", "radius", "half_extents", "half_height", "teeth", "outer_radius",
+                          "root_radius", "thickness", "clearance", "mesh", "motion"})
+      if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a skinned body (its file gives its shape and motion)");
+    c.skinned = parse_skinned(f, dir, check_files);
+    rows_of(table, {"query_radius", "offset"}).read(f, c);
+    check_offset(f, c.offset, c.query_radius);
+    c.transform = parse_transform(f.object_or_empty("transform"));
+    return c;
+  }
   if (c.type == "sequence") {
     for (const char* k : {"point", "normal", "radius", "half_extents", "half_height", "teeth", "outer_radius",
                           "root_radius", "thickness", "clearance", "mesh", "motion"})
@@ -328,7 +363,7 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
     return c;
   }
   if (c.type != "mesh" && f.has("offset"))
-    f.fail("offset", "no \"offset\" on an analytic collider (mesh and sequence only)");
+    f.fail("offset", "no \"offset\" on an analytic collider (mesh, sequence and skinned only)");
   // Every analytic size is checked whatever the type; type and friction again, unchanged.
   table.read(f, c);
   c.half_extents = f.vec3("half_extents", c.half_extents, limits::kLength);
@@ -670,6 +705,17 @@ nlohmann::json collider_json(const ColliderSpec& c) {
   if (c.type == "mesh") {
     j["mesh"] = c.mesh.string();
     rows_of(table, {"query_radius", "offset"}).write(j, c);
+  }
+  if (c.type == "skinned") {
+    const SkinnedSpec& k = c.skinned;
+    j["file"] = k.file.string();
+    j["clip"] = k.clip;
+    j["start_time"] = k.start_time;
+    j["pre_roll"] = k.pre_roll;
+    j["after_end"] = k.after_end;
+    rows_of(table, {"query_radius", "offset"}).write(j, c);
+    j["transform"] = transform_json(c.transform);
+    return j;
   }
   if (c.type == "sequence") {
     const SequenceSpec& q = c.sequence;

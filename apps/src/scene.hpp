@@ -276,9 +276,18 @@ struct SequenceSpec {
   std::string after_end = "hold";           // hold | loop
 };
 
+// A body from a rigged, animated character (collisions/skinned_body.hpp).
+struct SkinnedSpec {
+  std::filesystem::path file;       // absolute: any file assimp reads with bones and a clip
+  std::string clip = "0";           // the clip's name, or its index
+  double start_time = 0;            // [s] when the clip's time 0 is shown
+  double pre_roll = 0;              // [s] from the bind pose into the clip's first pose
+  std::string after_end = "hold";   // hold | loop
+};
+
 struct ColliderSpec {
   std::string name;
-  std::string type = "plane";  // plane | sphere | box | cylinder | gears | mesh | sequence
+  std::string type = "plane";  // plane | sphere | box | cylinder | gears | mesh | sequence | skinned
   std::array<double, 3> point{0, 0, 0};      // plane
   std::array<double, 3> normal{0, 1, 0};     // plane
   double radius = 0.5;                        // sphere, cylinder
@@ -287,9 +296,10 @@ struct ColliderSpec {
   int teeth = 12;                             // gears: a pair turning in opposite directions
   double outer_radius = 0.5, root_radius = 0.4, thickness = 0.3, clearance = 0.0;
   std::filesystem::path mesh;                 // mesh: any triangle surface assimp reads
-  double query_radius = 0.05;                 // mesh, sequence: contact search distance [m]
-  double offset = 1e-3;                       // mesh, sequence: collision surface outside the mesh [m]
+  double query_radius = 0.05;                 // mesh, sequence, skinned: contact search distance [m]
+  double offset = 1e-3;                       // mesh, sequence, skinned: collision surface outside the mesh [m]
   SequenceSpec sequence;                      // sequence
+  SkinnedSpec skinned;                        // skinned
   Transform transform;                        // body -> world at rest (not with keyframes)
   MotionSpec motion;
   double friction = 0.3;

@@ -32,8 +32,13 @@ done
 [ "$(grep -c '@' "$out/shot.usda")" = "$(ls "$out"/frames/*.usda | wc -l)" ] || { echo "FAIL: shot.usda misses a layer"; fail=1; }
 grep -q 'endTimeCode = 2' "$out/shot.usda" || { echo "FAIL: shot.usda does not end at frame 2"; fail=1; }
 [ "$fail" = 0 ] || exit 1
-if command -v python3 >/dev/null && python3 -c "import vtk" 2>/dev/null; then
-  python3 - "$out" <<'PY'
+# Debian's python3-vtk9 is for the system's python3, which a user's PATH may shadow (pyenv).
+py=""
+for p in python3 /usr/bin/python3; do
+  if command -v "$p" >/dev/null && "$p" -c "import vtk" 2>/dev/null; then py=$p; break; fi
+done
+if [ -n "$py" ]; then
+  "$py" - "$out" <<'PY'
 import glob, os, re, sys, vtk
 out = sys.argv[1]
 for pvd in glob.glob(os.path.join(out, "*.pvd")):

@@ -56,14 +56,14 @@ TriangleSurface read_sequence_frame(const std::string& path) {
 }
 
 BodySequence::BodySequence(std::string name, BodySequenceSettings settings)
-    : name_(std::move(name)), settings_(std::move(settings)) {
-  const std::string what = "body sequence \"" + name_ + "\": ";
+    : AnimatedMeshBody(name, settings.friction, settings.mesh, "body sequence \"" + name + "\": "),
+      settings_(std::move(settings)) {
+  const std::string what = "body sequence \"" + this->name() + "\": ";
   if (settings_.files.empty()) throw std::invalid_argument(what + "no frames");
   if (!std::isfinite(settings_.fps) || !(settings_.fps > 0)) throw std::invalid_argument(what + "fps must be > 0");
   if (!std::isfinite(settings_.start_time)) throw std::invalid_argument(what + "start_time must be finite");
   if (!settings_.linear.allFinite() || !settings_.translation.allFinite() || !(std::abs(settings_.linear.determinant()) > 0))
     throw std::invalid_argument(what + "the transform must be finite and invertible");
-  if (!(settings_.friction >= 0)) throw std::invalid_argument(what + "friction must be >= 0");
   if (settings_.cache_frames < 2) throw std::invalid_argument(what + "cache_frames must be >= 2");
   cache_.reserve(settings_.cache_frames);
 
@@ -72,12 +72,10 @@ BodySequence::BodySequence(std::string name, BodySequenceSettings settings)
   vertices_ = first.x.rows();
   cache_.push_back({0, posed(first, settings_.files[0]), ++clock_});
   loads_ = 1;
-  surface_.tris = tris_;
-  surface_.source = name_;
-  surface_.x = cache_.back().x;
-  velocity_ = Points::Zero(surface_.x.rows(), 3);
-  mesh_ = std::make_shared<MeshSurface>(surface_, settings_.mesh);
-  move_to(0.0);
+  TriangleSurface shape;
+  shape.tris = tris_;
+  shape.x = cache_.back().x;
+  set_surface(std::move(shape));
 }
 
 BodySequence::Bracket BodySequence::bracket(double t) const {
@@ -87,7 +85,7 @@ BodySequence::Bracket BodySequence::bracket(double t) const {
   const double nearest = std::round(s);
   if (std::abs(s - nearest) <= 1e-9 * std::max(1.0, std::abs(s))) s = nearest;
   if (n == 1 || s < 0) return {0, 0, 0, false};
-  if (settings_.after_end == SequenceEnd::Hold) {
+  if (settings_.after_end == AnimationEnd::Hold) {
     if (s >= n - 1) return {n - 1, n - 1, 0, false};
     const int k = static_cast<int>(std::floor(s));
     return {k, k + 1, s - k, true};
@@ -111,7 +109,7 @@ Points BodySequence::posed(const TriangleSurface& f, const std::string& file) co
 Points BodySequence::load(int k) const {
   const std::string& file = settings_.files[static_cast<std::size_t>(k)];
   const TriangleSurface f = read_sequence_frame(file);
-  const std::string body = "; every frame of body sequence \"" + name_ + "\" must have frame 0's vertices and triangles";
+  const std::string body = "; every frame of body sequence \"" + name() + "\" must have frame 0's vertices and triangles";
   if (f.x.rows() != vertices_)
     throw MeshError(file + ": " + std::to_string(f.x.rows()) + " vertices, but frame 0 (" + settings_.files[0] +
                     ") has " + std::to_string(vertices_) + body);
@@ -156,12 +154,10 @@ const Points& BodySequence::frame(int k) {
   return oldest->x;
 }
 
-void BodySequence::move_to(double t) {
-  if (placed_ && t == time_) return;  // the World moves bodies to a step's end, then again to the frame's
+void BodySequence::evaluate(double t, Points& x, Points& v) {
   const Bracket b = bracket(t);
   // Copies: reading the second frame may evict the cache entry of the first.
   const Points a = frame(b.first);
-  Points x, v;
   if (b.moving) {
     const Points& c = frame(b.second);
     x = (1 - b.weight) * a + b.weight * c;
@@ -170,11 +166,6 @@ void BodySequence::move_to(double t) {
     x = a;
     v = Points::Zero(a.rows(), 3);
   }
-  if (mesh_) mesh_->update(x, v);  // throws (and changes nothing) for a coordinate out of range
-  surface_.x = std::move(x);
-  velocity_ = std::move(v);
-  time_ = t;
-  placed_ = true;
 }
 
 }  // namespace invfem

@@ -117,7 +117,7 @@ TEST(BodySequence, LoopsBackToTheFirstFrameThroughAWrapInterval) {
   BodySequenceSettings s;
   s.files = f.files;
   s.fps = 10;
-  s.after_end = SequenceEnd::Loop;
+  s.after_end = AnimationEnd::Loop;
   BodySequence b("box", s);
   const Points X0 = box_at(f.h, f.centres[0]), X1 = box_at(f.h, f.centres[1]), X2 = box_at(f.h, f.centres[2]);
   b.move_to(0.25);  // the wrap interval [2, 3): last frame back to the first

@@ -15,11 +15,7 @@
 //         frame back to the first, linearly like any other, with velocity (X_0 - X_{N-1}) * fps.
 //         (A capture whose last frame repeats its first should list it only once.)
 //
-// The body acts on the cloth twice, as every mesh collider does: through the ITF04 section 9
-// collision processing as a MeshSurface (section 10's closest-point normal rule, friction, and
-// the velocity of the interpolation above, not a finite difference over the step), and through
-// the self-collision layer, whose CCD and impact zones see its triangles as infinite-mass geometry
-// (surface_is_shape).
+// The body acts on the cloth as every animated mesh body does (animated_mesh_body.hpp).
 //
 // Frames are streamed: frame 0 is read at construction (its triangles are the topology every
 // frame must have), then only the frames an interpolation needs, kept in a cache of a few frames
@@ -39,12 +35,9 @@
 #include <string>
 #include <vector>
 
-#include "invfem/collisions/colliders/mesh_surface.hpp"
-#include "invfem/core/world/world.hpp"
+#include "invfem/collisions/colliders/animated_mesh_body.hpp"
 
 namespace invfem {
-
-enum class SequenceEnd { Hold, Loop };
 
 struct BodySequenceSettings {
   std::vector<std::string> files;  // frame k = files[k]; at least one
@@ -54,7 +47,7 @@ struct BodySequenceSettings {
   // rotation); velocities transform with `linear` alone.
   Mat3 linear = Mat3::Identity();
   Vec3 translation = Vec3::Zero();
-  SequenceEnd after_end = SequenceEnd::Hold;
+  AnimationEnd after_end = AnimationEnd::Hold;
   double friction = 0.3;           // Coulomb coefficient for the collision processing
   MeshSurfaceOptions mesh;         // contact search radius
   std::size_t cache_frames = 3;    // frames kept in memory besides frame 0's topology (>= 2)
@@ -69,28 +62,12 @@ std::vector<std::string> expand_frame_pattern(const std::string& pattern, int fi
 // the file.
 TriangleSurface read_sequence_frame(const std::string& path);
 
-class BodySequence final : public KinematicBody {
+class BodySequence final : public AnimatedMeshBody {
  public:
   // Reads frame 0 (topology), checks the settings, and moves the body to t = 0. Throws
   // std::invalid_argument for bad settings and MeshError for a bad frame.
   BodySequence(std::string name, BodySequenceSettings settings);
 
-  const std::string& name() const override { return name_; }
-  // Positions and velocities of the interpolation at t; refits the collision surface. Loads the
-  // frames it needs (MeshError for a bad one; the body is then left as it was).
-  void move_to(double t) override;
-  const TriangleSurface* surface() const override { return &surface_; }
-  bool surface_is_shape() const override { return true; }
-  // query_radius - offset: a node the body passes deeper than that in a step reads as outside.
-  double step_motion_limit() const override { return settings_.mesh.query_radius - settings_.mesh.offset; }
-
-  // For RigidCollisions: the collision shape (as of the last move_to) and its friction.
-  std::shared_ptr<const ImplicitSurface> implicit() const { return mesh_; }
-  const MeshSurface& mesh_surface() const { return *mesh_; }
-  double friction() const { return settings_.friction; }
-
-  // The vertex velocities of the interpolation at the last move_to, #V x 3 [m/s], world frame.
-  const Points& velocities() const { return velocity_; }
   int frame_count() const { return static_cast<int>(settings_.files.size()); }
   // Files read so far (frame 0 at construction counts once); a test's measure of the streaming.
   long long frames_loaded() const { return loads_; }
@@ -112,13 +89,14 @@ class BodySequence final : public KinematicBody {
   Bracket bracket(double t) const;
 
  private:
+  // The interpolation at t (loads the frames it needs; MeshError for a bad one).
+  void evaluate(double t, Points& x, Points& v) override;
   // Frame k in world coordinates, from the cache or read (and checked) now.
   const Points& frame(int k);
   // Frame k read, checked against frame 0's topology, and transformed.
   Points load(int k) const;
   Points posed(const TriangleSurface& f, const std::string& file) const;
 
-  std::string name_;
   BodySequenceSettings settings_;
   Tris tris_;  // frame 0's, every frame's
   Eigen::Index vertices_ = 0;
@@ -130,11 +108,6 @@ class BodySequence final : public KinematicBody {
   std::vector<Cached> cache_;
   unsigned long long clock_ = 0;
   long long loads_ = 0;
-  TriangleSurface surface_;  // posed at the last move_to
-  double time_ = 0;          // of the last move_to, once placed_
-  bool placed_ = false;
-  Points velocity_;
-  std::shared_ptr<MeshSurface> mesh_;
 };
 
 }  // namespace invfem

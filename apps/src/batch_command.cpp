@@ -16,12 +16,15 @@
 #include <map>
 
 #include "cli_args.hpp"
+#include "invfem/core/io/text_file.hpp"
 #include "invfem/renders/image.hpp"
 #include "invfem/renders/image_compare.hpp"
 #include "input_check.hpp"
 #include "json_fields.hpp"
 #include "preview.hpp"
 #include "run_output.hpp"
+#include "scene.hpp"
+#include "video.hpp"
 
 extern char** environ;
 
@@ -77,7 +80,6 @@ pid_t spawn(const std::vector<std::string>& argv, const std::filesystem::path& l
   return pid;
 }
 
-bool have_ffmpeg() { return std::system("command -v ffmpeg >/dev/null 2>&1") == 0; }
 
 std::pair<int, int> parse_shard(const std::string& text) {
   const auto slash = text.find('/');
@@ -188,10 +190,15 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
     images.push_back(renders::read_png((dir / "png" / (RunOutput::frame_name(last) + ".png")).string()));
     labels.push_back(j.name + " frame " + std::to_string(last));
     if (mp4 && have_ffmpeg()) {
-      const std::string cmd = "ffmpeg -loglevel error -y -framerate 30 -i '" + (dir / "png").string() +
-                              "/%04d.png' -pix_fmt yuv420p -vf 'scale=trunc(iw/2)*2:trunc(ih/2)*2' '" +
-                              (dir / (j.name + ".mp4")).string() + "'";
-      if (std::system(cmd.c_str()) != 0) failed.push_back(j.name + " (mp4 encoding)");
+      try {  // at the scene's frame rate, as written in its scene.json
+        const Scene written = parse_scene(parse_json(read_text_file((dir / "scene.json").string(), 1u << 26, "batch"),
+                                                     (dir / "scene.json").string()),
+                                          dir / "scene.json", /*check_files=*/false);
+        encode_mp4(dir / "png", 0, last, written.fps, dir / (j.name + ".mp4"));
+      } catch (const std::exception& e) {
+        std::cerr << "error: " << e.what() << "\n";
+        failed.push_back(j.name + " (mp4 encoding)");
+      }
     }
   }
   if (!images.empty()) {

@@ -11,16 +11,19 @@
 #include "input_check.hpp"
 #include "json_fields.hpp"
 #include "preview.hpp"
+#include "video.hpp"
 
 namespace invfem::app {
 
 const char* const kRenderHelp =
     "usage: invfem render OUTDIR [--width W] [--height H] [--camera PX,PY,PZ,TX,TY,TZ[,FOV]]\n"
-    "                     [--frames A-B] [--no-caption]\n"
+    "                     [--frames A-B] [--no-caption] [--mp4]\n"
     "\n"
     "Renders every frame a run wrote (OUTDIR/frames/<object>/NNNN.obj) into OUTDIR/png/NNNN.png,\n"
     "offscreen through OSMesa. The size and camera default to the scene's \"render\" block\n"
-    "(OUTDIR/scene.json); without a camera there, the view is framed on frame 0.\n";
+    "(OUTDIR/scene.json); without a camera there, the view is framed on frame 0.\n"
+    "  --mp4   then encode the rendered frames into OUTDIR/<scene name>.mp4 at the scene's fps\n"
+    "          (needs ffmpeg: checked before rendering)\n";
 
 namespace {
 CameraSpec parse_camera(const std::string& text) {
@@ -55,7 +58,7 @@ CameraSpec parse_camera(const std::string& text) {
 
 int render_command(const std::vector<std::string>& raw) {
   const ParsedArgs args = parse_args(raw, "render", {"--width", "--height", "--camera", "--frames"},
-                                     {"--help", "-h", "--no-caption"});
+                                     {"--help", "-h", "--no-caption", "--mp4"});
   if (args.flag("--help") || args.flag("-h")) {
     std::cout << kRenderHelp;
     return 0;
@@ -85,6 +88,10 @@ int render_command(const std::vector<std::string>& raw) {
     throw InputError("--frames: frame " + std::to_string(last) + " was not written (the run has frames 0-" +
                      std::to_string(available - 1) + ")");
 
+  const bool mp4 = args.flag("--mp4");
+  if (mp4 && !have_ffmpeg())
+    throw InputError("--mp4: ffmpeg is not installed (Debian: apt install ffmpeg); nothing was rendered");
+
   PreviewRenderer preview(dir, scene, options);
   const auto start = std::chrono::steady_clock::now();
   for (int f = first; f <= last; ++f) {
@@ -93,6 +100,16 @@ int render_command(const std::vector<std::string>& raw) {
     std::printf("rendered %s  (%d/%d, %.2fs/frame)\n", preview.png_path(f).string().c_str(), f - first + 1,
                 last - first + 1, wall / (f - first + 1));
     std::fflush(stdout);
+  }
+  if (mp4) {
+    const std::filesystem::path video = dir / (scene.name + ".mp4");
+    try {
+      encode_mp4(dir / "png", first, last, scene.fps, video);
+    } catch (const std::runtime_error& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return 1;
+    }
+    std::printf("encoded %s  (frames %d-%d at %g fps)\n", video.string().c_str(), first, last, scene.fps);
   }
   return 0;
 }

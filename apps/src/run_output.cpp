@@ -128,13 +128,17 @@ RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World&
   // One animated USD layer per object and per kinematic body (frames/<name>.usda), with a
   // garment's texture coordinates; a resumed run rebuilds its earlier samples from the OBJ frames.
   auto layer = [&](const std::string& name, const TriangleSurface& m) {
-    usd_[name] = std::make_unique<UsdaAnimationWriter>((dir_ / "frames" / (name + ".usda")).string(), name, m.tris, fps);
+    const std::string path = (dir_ / "frames" / (name + ".usda")).string();
+    // A resumed run's earlier frames: positions from their OBJ files, velocities from the layer.
+    const std::map<int, Points> velocities = first_frame > 0 ? read_usda_velocities(path) : std::map<int, Points>{};
+    usd_[name] = std::make_unique<UsdaAnimationWriter>(path, name, m.tris, fps);
     if (m.uv.rows() > 0 && m.uv_tris.rows() == m.tris.rows()) usd_[name]->set_texture_coordinates(m.uv, m.uv_tris);
     for (int f = 0; f < first_frame; ++f) {
       const auto obj = dir_ / "frames" / name / (frame_name(f) + ".obj");
       if (std::filesystem::exists(obj)) {
         const TriangleSurface s = read_obj_surface(obj.string());
-        usd_[name]->add_frame(f, s.x, s.tris);
+        const auto v = velocities.find(f);
+        usd_[name]->add_frame(f, s.x, s.tris, v != velocities.end() && v->second.rows() == s.x.rows() ? &v->second : nullptr);
         first_usd_frame_ = std::min(first_usd_frame_, f);
       }
     }
@@ -181,6 +185,19 @@ void RunOutput::write_frame(int frame, const World& world, const FrameReport& r)
   write_frame_rows(frame, world, r);
 }
 
+namespace {
+
+// The velocities of an object's surface vertices (vertex s is node surface_nodes[s]); empty for a
+// cut solid, whose material surface is embedded in its elements.
+Points surface_velocities(const SimObject& o) {
+  if (!o.embedded.empty()) return {};
+  Points v(static_cast<Eigen::Index>(o.surface_nodes.size()), 3);
+  for (std::size_t s = 0; s < o.surface_nodes.size(); ++s) v.row(static_cast<Eigen::Index>(s)) = o.body.v.row(o.surface_nodes[s]);
+  return v;
+}
+
+}  // namespace
+
 void RunOutput::write_frame_files(int frame, const World& world) {
   for (const auto& o : world.objects()) {
     const auto base = dir_ / "frames" / o.name / frame_name(frame);
@@ -192,17 +209,18 @@ void RunOutput::write_frame_files(int frame, const World& world) {
                 uv.rows() > 0 ? &uv : nullptr);
     }
     // Each frame with its own triangles: a fracturing solid's topology changes (usd_writer.hpp).
-    if (auto it = usd_.find(o.name); it != usd_.end()) it->second->add_frame(frame, surface.x, surface.tris);
+    if (auto it = usd_.find(o.name); it != usd_.end()) {
+      const Points v = surface_velocities(o);
+      it->second->add_frame(frame, surface.x, surface.tris, v.rows() == surface.x.rows() ? &v : nullptr);
+    }
     if (auto it = pvd_.find(o.name); it != pvd_.end()) {
       VtuFields fields;
       if (o.tets.rows()) {  // a solid: its tets, det F and inverted flags per cell
         for (const auto& f : o.forces) f->add_cell_fields(fields.cell_scalars);
         fields.point_vectors["velocity"] = o.body.v;
         write_vtu(base.string() + ".vtu", o.body.x, o.tets, fields);
-      } else {  // a cloth: its surface (vertex s is node surface_nodes[s])
-        Points v(static_cast<Eigen::Index>(o.surface_nodes.size()), 3);
-        for (std::size_t s = 0; s < o.surface_nodes.size(); ++s) v.row(static_cast<Eigen::Index>(s)) = o.body.v.row(o.surface_nodes[s]);
-        fields.point_vectors["velocity"] = v;
+      } else {  // a cloth: its surface
+        fields.point_vectors["velocity"] = surface_velocities(o);
         write_vtu(base.string() + ".vtu", o.surface.x, o.surface.tris, fields);
       }
       it->second->add(world.time(), vtu_entry(o.name, frame));
@@ -219,7 +237,10 @@ void RunOutput::write_frame_files(int frame, const World& world) {
       write_vtu(base + ".vtu", s->x, s->tris);
       it->second->add(world.time(), vtu_entry(k->name(), frame));
     }
-    if (auto it = usd_.find(k->name()); it != usd_.end()) it->second->add_frame(frame, s->x, s->tris);
+    if (auto it = usd_.find(k->name()); it != usd_.end()) {
+      const Points v = k->surface_velocities();
+      it->second->add_frame(frame, s->x, s->tris, v.rows() == s->x.rows() ? &v : nullptr);
+    }
   }
   for (const auto& o : world.objects()) add_to_cache(o.name, o.material_surface().x);
   for (const auto& k : world.kinematic_bodies())

@@ -31,6 +31,12 @@ for ref in $(grep -o '@[^@]*@' "$out/shot.usda" | tr -d @); do
 done
 [ "$(grep -c '@' "$out/shot.usda")" = "$(ls "$out"/frames/*.usda | wc -l)" ] || { echo "FAIL: shot.usda misses a layer"; fail=1; }
 grep -q 'endTimeCode = 2' "$out/shot.usda" || { echo "FAIL: shot.usda does not end at frame 2"; fail=1; }
+# Every USD layer carries per-vertex normals every frame, and velocities (the cloth's nodes', the
+# bodies' own) from frame 0 on.
+for layer in "$out"/frames/*.usda; do
+  grep -q 'normal3f\[\] normals.timeSamples' "$layer" || { echo "FAIL: $layer has no normals"; fail=1; }
+  grep -q 'vector3f\[\] velocities.timeSamples' "$layer" || { echo "FAIL: $layer has no velocities"; fail=1; }
+done
 [ "$fail" = 0 ] || exit 1
 # Debian's python3-vtk9 is for the system's python3, which a user's PATH may shadow (pyenv).
 py=""

@@ -35,6 +35,14 @@ const TriangleSurface* RigidBody::surface() const {
   return &world_;
 }
 
+Points RigidBody::surface_velocities() const {
+  const TriangleSurface* s = surface();
+  if (!s) return {};
+  Points v(s->x.rows(), 3);
+  for (Eigen::Index i = 0; i < v.rows(); ++i) v.row(i) = motion_.velocity(s->x.row(i).transpose(), time_).transpose();
+  return v;
+}
+
 std::unique_ptr<RigidCollisions> make_rigid_collisions(const std::vector<std::shared_ptr<RigidBody>>& bodies,
                                                        std::vector<SolidCoupling> couplings) {
   std::vector<RigidCollider> colliders;

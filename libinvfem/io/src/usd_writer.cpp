@@ -2,9 +2,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
+#include "invfem/core/geometry/surface.hpp"
 #include "invfem/core/io/atomic_file.hpp"
 #include "output_checks.hpp"
 
@@ -16,6 +20,15 @@ void append_real(std::string& out, double v) {
   char buf[32];
   const int len = std::snprintf(buf, sizeof buf, "%.9g", v);
   out.append(buf, static_cast<std::size_t>(len));
+}
+
+// A coordinate as the file holds it (9 significant digits): what the normals are computed from,
+// so that they agree with the points written, and a resumed run rebuilding earlier frames from
+// their OBJ files (also 9 digits) writes the same normals.
+double as_written(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return std::strtod(buf, nullptr);
 }
 
 void append_vec(std::string& out, double a, double b, double c) {
@@ -42,6 +55,30 @@ std::string usda_stage(const std::vector<std::pair<std::string, std::string>>& l
   for (const auto& [name, path] : layers)
     out += "    def \"" + usd_identifier(name) + "\" (\n        prepend references = @" + path + "@\n    )\n    {\n    }\n";
   out += "}\n";
+  return out;
+}
+
+std::map<int, Points> read_usda_velocities(const std::string& path) {
+  std::map<int, Points> out;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line) && line.find("vector3f[] velocities.timeSamples = {") == std::string::npos) {
+  }
+  while (std::getline(in, line)) {
+    const auto colon = line.find(": [");
+    if (colon == std::string::npos) break;  // the closing brace
+    const int frame = std::atoi(line.c_str());
+    std::string numbers = line.substr(colon + 2);
+    for (char& c : numbers)
+      if (c == '[' || c == ']' || c == '(' || c == ')' || c == ',') c = ' ';
+    std::istringstream values(numbers);
+    std::vector<double> v;
+    for (double d; values >> d;) v.push_back(d);
+    if (v.size() % 3) return {};  // not a layer this writer wrote: keep nothing
+    Points p(static_cast<Eigen::Index>(v.size() / 3), 3);
+    for (std::size_t i = 0; i < v.size(); ++i) p(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = v[i];
+    out[frame] = std::move(p);
+  }
   return out;
 }
 
@@ -121,15 +158,15 @@ bool UsdaAnimationWriter::topology_varies() const {
   return false;
 }
 
-void UsdaAnimationWriter::add_frame(int frame, const Points& x) {
+void UsdaAnimationWriter::add_frame(int frame, const Points& x, const Points* velocities) {
   const std::string who = "UsdaAnimationWriter(" + path_ + ") frame " + std::to_string(frame);
   if (num_points_ >= 0 && x.rows() != num_points_)
     throw std::invalid_argument(who + ": " + std::to_string(x.rows()) + " points, the first frame had " +
                                 std::to_string(num_points_));
-  add(frame, x, 0);
+  add(frame, x, 0, velocities);
 }
 
-void UsdaAnimationWriter::add_frame(int frame, const Points& x, const Tris& tris) {
+void UsdaAnimationWriter::add_frame(int frame, const Points& x, const Tris& tris, const Points* velocities) {
   const std::string who = "UsdaAnimationWriter(" + path_ + ") frame " + std::to_string(frame);
   if (tris.rows() == 0) throw std::invalid_argument(who + ": no triangles");
   if (frame < 0) throw std::invalid_argument(who + ": negative frame number");
@@ -138,19 +175,26 @@ void UsdaAnimationWriter::add_frame(int frame, const Points& x, const Tris& tris
   const std::size_t known = topologies_.size();
   const int topology = topology_of(tris);
   try {
-    add(frame, x, topology);
+    add(frame, x, topology, velocities);
   } catch (...) {
     topologies_.resize(known);
     throw;
   }
 }
 
-void UsdaAnimationWriter::add(int frame, const Points& x, int topology) {
+void UsdaAnimationWriter::add(int frame, const Points& x, int topology, const Points* velocities) {
   const std::string who = "UsdaAnimationWriter(" + path_ + ") frame " + std::to_string(frame);
   if (frame < 0) throw std::invalid_argument(who + ": negative frame number");
   if (x.rows() == 0) throw std::invalid_argument(who + ": no points");
   detail::check_finite_points(who, x);
-  detail::check_indices(who, "triangle", topologies_[static_cast<std::size_t>(topology)].tris, x.rows());
+  const Tris& tris = topologies_[static_cast<std::size_t>(topology)].tris;
+  detail::check_indices(who, "triangle", tris, x.rows());
+  if (velocities) {
+    if (velocities->rows() != x.rows())
+      throw std::invalid_argument(who + ": " + std::to_string(velocities->rows()) + " velocities for " +
+                                  std::to_string(x.rows()) + " points");
+    if (!velocities->allFinite()) throw std::invalid_argument(who + ": a non-finite velocity");
+  }
 
   Frame f;
   f.topology = topology;
@@ -167,6 +211,28 @@ void UsdaAnimationWriter::add(int frame, const Points& x, int topology) {
   f.extent += ", ";
   append_vec(f.extent, hi.x(), hi.y(), hi.z());
   f.extent += ']';
+
+  // Per-vertex normals: the sum of the triangles' area-weighted normals (of the points as
+  // written), normalized.
+  const Points written = x.unaryExpr(&as_written);
+  Points n = Points::Zero(x.rows(), 3);
+  for (Eigen::Index t = 0; t < tris.rows(); ++t) {
+    const Vec3 a = triangle_normal(written, tris, t);
+    for (int k = 0; k < 3; ++k) n.row(tris(t, k)) += a.transpose();
+  }
+  auto append_rows = [](std::string& out, const Points& p, bool unit) {
+    out.reserve(static_cast<std::size_t>(p.rows()) * 40);
+    out += '[';
+    for (Eigen::Index i = 0; i < p.rows(); ++i) {
+      if (i) out += ", ";
+      Vec3 r = p.row(i).transpose();
+      if (unit) r = r.norm() > 0 ? Vec3(r / r.norm()) : Vec3::Zero();
+      append_vec(out, r.x(), r.y(), r.z());
+    }
+    out += ']';
+  };
+  append_rows(f.normals, n, true);
+  if (velocities) append_rows(f.velocities, *velocities, false);
 
   // Keep the state unchanged if the write fails.
   const auto previous = frames_.find(frame);
@@ -187,7 +253,7 @@ std::string UsdaAnimationWriter::render() const {
   const int first = frames_.begin()->first, last = frames_.rbegin()->first;
   std::size_t size = 1024;
   for (const Topology& t : topologies_) size += t.counts.size() + t.indices.size() + 64;
-  for (const auto& [k, f] : frames_) size += f.points.size() + f.extent.size() + 32;
+  for (const auto& [k, f] : frames_) size += f.points.size() + f.normals.size() + f.velocities.size() + f.extent.size() + 96;
   std::string out;
   out.reserve(size);
   char fps[32];
@@ -221,6 +287,10 @@ std::string UsdaAnimationWriter::render() const {
     out += "        texCoord2f[] primvars:st = " + st_ + " (\n            interpolation = \"faceVarying\"\n        )\n";
     out += "        int[] primvars:st:indices = " + st_indices_ + "\n";
   }
+  out += "        normal3f[] normals (\n            interpolation = \"vertex\"\n        )\n";
+  out += "        normal3f[] normals.timeSamples = {\n";
+  for (const auto& [k, f] : frames_) out += "            " + std::to_string(k) + ": " + f.normals + ",\n";
+  out += "        }\n";
   out += "        point3f[] points = " + frames_.begin()->second.points + "\n";
   out += "        point3f[] points.timeSamples = {\n";
   for (const auto& [k, f] : frames_) {
@@ -228,7 +298,16 @@ std::string UsdaAnimationWriter::render() const {
     out += f.points;
     out += ",\n";
   }
-  out += "        }\n        uniform token subdivisionScheme = \"none\"\n    }\n}\n";
+  out += "        }\n        uniform token subdivisionScheme = \"none\"\n";
+  bool moving = false;
+  for (const auto& [k, f] : frames_) moving = moving || !f.velocities.empty();
+  if (moving) {
+    out += "        vector3f[] velocities.timeSamples = {\n";
+    for (const auto& [k, f] : frames_)
+      if (!f.velocities.empty()) out += "            " + std::to_string(k) + ": " + f.velocities + ",\n";
+    out += "        }\n";
+  }
+  out += "    }\n}\n";
   return out;
 }
 

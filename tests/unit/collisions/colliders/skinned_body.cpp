@@ -61,9 +61,8 @@ TEST(SkinnedBody, SimpleSkinEqualsAHandComputedLinearBlendSkinning) {
 // The body moves, keeps its vertices, and its velocity is the derivative of its positions (a
 // central difference over 1 ms, away from keys' kinks at the file's key spacing, agrees to a
 // thousandth of the speed scale).
-void expect_moves_consistently(const std::string& file, int expected_vertices) {
+void expect_moves_consistently(const std::string& file) {
   const SkinnedCharacter c = read_skinned_character(file);
-  if (expected_vertices > 0) EXPECT_EQ(c.bind.rows(), expected_vertices);
   SkinnedBody body("body", c, {});
   const double duration = body.clip().duration;
   ASSERT_GT(duration, 0) << file;
@@ -91,7 +90,7 @@ void expect_moves_consistently(const std::string& file, int expected_vertices) {
 TEST(SkinnedBody, AnFbxCharacterMovesWithItsVelocity) {
   const std::string file = kModels + "FBX/animation_with_skeleton.fbx";
   REQUIRE_MODEL(file);
-  expect_moves_consistently(file, 0);
+  expect_moves_consistently(file);
 }
 
 TEST(SkinnedBody, TheDirectXDancerMovesWithItsVelocity) {
@@ -100,7 +99,7 @@ TEST(SkinnedBody, TheDirectXDancerMovesWithItsVelocity) {
   const SkinnedCharacter c = read_skinned_character(file);
   EXPECT_EQ(c.groups.size(), 3u);
   EXPECT_EQ(c.clips.size(), 1u);
-  expect_moves_consistently(file, 0);
+  expect_moves_consistently(file);
 }
 
 TEST(SkinnedBody, APreRollGoesFromTheBindPoseIntoTheClipsFirstPose) {

@@ -375,6 +375,8 @@ struct UsdaSummary {
   std::vector<double> counts, indices, points, extent;
   std::map<int, std::vector<double>> point_samples, extent_samples;
   std::map<int, std::vector<double>> count_samples, index_samples;  // a topology that varies
+  std::map<int, std::vector<double>> normal_samples, velocity_samples;
+  bool normals_per_vertex = false;  // normals declared with interpolation = "vertex"
 };
 
 // Numbers in "[(a, b, c), ...]" or "[1, 2, ...]": strips brackets, parens and commas, and
@@ -438,6 +440,12 @@ UsdaSummary check_usda(const std::string& text) {
     else if (line.find("float3[] extent.timeSamples = {") != std::string::npos) sample(s.extent_samples);
     else if (line.find("int[] faceVertexCounts.timeSamples = {") != std::string::npos) sample(s.count_samples);
     else if (line.find("int[] faceVertexIndices.timeSamples = {") != std::string::npos) sample(s.index_samples);
+    else if (line.find("normal3f[] normals.timeSamples = {") != std::string::npos) sample(s.normal_samples);
+    else if (line.find("vector3f[] velocities.timeSamples = {") != std::string::npos) sample(s.velocity_samples);
+    else if (line.find("normal3f[] normals (") != std::string::npos) {
+      std::getline(in, line);
+      s.normals_per_vertex = line.find("interpolation = \"vertex\"") != std::string::npos;
+    }
   }
   return s;
 }
@@ -494,6 +502,43 @@ TEST(UsdaWriter, EveryIntermediateFileIsStructurallyValid) {
   if (std::system("command -v usdcat > /dev/null 2>&1") == 0) {
     EXPECT_EQ(std::system(("usdcat '" + p + "' > /dev/null").c_str()), 0);
   }
+}
+
+// Normals per vertex, every frame: unit, the area-weighted mean of the triangles' normals (on a
+// sheet in the x-z plane wound counter-clockwise from +y, +y); velocities for the frames given
+// them, as given.
+TEST(UsdaWriter, NormalsAndVelocitiesAreTimeSampledPerVertex) {
+  TempDir dir;
+  const TriangleSurface m = curved_sheet(5, 4);
+  const std::string p = dir.path("cloth.usda");
+  UsdaAnimationWriter usd(p, "cloth", m.tris, 25);
+  Points v = Points::Random(m.x.rows(), 3);
+  usd.add_frame(0, m.x);  // no velocities (a resumed run's earlier frames)
+  usd.add_frame(1, wobble(m.x, 1), &v);
+  const UsdaSummary s = check_usda(slurp(p));
+  EXPECT_TRUE(s.normals_per_vertex);
+  ASSERT_EQ(s.normal_samples.size(), 2u);
+  for (const auto& [f, n] : s.normal_samples) {
+    const Points x = wobble(m.x, f);
+    ASSERT_EQ(n.size(), static_cast<std::size_t>(3 * x.rows()));
+    for (Eigen::Index i = 0; i < x.rows(); ++i) {
+      Vec3 want = Vec3::Zero();
+      for (Eigen::Index t = 0; t < m.tris.rows(); ++t)
+        for (int k = 0; k < 3; ++k)
+          if (m.tris(t, k) == i) want += triangle_normal(x, m.tris, t);
+      want.normalize();
+      const Vec3 got(n[3 * i], n[3 * i + 1], n[3 * i + 2]);
+      EXPECT_LT((got - want).norm(), 1e-7) << "frame " << f << ", vertex " << i;
+    }
+  }
+  ASSERT_EQ(s.velocity_samples.size(), 1u);
+  const auto& w = s.velocity_samples.at(1);
+  ASSERT_EQ(w.size(), static_cast<std::size_t>(v.size()));
+  for (Eigen::Index i = 0; i < v.size(); ++i) EXPECT_NEAR(w[i], v.data()[i], 1e-8);
+  Points short_v = Points::Zero(2, 3);
+  EXPECT_THROW(usd.add_frame(2, m.x, &short_v), std::invalid_argument);
+  v(0, 0) = std::nan("");
+  EXPECT_THROW(usd.add_frame(2, m.x, &v), std::invalid_argument);
 }
 
 // A garment's texture coordinates reach the layer as the indexed face-varying primvar st: one

@@ -27,6 +27,7 @@ class AnimatedMeshBody : public KinematicBody {
   bool surface_is_shape() const override { return true; }
   // query_radius - offset: a node the body passes deeper than that in a step reads as outside.
   double step_motion_limit() const override { return mesh_options_.query_radius - mesh_options_.offset; }
+  Points surface_velocities() const override { return velocity_; }
 
   // For RigidCollisions: the collision shape (as of the last move_to) and its friction.
   std::shared_ptr<const ImplicitSurface> implicit() const { return mesh_; }

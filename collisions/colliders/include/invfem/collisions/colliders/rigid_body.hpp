@@ -32,6 +32,8 @@ class RigidBody final : public KinematicBody {
   const TriangleSurface* surface() const override;
   bool surface_is_shape() const override { return surface_is_shape_; }
   double step_motion_limit() const override { return implicit_->step_motion_limit(); }
+  // The motion's rigid velocity field at the posed vertices.
+  Points surface_velocities() const override;
 
   const std::shared_ptr<const ImplicitSurface>& implicit() const { return implicit_; }
   double friction() const { return friction_; }

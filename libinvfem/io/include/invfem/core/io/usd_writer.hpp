@@ -13,7 +13,10 @@ namespace invfem {
 // metersPerUnit 1, timeCodesPerSecond = framesPerSecond = fps, start/endTimeCode = first/last
 // frame. Prims: /<name> (Xform, the defaultPrim) and /<name>/mesh (Mesh, subdivisionScheme
 // "none", rightHanded = counter-clockwise seen from outside) with faceVertexCounts,
-// faceVertexIndices, points (first frame) plus points.timeSamples and extent(.timeSamples).
+// faceVertexIndices, points (first frame) plus points.timeSamples and extent(.timeSamples),
+// normals.timeSamples (per vertex, "vertex" interpolation: the area-weighted mean of its
+// triangles' normals, unit length, zero where they cancel) and, for frames given velocities,
+// velocities.timeSamples [m/s] (motion blur in renderers).
 // Time code = frame number. Points are point3f (USD's schema type), written with 9 digits.
 // Cost: the text of each frame is formatted once and kept, but the file write grows with the
 // number of frames (quadratic over a run).
@@ -34,10 +37,11 @@ class UsdaAnimationWriter {
   // naming the path and frame for a negative frame, a point count different from the first
   // frame's, an index in tris outside [0, n) or a non-finite position; std::runtime_error if
   // the file cannot be written (the frame is then not kept).
-  void add_frame(int frame, const Points& x);
+  // `velocities` (#points x 3 [m/s], or nullptr) are written with the frame when given.
+  void add_frame(int frame, const Points& x, const Points* velocities = nullptr);
   // The same with this frame's own triangles (time-varying topology, above); x may then have any
   // number of points. Throws as add_frame, and for an index of tris outside [0, x.rows()).
-  void add_frame(int frame, const Points& x, const Tris& tris);
+  void add_frame(int frame, const Points& x, const Tris& tris, const Points* velocities = nullptr);
   // True once some frame's triangles differ from the constructor's.
   bool topology_varies() const;
   // The surface's texture coordinates (uv: #UV x 2; uv_tris: #F x 3 indices into uv, per face
@@ -56,6 +60,8 @@ class UsdaAnimationWriter {
   struct Frame {
     std::string points;  // "[(x, y, z), ...]"
     std::string extent;  // "[(min), (max)]"
+    std::string normals;     // "[(nx, ny, nz), ...]", one per point
+    std::string velocities;  // the same, or "" when the frame has none
     int topology = 0;    // index into topologies_
   };
   struct Topology {
@@ -63,7 +69,7 @@ class UsdaAnimationWriter {
     std::string counts, indices;  // "[3, 3, ...]", "[i, j, k, ...]"
   };
   int topology_of(const Tris& tris);
-  void add(int frame, const Points& x, int topology);
+  void add(int frame, const Points& x, int topology, const Points* velocities);
   std::string render() const;
 
   std::string path_;
@@ -74,6 +80,11 @@ class UsdaAnimationWriter {
   std::map<int, Frame> frames_;
   std::string st_, st_indices_;  // primvars:st and its indices, "" when none
 };
+
+// The velocities.timeSamples of a layer UsdaAnimationWriter wrote (frame -> #points x 3), for a
+// resumed run to write its earlier frames again as they were; empty when the file is missing or
+// holds none.
+std::map<int, Points> read_usda_velocities(const std::string& path);
 
 // A valid USD identifier made from `name` (see UsdaAnimationWriter's constructor).
 std::string usd_identifier(const std::string& name);

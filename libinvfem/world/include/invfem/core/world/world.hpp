@@ -136,6 +136,9 @@ class KinematicBody {
   // mesh body: its query depth, below which a node it passes reads as outside); the world splits
   // a step in which it would move further. Infinity by default.
   virtual double step_motion_limit() const { return std::numeric_limits<double>::infinity(); }
+  // The velocities [m/s] of its surface's vertices at the last move_to (#V x 3, rows as
+  // surface()'s), written with its frames (USD velocities); empty when it has no surface.
+  virtual Points surface_velocities() const { return {}; }
 };
 
 struct FrameReport;

@@ -25,13 +25,13 @@ if [[ "$scene" == buddha_cape ]]; then
   # weight: apps/scenes/README.md). The ball goes in deeper than the full scene's, to z = 0.03 m,
   # and stays to 0.36 s, as in the "quick" block: the full scene's ball, which bounces off at
   # z = 0.08 m, inverts only 2 tets of this coarse Buddha.
-  "$build/apps/invfem" run "$root/apps/scenes/buddha_cape.json" --out "$out" --render \
+  "$build/apps/invfem" run "$root/apps/scenes/buddha_cape.json" --out "$out" --overwrite --render \
     --set solids.0.mesh_resolution=24 --set solids.0.material.young=2e6 \
     --set cloths.0.grid.nx=24 --set cloths.0.grid.ny=48 \
     --set 'colliders.1.motion.translate_keys=[[0.0,[0.02,0.52,0.9]],[0.3,[0.02,0.52,0.03]],[0.36,[0.02,0.52,0.03]],[1.2,[0.1,0.6,1.0]]]'
   echo "frames:   $out/frames/{buddha,cape,ball}/NNNN.obj"
 else
-  "$build/apps/invfem" run "$root/apps/scenes/torus_puddle.json" --out "$out" --render
+  "$build/apps/invfem" run "$root/apps/scenes/torus_puddle.json" --out "$out" --overwrite --render
   echo "frames:   $out/frames/torus/NNNN.obj"
 fi
 echo "previews: $out/png/NNNN.png"

@@ -22,6 +22,7 @@
 #include "input_check.hpp"
 #include "json_fields.hpp"
 #include "preview.hpp"
+#include "run_folder.hpp"
 #include "run_output.hpp"
 #include "scene.hpp"
 #include "video.hpp"
@@ -31,7 +32,7 @@ extern char** environ;
 namespace invfem::app {
 
 const char* const kBatchHelp =
-    "usage: invfem batch SCENE... --out DIR [--jobs N] [--quick] [--shard I/N] [--mp4]\n"
+    "usage: invfem batch SCENE... --out DIR [--jobs N] [--quick] [--shard I/N] [--mp4] [--overwrite]\n"
     "\n"
     "Runs and renders many scenes, each in its own process (one failing scene does not stop the\n"
     "others), into DIR/<scene>/ (the layout of invfem run, with png/), then writes\n"
@@ -43,6 +44,8 @@ const char* const kBatchHelp =
     "  --shard I/N   run only the I-th of N slices of the scene list (0 <= I < N), for job arrays;\n"
     "                the slice is every N-th scene of the sorted list, starting at I\n"
     "  --mp4         also encode DIR/<scene>/<scene>.mp4 with ffmpeg (when ffmpeg is installed)\n"
+    "  --overwrite   clear each scene's earlier run in DIR/<scene>/ (without it, a batch whose\n"
+    "                folders hold earlier runs is refused before any scene starts)\n"
     "Exit code: 0 when every scene ran, 1 when any failed (they are listed), 2 bad input.\n";
 
 namespace {
@@ -98,7 +101,7 @@ std::pair<int, int> parse_shard(const std::string& text) {
 }  // namespace
 
 int batch_command(const std::vector<std::string>& raw, const std::string& self_exe) {
-  const ParsedArgs args = parse_args(raw, "batch", {"--out", "--jobs", "--shard"}, {"--help", "-h", "--quick", "--mp4"});
+  const ParsedArgs args = parse_args(raw, "batch", {"--out", "--jobs", "--shard"}, {"--help", "-h", "--quick", "--mp4", "--overwrite"});
   if (args.flag("--help") || args.flag("-h")) {
     std::cout << kBatchHelp;
     return 0;
@@ -125,6 +128,12 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
   for (std::size_t k = 0; k < scenes.size(); ++k)
     if (static_cast<int>(k % shards) == shard) todo.push_back({scenes[k], scenes[k].stem().string()});
   prepare_output_dir(out, "--out");
+  const bool overwrite = args.flag("--overwrite");
+  if (!overwrite)  // a run owns its folder (run_folder.hpp): say so before any scene starts
+    for (const Job& j : todo)
+      if (const EarlierRun e = find_earlier_run(out / j.name); e.present)
+        throw InputError("--out " + (out / j.name).string() + " holds an earlier run of " + j.name +
+                         ": --overwrite clears the batch's earlier runs first, or give another folder");
   const bool mp4 = args.flag("--mp4");
   if (mp4 && !have_ffmpeg()) std::cerr << "warning: --mp4: ffmpeg is not installed; no videos will be written\n";
 
@@ -138,6 +147,7 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
       std::filesystem::create_directories(dir);
       std::vector<std::string> argv{self_exe, "run", j.scene.string(), "--out", dir.string(), "--render"};
       if (args.flag("--quick")) argv.push_back("--quick");
+      if (overwrite) argv.push_back("--overwrite");
       j.pid = spawn(argv, dir / "log.txt");
       live[j.pid] = &j;
       ++running;

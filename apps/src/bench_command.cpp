@@ -16,6 +16,7 @@
 
 #include "bench/bench_unit.hpp"
 #include "cli_args.hpp"
+#include "input_check.hpp"
 #include "invfem/core/io/atomic_file.hpp"
 #include "json_fields.hpp"
 
@@ -74,21 +75,6 @@ std::vector<Unit> select_units(std::vector<Unit> units, const std::string& list)
   units.erase(std::remove_if(units.begin(), units.end(), [&](const Unit& u) { return !wanted.count(u.name); }),
               units.end());
   return units;
-}
-
-// Fails before any unit runs when the JSON file could not be written at the end.
-void check_json_path(const std::filesystem::path& path) {
-  namespace fs = std::filesystem;
-  const fs::path dir = path.has_parent_path() ? path.parent_path() : ".";
-  std::error_code ec;
-  if (path.empty() || path.filename().empty())
-    throw InputError("bench: --json: expected a file name, found \"" + path.string() + "\"");
-  if (!fs::is_directory(dir, ec))
-    throw InputError("bench: --json: cannot write \"" + path.string() + "\": no folder \"" + dir.string() + "\"");
-  if (fs::is_directory(path, ec))
-    throw InputError("bench: --json: cannot write \"" + path.string() + "\": it is a folder");
-  if (access(dir.c_str(), W_OK) != 0)
-    throw InputError("bench: --json: cannot write \"" + path.string() + "\": the folder is not writable");
 }
 
 // A scratch folder under the system's temporary directory, removed with everything in it.
@@ -235,7 +221,7 @@ int bench_command(const std::vector<std::string>& raw) {
   std::optional<std::filesystem::path> json_path;
   if (args.has("--json")) {
     json_path = args.value("--json");
-    check_json_path(*json_path);
+    require_output_file(*json_path, "bench: --json");
   }
   const bool quick = args.flag("--quick");
   const std::string linear = args.has("--linear") ? args.value("--linear") : "";

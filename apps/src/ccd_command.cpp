@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "cli_args.hpp"
+#include "invfem/core/io/text_file.hpp"
 #include "invfem/collisions/self_collision/ccd/ccd.hpp"
 #include "input_check.hpp"
 #include "json_fields.hpp"
@@ -107,7 +108,9 @@ int ccd_command(const std::vector<std::string>& raw) {
   if (!in) throw InputError("cannot open the query file " + file);
   std::stringstream buffer;
   buffer << in.rdbuf();
-  const std::vector<Query> queries = parse_queries(buffer.str(), file);
+  std::string text = buffer.str();
+  drop_byte_order_mark(text);
+  const std::vector<Query> queries = parse_queries(text, file);
 
   std::string answers(2 * queries.size(), '\n');
   long hits = 0, edge_edge = 0;

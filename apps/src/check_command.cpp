@@ -15,6 +15,7 @@
 #include <regex>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -303,6 +304,7 @@ int run_check(const Arguments& a) {
   if (a.paths.empty()) throw InputError("check: expected a run's output folder or mesh files (see invfem check --help)");
   const int examples = args.integer("--examples", 3, 0, 1000);
   const double max_seam_gap = args.real("--max-seam-gap", std::numeric_limits<double>::infinity(), 0.0, 1e6);
+  if (args.has("--json")) require_output_file(args.value("--json"), "check: --json");
   const bool run_mode = a.paths.size() == 1 && fs::is_directory(a.paths[0]);
   if (!run_mode && !fs::exists(a.paths[0]))
     throw InputError(a.paths[0] + ": no such file or folder");
@@ -320,10 +322,26 @@ int run_check(const Arguments& a) {
   std::set<int> frame_set;
   for (const auto& s : sources)
     for (const auto& [f, path] : s.frames) frame_set.insert(f);
-  if (args.has("--frames")) {
-    const auto [lo, hi] = parse_frame_range(args.value("--frames"), "--frames");
+  if (run_mode) {
+    // Every frame of the range asked for (by default from the first written to the last) for
+    // every surface: a missing one is named, never passed over.
+    int lo = frame_set.empty() ? 0 : *frame_set.begin(), hi = frame_set.empty() ? -1 : *frame_set.rbegin();
+    if (args.has("--frames")) std::tie(lo, hi) = parse_frame_range(args.value("--frames"), "--frames");
+    std::vector<int> missing;
+    std::string first_missing;
+    for (int f = lo; f <= hi; ++f)
+      for (const auto& s : sources)
+        if (!s.frames.count(f)) {
+          if (first_missing.empty()) first_missing = s.name + "/" + RunOutput::frame_name(f) + ".obj";
+          missing.push_back(f);
+          break;
+        }
+    if (!missing.empty())
+      throw InputError(a.paths[0] + ": frame" + (missing.size() == 1 ? " " : "s ") + frame_ranges(missing) + " of " +
+                       std::to_string(lo) + "-" + std::to_string(hi) + " missing (first: frames/" + first_missing +
+                       "); the run wrote frames " + (frame_set.empty() ? std::string("none") : frame_ranges({frame_set.begin(), frame_set.end()})) +
+                       "; nothing was checked");
     for (auto it = frame_set.begin(); it != frame_set.end();) it = (*it < lo || *it > hi) ? frame_set.erase(it) : std::next(it);
-    if (frame_set.empty()) throw InputError("--frames " + args.value("--frames") + ": no frame in that range");
   }
   const std::vector<int> frames(frame_set.begin(), frame_set.end());
 

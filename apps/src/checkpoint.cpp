@@ -103,7 +103,7 @@ std::string describe_scene_difference(const Scene& scene, const std::filesystem:
     } catch (const std::exception&) {
     }
     const std::string is = d.contains("value") ? bounded(d["value"]) : "absent";
-    out += (shown ? "; " : "") + path + " is " + is + " now, " + was + " in the checkpoints' run";
+    out += (shown ? "; " : "") + path + " is " + is + " now, " + was + " in the folder's run";
     ++shown;
   }
   if (total > shown) out += "; and " + std::to_string(total - shown) + " more";

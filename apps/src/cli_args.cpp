@@ -95,4 +95,23 @@ std::pair<int, int> parse_frame_range(const std::string& text, const std::string
   return {static_cast<int>(a), static_cast<int>(b)};
 }
 
+std::string frame_ranges(const std::vector<int>& frames, std::size_t shown) {
+  std::string out;
+  std::size_t runs = 0, more = 0;
+  for (std::size_t i = 0; i < frames.size();) {
+    std::size_t j = i;
+    while (j + 1 < frames.size() && frames[j + 1] == frames[j] + 1) ++j;
+    if (runs++ < shown) {
+      if (!out.empty()) out += ", ";
+      out += std::to_string(frames[i]);
+      if (j > i) out.append("-").append(std::to_string(frames[j]));
+    } else {
+      more += j - i + 1;
+    }
+    i = j + 1;
+  }
+  if (more) out += " and " + std::to_string(more) + " more";
+  return out;
+}
+
 }  // namespace invfem::app

@@ -29,4 +29,7 @@ ParsedArgs parse_args(const std::vector<std::string>& args, const std::string& c
 // "A-B" or "A" -> [A, B] (inclusive).
 std::pair<int, int> parse_frame_range(const std::string& text, const std::string& option);
 
+// Ascending frame numbers as runs, "2, 5-9, 12"; at most `shown` runs, then "and N more".
+std::string frame_ranges(const std::vector<int>& frames, std::size_t shown = 8);
+
 }  // namespace invfem::app

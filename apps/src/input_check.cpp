@@ -26,4 +26,20 @@ void prepare_output_dir(const std::filesystem::path& dir, const std::string& opt
   ::unlink(probe.c_str());
 }
 
+void require_output_file(const std::filesystem::path& path, const std::string& option) {
+  namespace fs = std::filesystem;
+  const std::string where = option + ": cannot write \"" + path.string() + "\": ";
+  if (path.empty() || path.filename().empty() || path.filename() == "." || path.filename() == "..")
+    throw InputError(option + ": expected a file name, found \"" + path.string() + "\"");
+  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InputError(where + "it is a folder");
+  if (!fs::is_directory(dir, ec)) throw InputError(where + "no folder \"" + dir.string() + "\"");
+  std::string probe = (dir / ".invfem_write_probe_XXXXXX").string();
+  const int fd = ::mkstemp(probe.data());
+  if (fd < 0) throw InputError(where + "cannot create a file in \"" + dir.string() + "\": " + std::strerror(errno));
+  ::close(fd);
+  ::unlink(probe.c_str());
+}
+
 }  // namespace invfem::app

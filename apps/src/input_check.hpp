@@ -36,4 +36,10 @@ inline void require_input_file(const std::filesystem::path& path, const std::str
 // file system). Throws InputError "<option> <dir>: <problem>".
 void prepare_output_dir(const std::filesystem::path& dir, const std::string& option);
 
+// Checks, before any work, that the file named by `option` (e.g. "check: --json") can be written:
+// a file name, not a folder, in an existing folder where a file can be created (a probe file,
+// created and removed: /proc and read-only file systems fail it even for root). Throws InputError
+// "<option>: cannot write \"<path>\": <problem>".
+void require_output_file(const std::filesystem::path& path, const std::string& option);
+
 }  // namespace invfem::app

@@ -4,7 +4,10 @@
 
 #include <cmath>
 #include <limits>
+#include <set>
 #include <sstream>
+#include <string>
+#include <vector>
 
 namespace invfem::app {
 
@@ -50,17 +53,23 @@ void render(const nlohmann::json& v, int depth, std::string& out) {
   out += v.dump(-1, ' ', false, replace);
 }
 
-// Parses `input` (a stream or a string) with the nesting bound; throws InputError for the depth,
-// nlohmann's exceptions for anything else.
+// Parses `input` (a stream or a string) with the nesting bound and no key twice in one object
+// (JSON parsers keep one of them, silently); throws InputError for those, nlohmann's exceptions
+// for anything else.
 template <class Input>
 nlohmann::json parse_bounded(Input&& input, const std::string& origin) {
-  const auto bound = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
+  std::vector<std::set<std::string>> keys;  // of each object open, innermost last
+  const auto bound = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using E = nlohmann::json::parse_event_t;
     // depth counts the containers already open around this one (0 for the outermost).
-    if ((event == nlohmann::json::parse_event_t::object_start ||
-         event == nlohmann::json::parse_event_t::array_start) &&
-        depth >= kMaxJsonDepth)
+    if ((event == E::object_start || event == E::array_start) && depth >= kMaxJsonDepth)
       throw InputError(origin + ": JSON nested more than " + std::to_string(kMaxJsonDepth) +
                        " levels deep (arrays or objects within one another)");
+    if (event == E::object_start) keys.emplace_back();
+    if (event == E::object_end && !keys.empty()) keys.pop_back();
+    if (event == E::key && !keys.empty() && parsed.is_string() && !keys.back().insert(parsed.get<std::string>()).second)
+      throw InputError(origin + ": the key \"" + parsed.get<std::string>() +
+                       "\" appears twice in one object (give each field once)");
     return true;
   };
   return nlohmann::json::parse(std::forward<Input>(input), bound);

@@ -212,9 +212,21 @@ std::vector<int> pinned_vertices(const PinSpec& p, const Garment& g, const Point
 // usually a texture layout in [0, 1] read as a pattern), and a start that crosses itself (the
 // certificate's count, seams exempt as in `invfem check`), which the self-collision layer cannot
 // undo.
+// A pattern rest shape a thousand times off the garment (a pattern in nanometres, or a unit
+// mix-up no sewing pattern has) is refused: its rest lengths would put the cloth under forces
+// that fling it (a 1e-8 pattern, or 1e150 before the OBJ reader's range).
 constexpr double kPatternScaleLow = 0.5, kPatternScaleHigh = 2;  // a sewing pattern is the garment's size
+constexpr double kPatternScaleRefused = 1e3;
 void warn_about_cloth_start(const ClothSpec& spec, const Garment& g, const Points& x0) {
   const std::string file = spec.mesh.empty() ? "cloth \"" + spec.name + "\"" : spec.mesh.string();
+  if (const double s = pattern_scale(g);
+      spec.rest_shape == "pattern" && s > 0 && (s < 1 / kPatternScaleRefused || s > kPatternScaleRefused)) {
+    std::ostringstream e;
+    e << file << ": the pattern's edges (vt) are a median " << s << " times the mesh's, outside [1e-3, 1e3]: "
+      << "with rest_shape \"pattern\" the cloth would rest at that size; give the pattern in the mesh's unit, or "
+      << "rest_shape \"mesh\"";
+    throw InputError(e.str());
+  }
   if (const double s = pattern_scale(g); s > 0 && (s < kPatternScaleLow || s > kPatternScaleHigh)) {
     std::ostringstream w;
     w << "warning: " << file << ": the pattern's edges are a median " << s << " times the mesh's (outside ["

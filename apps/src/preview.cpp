@@ -103,14 +103,24 @@ renders::Image PreviewRenderer::render(int frame) {
   return image;
 }
 
-int count_frames(const std::filesystem::path& out_dir, const Scene& scene) {
+WrittenFrames written_frames(const std::filesystem::path& out_dir, const Scene& scene) {
+  WrittenFrames w;
   const auto objects = object_views(scene);
-  int n = 0;
-  while (true) {
+  std::error_code ec;
+  for (const auto& o : objects)
+    for (const auto& e : std::filesystem::directory_iterator(out_dir / "frames" / o.name, ec)) {
+      const std::string file = e.path().filename().string();
+      if (file.size() < 8 || file.size() > 13 || e.path().extension() != ".obj") continue;
+      const std::string digits = file.substr(0, file.size() - 4);
+      if (digits.find_first_not_of("0123456789") == std::string::npos) w.last = std::max(w.last, std::stoi(digits));
+    }
+  for (int f = 0; f <= w.last; ++f)
     for (const auto& o : objects)
-      if (!std::filesystem::exists(obj_path(out_dir, o.name, n))) return n;
-    ++n;
-  }
+      if (!std::filesystem::exists(obj_path(out_dir, o.name, f))) {
+        w.missing[f] = obj_path(out_dir, o.name, f);
+        break;
+      }
+  return w;
 }
 
 }  // namespace invfem::app

@@ -3,6 +3,7 @@
 // `invfem render` and `invfem run --render` share this one path, so a preview made while
 // simulating and one made afterwards are the same picture.
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 
@@ -32,7 +33,13 @@ class PreviewRenderer {
   std::unique_ptr<Impl> impl_;
 };
 
-// Frames present on disk for every object of the scene: 0..N-1 (stops at the first gap).
-int count_frames(const std::filesystem::path& out_dir, const Scene& scene);
+// The frames a run wrote for the scene's objects and drawn bodies: the highest frame number any
+// of them has (-1: none), and the frames in 0..last where one of them is missing, each with the
+// first missing file.
+struct WrittenFrames {
+  int last = -1;
+  std::map<int, std::filesystem::path> missing;
+};
+WrittenFrames written_frames(const std::filesystem::path& out_dir, const Scene& scene);
 
 }  // namespace invfem::app

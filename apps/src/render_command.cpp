@@ -5,9 +5,12 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <sstream>
+#include <vector>
 
 #include "cli_args.hpp"
+#include "invfem/core/io/mesh_error.hpp"
 #include "input_check.hpp"
 #include "json_fields.hpp"
 #include "preview.hpp"
@@ -80,27 +83,51 @@ int render_command(const std::vector<std::string>& raw) {
   if (args.has("--camera")) options.camera = parse_camera(args.value("--camera"));
   options.caption = !args.flag("--no-caption");
 
-  const int available = count_frames(dir, scene);
-  if (available == 0) throw InputError(dir.string() + ": no frames to render (frames/<object>/0000.obj is missing)");
+  const WrittenFrames written = written_frames(dir, scene);
+  if (written.last < 0) throw InputError(dir.string() + ": no frames to render (frames/<object>/0000.obj is missing)");
   auto [first, last] = args.has("--frames") ? parse_frame_range(args.value("--frames"), "--frames")
-                                            : std::pair<int, int>{0, available - 1};
-  if (last >= available)
+                                            : std::pair<int, int>{0, written.last};
+  if (last > written.last)
     throw InputError("--frames: frame " + std::to_string(last) + " was not written (the run has frames 0-" +
-                     std::to_string(available - 1) + ")");
-
+                     std::to_string(written.last) + ")");
   const bool mp4 = args.flag("--mp4");
   if (mp4 && !have_ffmpeg())
     throw InputError("--mp4: ffmpeg is not installed (Debian: apt install ffmpeg); nothing was rendered");
 
-  PreviewRenderer preview(dir, scene, options);
+  std::unique_ptr<PreviewRenderer> renderer;
+  try {
+    renderer = std::make_unique<PreviewRenderer>(dir, scene, options);
+  } catch (const MeshError& e) {  // frame 0, which an automatic camera is framed on
+    throw InputError(std::string(e.what()) + " (frame 0 frames the camera: give --camera to render without it)");
+  }
+  PreviewRenderer& preview = *renderer;
+  // Every frame of the range is tried: a missing or unreadable one is listed at the end (exit 2),
+  // after the others are drawn.
+  std::vector<int> bad;
+  std::string first_problem;
   const auto start = std::chrono::steady_clock::now();
   for (int f = first; f <= last; ++f) {
-    preview.render(f);
+    if (const auto m = written.missing.find(f); m != written.missing.end()) {
+      bad.push_back(f);
+      if (first_problem.empty()) first_problem = m->second.string() + " is missing";
+      continue;
+    }
+    try {
+      preview.render(f);
+    } catch (const std::exception& e) {
+      bad.push_back(f);
+      if (first_problem.empty()) first_problem = e.what();
+      continue;
+    }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("rendered %s  (%d/%d, %.2fs/frame)\n", preview.png_path(f).string().c_str(), f - first + 1,
                 last - first + 1, wall / (f - first + 1));
     std::fflush(stdout);
   }
+  if (!bad.empty())
+    throw InputError(dir.string() + ": frame" + (bad.size() == 1 ? " " : "s ") + frame_ranges(bad) + " of " +
+                     std::to_string(first) + "-" + std::to_string(last) + " missing or unreadable, not rendered (first: " +
+                     first_problem + ")" + (mp4 ? "; no video encoded" : ""));
   if (mp4) {
     const std::filesystem::path video = dir / (scene.name + ".mp4");
     try {

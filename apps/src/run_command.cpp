@@ -16,6 +16,7 @@
 #include "input_check.hpp"
 #include "json_fields.hpp"
 #include "preview.hpp"
+#include "run_folder.hpp"
 #include "run_output.hpp"
 #include "scene.hpp"
 #include "world_builder.hpp"
@@ -24,8 +25,8 @@ namespace invfem::app {
 
 const char* const kRunHelp =
     "usage: invfem run SCENE.json --out DIR [--quick] [--set path.to.field=value]... [--render]\n"
-    "                  [--format obj,ply,vtu,usd] [--frames A-B] [--resume] [--checkpoint-every K]\n"
-    "                  [--threads N] [--quiet]\n"
+    "                  [--format obj,ply,vtu,usd,pc2] [--frames A-B] [--resume | --overwrite]\n"
+    "                  [--checkpoint-every K] [--threads N] [--quiet]\n"
     "\n"
     "Simulates the scene and writes, as frames are made:\n"
     "  DIR/scene.json               the scene as run, every default filled in\n"
@@ -35,7 +36,9 @@ const char* const kRunHelp =
     "  DIR/checkpoints/NNNN.ckpt    the full state every K frames, for --resume\n"
     "  DIR/png/NNNN.png             preview images, with --render\n"
     "Options:\n"
-    "  --out DIR      output folder (created if missing)\n"
+    "  --out DIR      output folder (created if missing). A run owns it: a folder holding another\n"
+    "                 run is refused unless --resume or --frames continues that run (the same\n"
+    "                 scene, no shorter) or --overwrite clears it first\n"
     "  --quick        apply the scene's \"quick\" overrides (a quick resolution, as the tests use)\n"
     "  --set P=V      override a scene field before validation, e.g. --set solids.0.material.young=1e6\n"
     "                 (V is JSON, or plain text for a string); repeatable\n"
@@ -51,6 +54,8 @@ const char* const kRunHelp =
     "                 `frames` may grow: --set frames=N --resume extends a finished run);\n"
     "                 frames after it are rewritten, so the result is bit-identical to a run that\n"
     "                 was never stopped (with the same --threads)\n"
+    "  --overwrite    remove the earlier run in DIR (its frames, checkpoints, previews and files)\n"
+    "                 before this one starts; other files in DIR are kept\n"
     "  --checkpoint-every K  frames between checkpoints (default 10; 0 = none)\n"
     "  --threads N    worker threads (default: all cores); results do not depend on it\n"
     "  --quiet        no progress lines\n"
@@ -74,7 +79,7 @@ std::string format_duration(double s) {
 int run_command(const std::vector<std::string>& raw) {
   const ParsedArgs args =
       parse_args(raw, "run", {"--out", "--threads", "--set", "--format", "--frames", "--checkpoint-every"},
-                 {"--help", "-h", "--quiet", "--quick", "--render", "--resume"});
+                 {"--help", "-h", "--quiet", "--quick", "--render", "--resume", "--overwrite"});
   if (args.flag("--help") || args.flag("-h")) {
     std::cout << kRunHelp;
     return 0;
@@ -103,6 +108,7 @@ int run_command(const std::vector<std::string>& raw) {
     throw InputError("--frames: frame " + std::to_string(last) + " is past the scene's last frame " +
                      std::to_string(scene.frames));
   prepare_output_dir(out_dir, "--out");
+  claim_run_folder(out_dir, scene, args.flag("--resume"), args.has("--frames"), args.flag("--overwrite"), quiet);
   // A run killed mid-write left NNNN.obj.tmp and the like: no run writes into this folder now.
   if (const int n = remove_stale_temporaries(out_dir); n > 0 && !quiet)
     std::printf("removed %d stale temporary file%s (*.tmp) left by a stopped run in %s\n", n, n == 1 ? "" : "s",

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "input_check.hpp"
 #include "invfem/core/io/atomic_file.hpp"
 #include "invfem/core/io/obj_writer.hpp"
 #include "invfem/core/io/pc2_writer.hpp"
@@ -89,10 +90,11 @@ int remove_stale_temporaries(const std::filesystem::path& out_dir) {
 RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World& world, std::set<std::string> formats,
                      int first_frame, const std::string& resume_csv)
     : dir_(std::move(dir)), formats_(std::move(formats)) {
-  std::filesystem::create_directories(dir_ / "frames");
-  for (const auto& o : world.objects()) std::filesystem::create_directories(dir_ / "frames" / o.name);
+  // Each frame folder made and probed now: one that cannot be written is bad output (exit 2)
+  // before any work, not a failure at the first frame.
+  for (const auto& o : world.objects()) prepare_output_dir(dir_ / "frames" / o.name, "--out");
   for (const auto& k : world.kinematic_bodies())
-    if (k->surface()) std::filesystem::create_directories(dir_ / "frames" / k->name());
+    if (k->surface()) prepare_output_dir(dir_ / "frames" / k->name(), "--out");
   atomic_write(dir_ / "scene.json", to_json(scene).dump(2) + "\n");
   // A garment's seams, once per object with stitches, for `invfem check` (welds_file.hpp).
   for (const auto& o : world.objects())
@@ -103,7 +105,13 @@ RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World&
   fps_ = fps;
   first_usd_frame_ = first_frame;
   csv_ = first_frame > 0 ? keep_rows_before(resume_csv, first_frame, true, false) : kCsvHeader;
-  if (first_frame > 0) stats_ = keep_rows_before(read_file(dir_ / "stats.jsonl"), first_frame, false, true);
+  if (first_frame > 0) {
+    // Repaired now from the checkpoint's rows and the frames before it, even when no frame follows
+    // (a finished run resumed).
+    stats_ = keep_rows_before(read_file(dir_ / "stats.jsonl"), first_frame, false, true);
+    atomic_write(dir_ / "energies.csv", csv_);
+    atomic_write(dir_ / "stats.jsonl", stats_);
+  }
   // Point caches (OUT/<name>.pc2), objects' and kinematic bodies' alike, in their frames' vertex
   // order; a resumed run drops the samples from its first frame on.
   if (formats_.count("pc2")) {

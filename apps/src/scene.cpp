@@ -334,21 +334,14 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
     for (const char* k : {"start_time", "after_end"})
       if (f.has(k))
         f.fail(k, std::string("no \"") + k + "\" on a " + c.type + " collider (it belongs to a sequence or a skinned body)");
-  if (c.type == "skinned") {
+  // An animated body: its file or frames give its shape and motion.
+  if (c.type == "skinned" || c.type == "sequence") {
+    const std::string what = c.type == "skinned" ? "a skinned body (its file" : "a sequence (its frames";
     for (const char* k : {"point", "normal", "radius", "half_extents", "half_height", "teeth", "outer_radius",
                           "root_radius", "thickness", "clearance", "mesh", "motion"})
-      if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a skinned body (its file gives its shape and motion)");
-    c.skinned = parse_skinned(f, dir, check_files);
-    rows_of(table, {"query_radius", "offset"}).read(f, c);
-    check_offset(f, c.offset, c.query_radius);
-    c.transform = parse_transform(f.object_or_empty("transform"));
-    return c;
-  }
-  if (c.type == "sequence") {
-    for (const char* k : {"point", "normal", "radius", "half_extents", "half_height", "teeth", "outer_radius",
-                          "root_radius", "thickness", "clearance", "mesh", "motion"})
-      if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a sequence (its frames give its shape and motion)");
-    c.sequence = parse_sequence(f, dir, check_files);
+      if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on " + what + " give its shape and motion)");
+    if (c.type == "skinned") c.skinned = parse_skinned(f, dir, check_files);
+    else c.sequence = parse_sequence(f, dir, check_files);
     rows_of(table, {"query_radius", "offset"}).read(f, c);
     check_offset(f, c.offset, c.query_radius);
     c.transform = parse_transform(f.object_or_empty("transform"));
@@ -480,7 +473,8 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   SelfCollisionSpec::fields().reject_unknown(sc);
   SelfCollisionSpec::fields().read(sc, s.self_collision);
   if (!(s.self_collision.ccd_distance < s.self_collision.thickness))
-    sc.fail("ccd_distance", "a distance below the thickness");
+    sc.fail("ccd_distance", "a distance below the thickness (" + format_number(s.self_collision.thickness) + " m)",
+            format_number(s.self_collision.ccd_distance) + (sc.has("ccd_distance") ? "" : " (its default)"));
 
   const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
   std::set<std::string> names;

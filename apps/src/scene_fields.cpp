@@ -77,7 +77,8 @@ const FieldTable<SelfCollisionSpec>& SelfCollisionSpec::fields() {
       {.key = "enabled", .member = &S::enabled, .description = "false: no self-collision pass at all"},
       {.key = "thickness", .member = &S::thickness, .unit = "m", .range = {1e-9, 1},
        .description = "repulsion thickness: pairs closer than it at a step's start are pushed apart; below the "
-                      "rest distance of non-neighbouring parts and the edge length"},
+                      "rest distance of non-neighbouring parts, and below every surface's median edge length "
+                      "(checked at load)"},
       {.key = "ccd_distance", .member = &S::ccd_distance, .unit = "m", .range = {0, 1},
        .description = "the separation the CCD impulses and the impact zones keep, below `thickness`"},
       {.key = "friction", .member = &S::friction, .range = {0, 10},

@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "invfem/core/io/text_file.hpp"
 #include "invfem/core/io/obj_file.hpp"
 #include "input_check.hpp"
 #include "json_fields.hpp"
@@ -83,6 +84,7 @@ Seams read_welds_file(const std::string& path) {
   Seams seams;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
+    if (number == 1) drop_byte_order_mark(line);
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
     std::istringstream words(line);
     std::vector<int> v;

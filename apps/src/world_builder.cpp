@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <limits>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "collider_builders.hpp"
 #include "invfem/collisions/colliders/rigid_collisions.hpp"
@@ -10,6 +13,7 @@
 #include "invfem/solids/fracture_pass.hpp"
 #include "json_fields.hpp"
 #include "object_builders.hpp"
+#include "scene_field.hpp"
 
 namespace invfem::app {
 
@@ -40,6 +44,36 @@ void check_not_inside_colliders(const Scene& scene, const std::vector<SimObject>
     }
   }
 }
+}  // namespace
+
+namespace {
+
+// The self-collision layer keeps surfaces `thickness` apart: at or above a surface's typical edge
+// length it would hold the neighbouring vertices of one surface apart, pushing the mesh off itself
+// (a 1 m thickness on a cloth of 3 cm edges takes its energy from 6 J to 16,000 J in 3 frames).
+void check_thickness(const Scene& scene, const World& world) {
+  std::set<std::string> excluded;
+  for (const auto& o : scene.solids)
+    if (!o.self_collision) excluded.insert(o.name);
+  for (const auto& c : scene.cloths)
+    if (!c.self_collision) excluded.insert(c.name);
+  for (const SimObject& o : world.objects()) {
+    const Tris& t = o.surface.tris;
+    if (t.rows() == 0 || excluded.count(o.name)) continue;
+    std::vector<double> lengths;
+    lengths.reserve(static_cast<std::size_t>(t.rows()) * 3);
+    for (Eigen::Index f = 0; f < t.rows(); ++f)
+      for (int k = 0; k < 3; ++k) lengths.push_back((o.surface.x.row(t(f, k)) - o.surface.x.row(t(f, (k + 1) % 3))).norm());
+    std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
+    const double median = lengths[lengths.size() / 2];
+    if (scene.self_collision.thickness >= median)
+      throw InputError(scene.file.string() + ": $.self_collision.thickness: expected a thickness below the median edge " +
+                       "length of \"" + o.name + "\" (" + format_number(median) + " m), found " +
+                       format_number(scene.self_collision.thickness) +
+                       " m: the layer would hold its neighbouring vertices apart");
+  }
+}
+
 }  // namespace
 
 World build_world(const Scene& scene, Colliders* typed) {
@@ -105,6 +139,7 @@ World build_world(const Scene& scene, Colliders* typed) {
     World world(settings, std::move(objects), std::move(colliders.bodies),
                 std::make_unique<RigidCollisions>(std::move(colliders.collision), std::move(couplings)));
     const SelfCollisionSpec& sc = scene.self_collision;
+    if (sc.enabled) check_thickness(scene, world);
     if (sc.enabled) {
       collisions::SelfCollisionSettings s;
       s.thickness = sc.thickness;

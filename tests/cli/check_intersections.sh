@@ -89,7 +89,7 @@ expect_output 2 "$work/empty: no frames/ folder" -- check "$work/empty"
 printf 'v 0 0 0\nv 1 0 0\nf 1 2 3\n' > "$out/frames/a/0001.obj"
 expect_output 2 "$out/frames/a/0001.obj" -- check "$out"
 rm "$out/frames/a/0001.obj"
-expect_output 2 "a: frame 1 is missing (0001.obj)" -- check "$out"
+expect_output 2 "frame 1 of 0-1 missing (first: frames/a/0001.obj); the run wrote frames 0-1; nothing was checked" -- check "$out"
 # Frame file names: one past int (11 digits) is refused naming it, one that is not a number is not
 # a frame (ignored).
 tet_b "$out/frames/b/0001.obj"

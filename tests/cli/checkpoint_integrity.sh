@@ -82,12 +82,14 @@ resume_case time_nan time_nan "holds time nan s, not the time of frame 8"
 resume_case directory dir "cannot be read: is a directory, not a regular file"
 resume_case version2 version2 "has format version 2, this invfem reads version 5"
 
-# Another scene: the warning says what differs.
+# Another scene: refused before any work (the folder holds this scene's run), saying what differs.
 cp -r "$work/reference" "$work/other"
 out=$("$invfem" run "$scene" "${common[@]}" --quiet --out "$work/other" --resume --set gravity=[0,-5,0] 2>&1)
-if ! grep -qF "checkpoint was written by a different scene (or other --set/--quick options): /gravity/1 is -5.0 now, -9.81 in the checkpoints' run" <<<"$out"; then
-  echo "FAIL: another scene: $(head -c 2000 <<<"$out")"
+code=$?
+if [ "$code" != 2 ] || ! grep -qF "holds a run of another scene (/gravity/1 is -5.0 now, -9.81 in the folder's run)" <<<"$out"; then
+  echo "FAIL: another scene: exit $code: $(head -c 2000 <<<"$out")"
   fail=1
 fi
+cmp -s "$work/reference/energies.csv" "$work/other/energies.csv" || { echo "FAIL: the refused run changed the folder"; fail=1; }
 if [ "$fail" -ne 0 ]; then exit 1; fi
 echo "damaged checkpoints are skipped with a warning naming them; resumes stay bit-identical"

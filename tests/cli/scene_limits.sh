@@ -106,7 +106,7 @@ expect 0 "a run would stop before its first frame; the itf04 step is limited" --
 rm -rf "$work/ramp"
 expect 1 "more than solver.max_substeps_per_frame (100); the itf04" -- \
   run "$torus" --quick --out "$work/ramp" --set solids.0.material.young=1e7 --set solver.max_substeps_per_frame=100
-err=$("$invfem" run "$torus" --quick --out "$work/ramp" --quiet --set solids.0.material.young=1e7 \
+err=$("$invfem" run "$torus" --quick --out "$work/ramp" --overwrite --quiet --set solids.0.material.young=1e7 \
   --set solver.max_substeps_per_frame=100 2>&1)
 frame=$(sed -n 's/.*: frame \([0-9]*\) (t = .*/\1/p' <<<"$err")
 if [ -z "$frame" ] || [ "$frame" -lt 2 ] || ! grep -qF "frames up to $((frame - 1)) are in $work/ramp" <<<"$err" ||

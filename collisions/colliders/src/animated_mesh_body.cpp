@@ -1,6 +1,10 @@
 #include "invfem/collisions/colliders/animated_mesh_body.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <stdexcept>
+
+#include "invfem/core/io/mesh_error.hpp"
 
 namespace invfem {
 
@@ -15,6 +19,17 @@ void AnimatedMeshBody::set_surface(TriangleSurface shape) {
   velocity_ = Points::Zero(surface_.x.rows(), 3);
   mesh_ = std::make_shared<MeshSurface>(surface_, mesh_options_);
   move_to(0.0);
+}
+
+void AnimatedMeshBody::check_positions(const Points& x, const std::string& what) {
+  for (Eigen::Index i = 0; i < x.rows(); ++i)
+    if (!x.row(i).allFinite() || x.row(i).cwiseAbs().maxCoeff() > kMaxBodyCoordinate) {
+      char at[96];
+      std::snprintf(at, sizeof at, "(%.4g, %.4g, %.4g)", x(i, 0), x(i, 1), x(i, 2));
+      throw MeshError(what + ": vertex " + std::to_string(i) + " is at " + at +
+                      " m after the body's transform, not finite or beyond 1e6 m of the origin (a frame in "
+                      "another unit, or damaged)");
+    }
 }
 
 void AnimatedMeshBody::move_to(double t) {

@@ -98,11 +98,9 @@ BodySequence::Bracket BodySequence::bracket(double t) const {
 
 Points BodySequence::posed(const TriangleSurface& f, const std::string& file) const {
   Points x(f.x.rows(), 3);
-  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+  for (Eigen::Index i = 0; i < x.rows(); ++i)
     x.row(i) = (settings_.linear * f.x.row(i).transpose() + settings_.translation).transpose();
-    if (!x.row(i).allFinite())
-      throw MeshError(file + ": vertex " + std::to_string(i) + " is not finite (after the body's transform)");
-  }
+  check_positions(x, file);
   return x;
 }
 

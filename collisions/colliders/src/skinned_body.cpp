@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "invfem/core/io/mesh_error.hpp"
+
 namespace invfem {
 
 SkinnedBody::SkinnedBody(std::string name, SkinnedCharacter character, SkinnedBodySettings settings)
@@ -40,9 +42,10 @@ void SkinnedBody::skinned(double c, Points& x, Points* v) const {
   skin_vertices(character_, pose, x, v);
   x = (x * settings_.linear.transpose()).rowwise() + settings_.translation.transpose();
   if (v) *v = *v * settings_.linear.transpose();
-  const std::string at = "skinned body \"" + name() + "\" at clip time " + std::to_string(c) + " s: ";
-  if (!x.allFinite() || (v && !v->allFinite()))
-    throw std::runtime_error(at + "a vertex is not finite (" + character_.source + ")");
+  check_positions(x, character_.source + " (skinned body \"" + name() + "\" at clip time " + std::to_string(c) + " s)");
+  if (v && !v->allFinite())
+    throw MeshError(character_.source + " (skinned body \"" + name() + "\" at clip time " + std::to_string(c) +
+                    " s): a velocity is not finite");
 }
 
 void SkinnedBody::evaluate(double t, Points& x, Points& v) {

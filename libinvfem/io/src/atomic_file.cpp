@@ -59,9 +59,11 @@ void atomic_write(const std::filesystem::path& path,
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) {
-      const char* why = std::strerror(errno);
+      const std::string why = std::strerror(errno);
+      std::error_code ec;
+      const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
       fail(path, "cannot open " + tmp.string() + " for writing (" + why +
-                     "; does the directory exist?)");
+                     (std::filesystem::is_directory(dir, ec) ? ")" : "; the folder " + dir.string() + " does not exist)"));
     }
     try {
       write(out);

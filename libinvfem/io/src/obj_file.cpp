@@ -25,6 +25,7 @@ constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
 constexpr std::size_t kMaxExtraLines = std::size_t{1} << 22;
 constexpr std::size_t kMaxExtraWords = std::size_t{1} << 24;
 constexpr std::size_t kMaxGroups = std::size_t{1} << 20;
+constexpr double kMaxObjCoordinate = 1e9;  // see Parser::in_range
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
 
@@ -214,6 +215,14 @@ class Parser {
     }
   }
 
+  // Positions and pattern coordinates within +-1e9 (whatever the unit): beyond, areas and
+  // energies overflow a double (a 1e160 pattern read as "zero area") before any check sees them.
+  void in_range(double x, std::string_view t, const char* item, long long index, const char* field) const {
+    if (std::abs(x) > kMaxObjCoordinate)
+      fail(std::string(item) + " " + std::to_string(index) + ": " + field + ": " + quote(t) +
+           " is outside [-1e9, 1e9] (no mesh unit needs it; areas and forces would overflow)");
+  }
+
   void parse_v(Words& w) {
     std::string_view t[7];
     const int n = split(w, t, 6);
@@ -225,6 +234,7 @@ class Parser {
     static const char* const kFields[] = {"x", "y", "z", "4th number", "5th number", "6th number"};
     double x[6];
     for (int k = 0; k < n; ++k) x[k] = real(t[k], "vertex", index, kFields[k]);
+    for (int k = 0; k < 3; ++k) in_range(x[k], t[k], "vertex", index, kFields[k]);
     v_.insert(v_.end(), x, x + 3);
   }
 
@@ -238,6 +248,7 @@ class Parser {
     static const char* const kFields[] = {"u", "v", "w"};
     double x[3] = {0, 0, 0};
     for (int k = 0; k < n; ++k) x[k] = real(t[k], "texture coordinate", index, kFields[k]);
+    for (int k = 0; k < n; ++k) in_range(x[k], t[k], "texture coordinate", index, kFields[k]);
     vt_.insert(vt_.end(), x, x + 2);
   }
 

@@ -18,8 +18,13 @@ std::string read_text_file(const std::string& path, std::uintmax_t max_bytes, co
     if (text.size() > max_bytes) throw MeshError(path + ": file grew past the limit of " + reader + " while read");
   }
   if (in.bad()) throw MeshError(path + ": read error");
+  drop_byte_order_mark(text);
   if (text.find_first_not_of(" \t\r\n\f\v") == std::string::npos) throw MeshError(path + ": file is empty");
   return text;
+}
+
+void drop_byte_order_mark(std::string& text) {
+  if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
 }
 
 }  // namespace invfem

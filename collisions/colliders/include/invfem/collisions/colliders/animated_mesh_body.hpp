@@ -44,6 +44,11 @@ class AnimatedMeshBody : public KinematicBody {
   void set_surface(TriangleSurface shape);
   // The animation at time t: x and v (#V x 3, world frame).
   virtual void evaluate(double t, Points& x, Points& v) = 0;
+  // Throws MeshError "<what>: vertex i ..." for a position that is not finite or lies beyond
+  // kMaxBodyCoordinate of the origin (a frame in the wrong unit, or a damaged file: the collision
+  // structures and the cloth would follow it out to there).
+  static void check_positions(const Points& x, const std::string& what);
+  static constexpr double kMaxBodyCoordinate = 1e6;  // [m]
 
  private:
   std::string name_;

@@ -4,7 +4,7 @@
 // ARCSim `vv`/`t`, ...) handed back verbatim, in file vertex order. Not assimp: it reorders
 // vertices and drops these lines.
 //
-// Handled keywords:
+// A leading UTF-8 byte order mark is skipped. Handled keywords:
 //   v x y z [w]        position; w, or an r g b vertex colour (6 numbers), is parsed and dropped
 //   vt u [v [w]]       texture/pattern coordinate; v defaults to 0, w is parsed and dropped
 //   vn x y z           parsed and dropped, but counted so that face normal indices are checked
@@ -18,7 +18,8 @@
 //
 // Rejected (ObjError "<path>:<line>: <problem>", or "<path>: <problem>" for whole-file issues):
 // a missing, unreadable, non-regular or empty file, one with a NUL byte or no faces; a number that
-// is unparsable, has trailing characters, is hex, nan/inf or outside the double range; a
+// is unparsable, has trailing characters, is hex, nan/inf or outside the double range; a v or vt
+// coordinate outside [-1e9, 1e9] (areas and forces would overflow); a
 // v/vt/vn/f line with the wrong number of fields or a trailing `\` continuation; a face index of
 // 0, out of range or malformed; a face with fewer than 3 corners, mixing corners with and without
 // vt, or repeating a vertex. Limits against malformed input: a file of at most 1 GiB, a line of

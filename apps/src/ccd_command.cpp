@@ -25,10 +25,10 @@ const char* const kCcdHelp =
     "  vf  p a b c  p' a' b' c'       a vertex p and a triangle (a, b, c) at t = 0, then at t = 1\n"
     "  ee  a0 a1 b0 b1  a0' a1' b0' b1'  edge (a0, a1) and edge (b0, b1) at t = 0, then at t = 1\n"
     "each point as three numbers x y z (24 numbers after the tag, separated by blanks). Blank lines\n"
-    "and lines starting with # are skipped. Prints one line per query on stdout: 1 when the pair may\n"
-    "come within D (default 0) during the step, else 0; and a summary on stderr (queries, hits,\n"
-    "seconds spent in CCD, queries per second). A malformed line is an error naming the file and\n"
-    "line (exit 2).\n";
+    "are skipped; # starts a comment (a line, or the rest of one). Prints one line per query on\n"
+    "stdout: 1 when the pair may come within D (default 0) during the step, else 0; and a summary\n"
+    "on stderr (queries, hits, seconds spent in CCD, queries per second). A malformed line is an\n"
+    "error naming the file and line (exit 2).\n";
 
 namespace {
 
@@ -37,7 +37,26 @@ struct Query {
   std::array<Vec3, 8> x;
 };
 
-// Splits text into lines and parses each query line; throws InputError naming file:line.
+// A token as shown in a message: bytes outside printable ASCII as \xHH (a NUL would cut the
+// message short on a terminal), at most 40 of them.
+std::string shown(const char* a, const char* b) {
+  std::string out;
+  for (const char* c = a; c < b && out.size() < 40; ++c) {
+    const auto u = static_cast<unsigned char>(*c);
+    if (u >= 0x20 && u < 0x7f) {
+      out += *c;
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02X", u);
+      out += hex;
+    }
+  }
+  return b - a > 40 ? out + "..." : out;
+}
+
+// Splits text into lines and parses each query line; throws InputError naming file:line. A `#`
+// starts a comment, at the start of a line or after the numbers; a number may have one leading
+// sign, + or -.
 std::vector<Query> parse_queries(const std::string& text, const std::string& file) {
   std::vector<Query> queries;
   std::size_t pos = 0;
@@ -60,19 +79,20 @@ std::vector<Query> parse_queries(const std::string& text, const std::string& fil
     const char* tag = p;
     while (p < stop && *p != ' ' && *p != '\t' && *p != '\r') ++p;
     const std::string kind(tag, p);
-    if (kind != "vf" && kind != "ee") fail("expected a query tag vf or ee, found \"" + kind + "\"");
+    if (kind != "vf" && kind != "ee") fail("expected a query tag vf or ee, found \"" + shown(tag, p) + "\"");
     Query q;
     q.edge_edge = kind == "ee";
     int count = 0;
     for (;;) {
       skip_blanks();
-      if (p == stop) break;
+      if (p == stop || *p == '#') break;
       const char* token = p;
       while (p < stop && *p != ' ' && *p != '\t' && *p != '\r') ++p;
       if (count == 24) fail("more than 24 numbers after \"" + kind + "\" (8 points x y z)");
       double value = 0;
-      const auto [used, ec] = std::from_chars(token, p, value);
-      if (ec != std::errc() || used != p) fail("not a number: \"" + std::string(token, p) + "\"");
+      const char* digits = token + (*token == '+' && p - token > 1 && token[1] != '-' && token[1] != '+');
+      const auto [used, ec] = std::from_chars(digits, p, value);
+      if (ec != std::errc() || used != p) fail("not a number: \"" + shown(token, p) + "\"");
       if (!std::isfinite(value)) fail("number " + std::to_string(count + 1) + " is not finite");
       q.x[count / 3][count % 3] = value;
       ++count;

@@ -149,6 +149,7 @@ CheckpointInfo load_checkpoint(const std::filesystem::path& file, const Scene& s
   if (!in) throw fail("cannot be read: cannot open the file");
   std::string bytes((std::istreambuf_iterator<char>(in)), {});
   if (in.bad()) throw fail("cannot be read: read error");
+  if (bytes.empty()) throw fail("is empty (a run stopped while writing it, or a damaged disk)");
   try {
     StateReader r(bytes);
     char magic[8];

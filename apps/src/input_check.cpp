@@ -9,6 +9,16 @@
 
 namespace invfem::app {
 
+namespace {
+// Why a file cannot be created in an existing folder: the system's words, but for ENOENT, whose
+// "No such file or directory" misleads about a folder that exists (/proc and other virtual file
+// systems answer so).
+std::string write_problem(int error) {
+  if (error == ENOENT) return "it does not take new files (a virtual file system such as /proc)";
+  return std::strerror(error);
+}
+}  // namespace
+
 void prepare_output_dir(const std::filesystem::path& dir, const std::string& option) {
   namespace fs = std::filesystem;
   if (dir.empty()) throw InputError(option + ": empty folder name (give a folder, e.g. " + option + " out)");
@@ -21,7 +31,7 @@ void prepare_output_dir(const std::filesystem::path& dir, const std::string& opt
   if (!fs::is_directory(dir, ec)) throw InputError(where + "is not a folder");
   std::string probe = (dir / ".invfem_write_probe_XXXXXX").string();
   const int fd = ::mkstemp(probe.data());
-  if (fd < 0) throw InputError(where + "cannot write into the folder: " + std::strerror(errno));
+  if (fd < 0) throw InputError(where + "cannot write into the folder: " + write_problem(errno));
   ::close(fd);
   ::unlink(probe.c_str());
 }
@@ -37,7 +47,7 @@ void require_output_file(const std::filesystem::path& path, const std::string& o
   if (!fs::is_directory(dir, ec)) throw InputError(where + "no folder \"" + dir.string() + "\"");
   std::string probe = (dir / ".invfem_write_probe_XXXXXX").string();
   const int fd = ::mkstemp(probe.data());
-  if (fd < 0) throw InputError(where + "cannot create a file in \"" + dir.string() + "\": " + std::strerror(errno));
+  if (fd < 0) throw InputError(where + "cannot create a file in \"" + dir.string() + "\": " + write_problem(errno));
   ::close(fd);
   ::unlink(probe.c_str());
 }

@@ -81,7 +81,7 @@ std::string describe(const nlohmann::json& value) {
   std::string s;
   render(value, kDescribeDepth, s);
   if (s.size() > kDescribeLength) s = s.substr(0, kDescribeLength - 3) + "...";
-  return std::string(value.type_name()) + " " + s;
+  return value.is_null() ? s : std::string(value.type_name()) + " " + s;  // "null", not "null null"
 }
 
 nlohmann::json parse_json(std::istream& in, const std::string& origin) {

@@ -132,11 +132,12 @@ int run_command(const std::vector<std::string>& raw) {
   {
     const StepPlan plan = plan_steps(world, scene);
     if (plan.over_limit()) {
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "a frame needs about %.3g substeps of %.3g s, more than solver.max_substeps_per_frame",
-                    plan.substeps, plan.dt);
+      char buf[240];
+      std::snprintf(buf, sizeof buf, "a frame needs about %.3g substeps of %.3g s (%.3g for the %d frames), more than "
+                    "solver.max_substeps_per_frame", plan.substeps, plan.dt, plan.substeps * (last - start_frame),
+                    last - start_frame);
       throw std::runtime_error(scene_path + ": " + buf + " (" + std::to_string(plan.limit) + "); " + substep_advice(scene) +
-                               "; no frame was written");
+                               " (raise it to run anyway); no frame was written");
     }
     if (plan.many())
       std::fprintf(stderr, "note: %s: step size %.3g s, about %.0f substeps per frame; %s\n", scene_path.c_str(), plan.dt,

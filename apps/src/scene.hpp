@@ -324,7 +324,7 @@ struct SolverSpec {
   int newton_max_iterations = 12;   // implicit: a step that hits it is reported
   // A frame that would take more steps stops the run (exit 1) instead of running for days; the
   // run prints its step size and estimate at the start when a frame needs over 1000.
-  int max_substeps_per_frame = 100000;
+  int max_substeps_per_frame = 20000;
   // [m] motion-bounded steps (WorldSettings::max_step_motion); 0: the colliders' limits only.
   double max_step_motion = 0;
   int max_step_retries = 3;  // WorldSettings::max_step_retries

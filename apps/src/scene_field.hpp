@@ -32,15 +32,14 @@ template <class S> struct Field {
   // An optional number is read only when given (no default: "none"), and written only when set.
   using Member =
       std::variant<std::monostate, double S::*, std::optional<double> S::*, int S::*, bool S::*, std::string S::*>;
-  // Every member has a default initializer, so a designated initializer may name only some.
-  std::string key{};
-  Member member;                       // monostate: documented here, read by hand (a default initializer here crashes GCC 12)
+  std::string key;
+  Member member;                     // monostate: documented here, read by hand
   std::string unit = "–";
-  Range range{};                       // double and int members
-  std::vector<std::string> choices{};  // string members: the accepted values (empty: any)
-  std::string expected{};              // the error's "expected ..." when not accepted ("": from range or choices)
-  std::string description{};           // one line
-  std::string default_text{};          // rows without a member: the default as documented
+  Range range;                       // double and int members
+  std::vector<std::string> choices;  // string members: the accepted values (empty: any)
+  std::string expected;              // the error's "expected ..." when not accepted ("": from range or choices)
+  std::string description;           // one line
+  std::string default_text;          // rows without a member: the default as documented
 };
 
 // The document's words for a number (1e-08 -> 1e-8, 100000 -> 100000, 0.005 -> 0.005).

@@ -60,7 +60,8 @@ const FieldTable<SolverSpec>& SolverSpec::fields() {
                       "(`newton_capped`, `newton_worst_residual`)"},
       {.key = "max_substeps_per_frame", .member = &S::max_substeps_per_frame, .unit = "count",
        .range = {1, 2147483647},
-       .description = "a frame that would take more steps stops the run with exit 1 (see below)"},
+       .description = "a frame that would take more steps stops the run with exit 1, at its start when the "
+                      "first frame would (see below); the default stops a run that would take hours a frame"},
       {.key = "max_step_motion", .member = &S::max_step_motion, .unit = "m", .range = {0, 1e3},
        .description = "motion-bounded steps: the longest a node or a collider's surface may move in one step "
                       "(see below); 0: the colliders' and the layer's own limits only"},

@@ -1,9 +1,13 @@
 #include "tool_commands.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "cli_args.hpp"
+#include "input_check.hpp"
 #include "invfem/collisions/colliders/body_sequence.hpp"
 #include "invfem/core/io/mesh_error.hpp"
 #include "invfem/core/io/surface_io.hpp"
@@ -95,6 +99,13 @@ int mesh_command(const std::vector<std::string>& raw) {
   }
   const std::string& surface_file = args.positional[0];
   const std::string& out_file = args.value("--out");
+  // The output named before the meshing, which can take minutes.
+  std::string ext = std::filesystem::path(out_file).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext != ".vtk" && ext != ".mesh")
+    throw InputError("mesh: --out " + out_file + ": expected a file name ending in .vtk or .mesh" +
+                     (std::filesystem::is_directory(out_file) ? " (it is a folder)" : ""));
+  require_output_file(out_file, "mesh: --out");
   CheckedBccMesh meshed;
   try {
     const TriangleSurface surface = load_triangle_surface(surface_file);

@@ -68,5 +68,25 @@ expect 2 "\$.self_collision.thickness: expected a thickness below the median edg
   -- check-scene "$scene" --quick --set self_collision.thickness=1
 expect 2 "expected a distance below the thickness (1e-9 m), found 1e-5 (its default)" \
   -- check-scene "$scene" --quick --set self_collision.thickness=1e-9
+# Messages that say what is wrong: a step count that would take hours (refused at the start,
+# with the run's total), CCD lines with a + sign, a trailing comment, a NUL byte; CR-only line
+# endings; a null where an object belongs; a folder that takes no files; a mesh output that is
+# not a mesh file, before the meshing; an empty checkpoint.
+expect 1 "substeps of 1e-06 s (3.33e+05 for the 10 frames), more than solver.max_substeps_per_frame (20000)" \
+  -- run "$scene" --quick --set solver.max_dt=1e-6 --set frames=10 --out "$work/slow"
+[ ! -e "$work/slow/frames/cloth/0000.obj" ] || { echo "FAIL: the refused run wrote a frame"; fail=1; }
+printf 'vf +0 0 1  -1 -1 0  1 -1 0  0 1 0  0 0 -1  -1 -1 0  1 -1 0  0 1 0  # through the middle\n' > "$work/plus.q"
+expect_output 0 "1" -- ccd "$work/plus.q"
+printf 'vf 0 0 1 \0 0\n' > "$work/nul.q"
+expect 2 "$work/nul.q:1: not a number: \"\\x00\"" -- ccd "$work/nul.q"
+printf 'v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r' > "$work/cr.obj"
+printf '{ "frames": 1, "cloths": [ { "name": "c", "mesh": "cr.obj" } ] }\n' > "$work/cr.json"
+expect 2 "$work/cr.obj:1: a carriage return without a line feed: lines end with CR only" -- check-scene "$work/cr.json"
+expect 2 "\$.cloths[0].material: expected an object, found null" -- check-scene "$scene" --set cloths.0.material=null
+expect 2 "--out /proc: cannot write into the folder: it does not take new files" -- run "$scene" --quick --out /proc
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' > "$work/tet.obj"
+expect 2 "mesh: --out $work: expected a file name ending in .vtk or .mesh (it is a folder)" -- mesh "$work/tet.obj" --out "$work"
+cp -r "$work/run" "$work/emptyckpt" && : > "$work/emptyckpt/checkpoints/0005.ckpt"
+expect_output 0 "0005.ckpt: checkpoint is empty" -- run "$scene" --quick --quiet --set frames=5 --out "$work/emptyckpt" --resume
 [ "$fail" = 0 ] || exit 1
 echo "frames named, byte order marks skipped, duplicate keys refused, output paths checked first"

@@ -138,6 +138,14 @@ class Parser {
     }
     if (std::all_of(text_.begin(), text_.end(), [](char c) { return is_space(c) || c == '\n'; }))
       throw ObjError(path_ + ": file is empty");
+    // A carriage return with no line feed after it: lines ended the classic Mac OS way, which
+    // would read as one long line of every number.
+    for (std::size_t cr = text_.find('\r'); cr != std::string_view::npos; cr = text_.find('\r', cr + 1))
+      if (cr + 1 < text_.size() && text_[cr + 1] != '\n') {
+        line_ = 1 + static_cast<int>(std::count(text_.begin(), text_.begin() + static_cast<std::ptrdiff_t>(cr), '\n'));
+        fail("a carriage return without a line feed: lines end with CR only (classic Mac OS); save the file "
+             "with LF or CRLF line endings");
+      }
 
     std::size_t pos = 0;
     while (pos < text_.size()) {

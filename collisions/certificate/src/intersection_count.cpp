@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <numeric>
 #include <stdexcept>
@@ -145,16 +146,35 @@ IntersectionCount count_intersections(const std::vector<const TriangleSurface*>&
   }
   const int total = offset[ns];
   std::vector<int> owner(total);  // surface of each global triangle
-  std::vector<Box> boxes(total);
+  // A triangle repeated (the same three vertices of one surface, in any order) is tested once:
+  // the first of them stands for all, and a pair it forms counts once per pair of their copies
+  // (copies share every vertex, so they are adjacent to each other and never counted together).
+  // Without this, k copies make k^2 candidate pairs (200,000 took minutes).
+  std::vector<int> reps;          // global ids of the triangles tested
+  std::vector<long long> copies;  // per entry of reps: how many triangles it stands for
   for (int s = 0; s < ns; ++s) {
     const TriangleSurface& S = *surfaces[s];
+    std::map<std::array<int, 3>, std::size_t> first;
     for (int t = 0; t < S.num_triangles(); ++t) {
-      Box& b = boxes[offset[s] + t];
       owner[offset[s] + t] = s;
-      for (int k = 0; k < 3; ++k) {
-        b.lo[k] = std::min({S.x(S.tris(t, 0), k), S.x(S.tris(t, 1), k), S.x(S.tris(t, 2), k)});
-        b.hi[k] = std::max({S.x(S.tris(t, 0), k), S.x(S.tris(t, 1), k), S.x(S.tris(t, 2), k)});
+      std::array<int, 3> key{S.tris(t, 0), S.tris(t, 1), S.tris(t, 2)};
+      std::sort(key.begin(), key.end());
+      const auto [it, inserted] = first.emplace(key, reps.size());
+      if (inserted) {
+        reps.push_back(offset[s] + t);
+        copies.push_back(1);
+      } else {
+        ++copies[it->second];
       }
+    }
+  }
+  std::vector<Box> boxes(reps.size());
+  for (std::size_t r = 0; r < reps.size(); ++r) {
+    const TriangleSurface& S = *surfaces[owner[reps[r]]];
+    const int t = reps[r] - offset[owner[reps[r]]];
+    for (int k = 0; k < 3; ++k) {
+      boxes[r].lo[k] = std::min({S.x(S.tris(t, 0), k), S.x(S.tris(t, 1), k), S.x(S.tris(t, 2), k)});
+      boxes[r].hi[k] = std::max({S.x(S.tris(t, 0), k), S.x(S.tris(t, 1), k), S.x(S.tris(t, 2), k)});
     }
   }
   const BoxTree tree(boxes);
@@ -171,23 +191,27 @@ IntersectionCount count_intersections(const std::vector<const TriangleSurface*>&
     p.self.assign(ns, 0);
     return p;
   });
-  tbb::parallel_for(tbb::blocked_range<int>(0, total, 256), [&](const tbb::blocked_range<int>& r) {
+  const int tested = static_cast<int>(reps.size());
+  tbb::parallel_for(tbb::blocked_range<int>(0, tested, 256), [&](const tbb::blocked_range<int>& r) {
     Partial& p = partials.local();
-    for (int g = r.begin(); g != r.end(); ++g) {
+    for (int i = r.begin(); i != r.end(); ++i) {
+      const int g = reps[static_cast<std::size_t>(i)];
       const int sg = owner[g];
       const Triangle tg = triangle(g);
-      tree.query(tree.box(g), [&](int h) {
-        if (h <= g) return;  // each unordered pair once
+      tree.query(tree.box(i), [&](int j) {
+        if (j <= i) return;  // each unordered pair once
+        const int h = reps[static_cast<std::size_t>(j)];
         const int sh = owner[h];
         if (sg == sh && ((!count_self.empty() && !count_self[static_cast<std::size_t>(sg)]) ||
                          adjacency[sg].adjacent(surfaces[sg]->tris, g - offset[sg], h - offset[sh])))
           return;
         ++p.candidates;
         if (!triangles_intersect(tg, triangle(h))) return;
+        const long long pairs = copies[static_cast<std::size_t>(i)] * copies[static_cast<std::size_t>(j)];
         if (sg == sh)
-          ++p.self[sg];
+          p.self[sg] += pairs;
         else
-          ++p.cross[{sg, sh}];
+          p.cross[{sg, sh}] += pairs;
         if (cap > 0) {
           p.examples.push_back({sg, g - offset[sg], sh, h - offset[sh]});
           trim(p.examples, cap, false);

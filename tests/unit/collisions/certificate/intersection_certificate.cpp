@@ -268,6 +268,23 @@ long long brute_force_self(const TriangleSurface& s) {
   return n;
 }
 
+// Repeated triangles (the same vertices, in any order) are tested once and counted once per copy
+// pair: the counts equal the brute force over every pair, and copies never count together.
+TEST(IntersectionCount, RepeatedTrianglesCountOncePerPairOfCopies) {
+  const TriangleSurface both = two_tetrahedra_piercing();
+  TriangleSurface repeated = both;
+  const std::vector<int> copies{0, 0, 5, 5, 5, 1, 4};  // B's bottom face x3, A's side face 5 x4, ...
+  repeated.tris.conservativeResize(both.tris.rows() + static_cast<Eigen::Index>(copies.size()), 3);
+  for (std::size_t k = 0; k < copies.size(); ++k) {
+    Eigen::RowVector3i t = both.tris.row(copies[k]);
+    if (k % 2) std::swap(t(0), t(1));  // another order of the same vertices
+    repeated.tris.row(both.tris.rows() + static_cast<Eigen::Index>(k)) = t;
+  }
+  const IntersectionCount c = count_intersections({&repeated});
+  EXPECT_EQ(c.self[0], brute_force_self(repeated));
+  EXPECT_GT(c.self[0], count_intersections({&both}).self[0]);
+}
+
 TEST(IntersectionCount, SphereCleanThenPushedThrough) {
   TriangleSurface sphere = read_obj_surface(INVFEM_SOURCE_DIR "/apps/scenes/data/sphere1K_cipc.obj");
   EXPECT_EQ(count_intersections({&sphere}).total(), 0);

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <set>
 #include <sstream>
@@ -84,18 +85,41 @@ std::string describe(const nlohmann::json& value) {
   return value.is_null() ? s : std::string(value.type_name()) + " " + s;  // "null", not "null null"
 }
 
-nlohmann::json parse_json(std::istream& in, const std::string& origin) {
-  try {
-    return parse_bounded(in, origin);
-  } catch (const nlohmann::json::exception& e) {  // parse errors, and numbers out of range (1e309)
-    throw InputError(origin + ": not valid JSON: " + e.what());
+namespace {
+// The offset of the first byte that is not part of well-formed UTF-8, or npos.
+std::size_t first_non_utf8(const std::string& text) {
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    const std::size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+    if (n == 0 || i + n > text.size()) return i;
+    for (std::size_t k = 1; k < n; ++k)
+      if ((static_cast<unsigned char>(text[i + k]) >> 6) != 0x2) return i;
+    i += n;
   }
+  return std::string::npos;
+}
+}  // namespace
+
+nlohmann::json parse_json(std::istream& in, const std::string& origin) {
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_json(text.str(), origin);
 }
 
 nlohmann::json parse_json(const std::string& text, const std::string& origin) {
   try {
     return parse_bounded(text, origin);
-  } catch (const nlohmann::json::exception& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse errors, and numbers out of range (1e309)
+    // Text in another encoding (Latin-1): say where, instead of echoing the raw byte.
+    if (const std::size_t at = first_non_utf8(text); at != std::string::npos) {
+      const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+      const std::size_t line_start = text.rfind('\n', at == 0 ? 0 : at - 1);
+      const std::size_t column = at - (line_start == std::string::npos || at == 0 ? 0 : line_start + 1) + 1;
+      char byte[8];
+      std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned char>(text[at]));
+      throw InputError(origin + ": not UTF-8 text: byte " + byte + " at line " + std::to_string(line) + ", column " +
+                       std::to_string(column) + " (a Latin-1 or other 8-bit encoding?): save the file as UTF-8");
+    }
     throw InputError(origin + ": not valid JSON: " + e.what());
   }
 }

@@ -88,5 +88,14 @@ printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n
 expect 2 "mesh: --out $work: expected a file name ending in .vtk or .mesh (it is a folder)" -- mesh "$work/tet.obj" --out "$work"
 cp -r "$work/run" "$work/emptyckpt" && : > "$work/emptyckpt/checkpoints/0005.ckpt"
 expect_output 0 "0005.ckpt: checkpoint is empty" -- run "$scene" --quick --quiet --set frames=5 --out "$work/emptyckpt" --resume
+printf '{ "name": "caf\xe9", "frames": 1 }\n' > "$work/latin1.json"
+expect 2 "$work/latin1.json: not UTF-8 text: byte 0xE9 at line 1, column 15" -- check-scene "$work/latin1.json"
+for scale in 1e300 1e-300; do
+  printf 'v 0 0 0\nv %s 0 0\nv 0 %s 0\nv 0 0 %s\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' $scale $scale $scale > "$work/tet$scale.obj"
+done
+expect 2 "is not finite (a NaN, or a coordinate beyond the 3.4e38 of the single precision assimp reads in" \
+  -- mesh "$work/tet1e300.obj" --out "$work/big.vtk"
+expect 2 "every triangle has zero area (every vertex at one point: coordinates below the 1e-38" \
+  -- mesh "$work/tet1e-300.obj" --out "$work/small.vtk"
 [ "$fail" = 0 ] || exit 1
 echo "frames named, byte order marks skipped, duplicate keys refused, output paths checked first"

@@ -56,7 +56,8 @@ void gather(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent,
       const aiVector3D p = xf * mesh->mVertices[i];
       if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
         throw std::runtime_error(path + ": vertex " + std::to_string(i) + " of mesh '" +
-                                 mesh->mName.C_Str() + "' is not finite");
+                                 mesh->mName.C_Str() + "' is not finite (a NaN, or a coordinate beyond the "
+                                 "3.4e38 of the single precision assimp reads in; give the mesh in a smaller unit)");
       out.vertices.push_back({double(p.x), double(p.y), double(p.z)});
     }
     for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
@@ -142,8 +143,16 @@ TriangleSurface load_triangle_surface(const std::string& path, SurfaceLoadReport
     kept.push_back(t);
     kept_group.push_back(g.tri_group[k]);
   }
-  if (kept.empty())
-    throw std::runtime_error(path + ": every triangle has zero area");
+  if (kept.empty()) {
+    double extent = 0;
+    for (const auto& v : unique)
+      for (int k = 0; k < 3; ++k) extent = std::max(extent, std::abs(v[k] - unique.front()[k]));
+    throw std::runtime_error(path + ": every triangle has zero area" +
+                             std::string(extent < 1e-30 ? " (every vertex at one point: coordinates below the 1e-38 of "
+                                                          "the single precision assimp reads in become 0; give the mesh "
+                                                          "in a larger unit)"
+                                                        : ""));
+  }
 
   // Compact: drop vertices no kept triangle uses (they would carry no mass).
   std::vector<int> remap(unique.size(), -1);

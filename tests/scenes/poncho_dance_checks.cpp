@@ -6,7 +6,7 @@
 // whole clip runs in the long tests (long_poncho_dance_*).
 #include <gtest/gtest.h>
 
-#include "invfem/core/geometry/skinning.hpp"
+#include "invfem/collisions/colliders/skinning.hpp"
 #include "invfem/core/io/obj_file.hpp"
 #include "invfem/core/io/skinned_file.hpp"
 #include "scene_output.hpp"

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "invfem/collisions/colliders/skinning.hpp"
 #include "invfem/core/io/mesh_error.hpp"
 
 namespace invfem {

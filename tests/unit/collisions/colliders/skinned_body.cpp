@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "invfem/collisions/colliders/skinned_body.hpp"
+#include "invfem/collisions/colliders/skinning.hpp"
 #include "invfem/core/io/mesh_error.hpp"
 #include "invfem/core/io/skinned_file.hpp"
 #include "temp_dir.hpp"

@@ -1,6 +1,6 @@
 #pragma once
-// A kinematic body from a rigged, animated character (core geometry skinning.hpp's data, read by
-// core io skinned_file.hpp): at each time its vertices are the linear blend skinning of one clip,
+// A kinematic body from a rigged, animated character (core geometry skinned_character.hpp's data,
+// read by core io skinned_file.hpp, skinned by skinning.hpp): at each time its vertices are the linear blend skinning of one clip,
 // every mesh merged into one surface, then placed by a transform (units, up axis). The velocity
 // is the time derivative of that same evaluation. The body acts on the cloth as every animated
 // mesh body does (animated_mesh_body.hpp).
@@ -16,7 +16,7 @@
 #include <string>
 
 #include "invfem/collisions/colliders/animated_mesh_body.hpp"
-#include "invfem/core/geometry/skinning.hpp"
+#include "invfem/core/geometry/skinned_character.hpp"
 
 namespace invfem {
 

@@ -1,7 +1,7 @@
 #pragma once
 // Reading a rigged, animated character with assimp (glTF, FBX, Collada, DirectX .x, ...): its
 // meshes merged into one surface with their bone weights, its node hierarchy, and its animation
-// clips, as core geometry skinning.hpp's plain data (which evaluates them).
+// clips, as core geometry skinned_character.hpp's plain data.
 //
 // Each mesh is triangulated and its corners welded where they share a position and weights
 // (normals and texture coordinates are dropped: the body is a collision shape); triangles
@@ -10,7 +10,7 @@
 // none, assimp's default).
 #include <string>
 
-#include "invfem/core/geometry/skinning.hpp"
+#include "invfem/core/geometry/skinned_character.hpp"
 
 namespace invfem {
 

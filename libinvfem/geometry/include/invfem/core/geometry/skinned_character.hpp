@@ -1,22 +1,15 @@
 #pragma once
-// A rigged, animated character as plain data (what a glTF, FBX, Collada or DirectX file with a
-// skeleton and animation clips holds; read by core io skinned_file.hpp), and its evaluation by
-// linear blend skinning at any time of a clip, positions and their exact time derivatives.
+// A rigged, animated character as plain data: what a glTF, FBX, Collada or DirectX file with a
+// skeleton and animation clips holds (read by core io skinned_file.hpp), evaluated by linear
+// blend skinning in collisions/colliders/skinning.hpp.
 //
 // Conventions (assimp's, which are glTF's):
 //  - A node's local transform is L = T(p) R(q) S(s); its global G = G_parent L (the scene root's
 //    frame). Nodes are stored parents first.
 //  - Bone b deforms by G_node(b) * offset_b: offset_b (the inverse bind matrix) takes its mesh's
-//    coordinates to the bone's frame at bind time. A vertex with influences (b, w_b), weights
-//    summing to 1, is x = sum_b w_b G_node(b) offset_b X; a vertex without any rides the node of
-//    its mesh, x = G_mesh X (a rigid part).
-//  - Keys: positions and scales interpolate linearly in time, rotations by spherical linear
-//    interpolation along the shorter arc. Before a track's first key it holds that key, after its
-//    last key the last; a node without a track keeps its rest transform; a track with no key of a
-//    kind keeps that component of the rest transform.
-// Velocities are the time derivatives of this evaluation (between keys the slerp turns at a
-// constant rate about a fixed axis, dR/dt = R [w]x); at a key time, those of the interval that
-// starts there.
+//    coordinates to the bone's frame at bind time. Each vertex's influences (b, w_b) have weights
+//    summing to 1; a vertex without any rides the node of its mesh.
+//  - Key times are seconds from the clip's start, strictly increasing.
 #include <Eigen/Geometry>
 #include <string>
 #include <vector>
@@ -75,26 +68,6 @@ struct SkinnedCharacter {
   std::vector<int> triangle_group;     // #T
   std::vector<AnimationClip> clips;
 };
-
-// Global transforms of every node (#nodes), and their time derivatives.
-struct SkeletonPose {
-  std::vector<Mat4> global;
-  std::vector<Mat4> global_rate;
-};
-
-// The skeleton at time `time` [s] of `clip` (clamped to its keys as above); clip == nullptr: at
-// rest (every node's rest transform, rates zero).
-SkeletonPose pose_skeleton(const SkinnedCharacter& c, const AnimationClip* clip, double time);
-
-// Linear blend skinning of every vertex for `pose`: x (#V x 3) and, when v is given, dx/dt.
-void skin_vertices(const SkinnedCharacter& c, const SkeletonPose& pose, Points& x, Points* v = nullptr);
-
-// The bind pose: the skeleton at rest (every node's rest transform, no clip) skinned, as a viewer
-// shows the file without its animation; for a character tool's export, the T- or A-pose it was
-// modelled and rigged in, which a garment is dressed in before a pre-roll into the clip. (Not each
-// mesh node's transform applied to its vertices: files differ on whether a skinned mesh's own
-// node counts, glTF says it does not.)
-Points bind_pose(const SkinnedCharacter& c);
 
 // The index of the clip named `name`, or given as its decimal index ("0"); throws
 // std::invalid_argument listing the file's clips otherwise.

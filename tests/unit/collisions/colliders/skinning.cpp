@@ -1,13 +1,14 @@
-// Linear blend skinning of a rigged character (core geometry skinning.hpp) on a character built
-// here: key interpolation (linear positions and scales, slerp on the shorter arc, held outside the
-// keys), the hierarchy's composition, unweighted vertices riding their mesh's node, the bind pose,
-// clip lookup, and velocities against finite differences of the positions over a step sweep.
+// Linear blend skinning of a rigged character (collisions/colliders/skinning.hpp) on a character
+// built here: key interpolation (linear positions and scales, slerp on the shorter arc, held
+// outside the keys), the hierarchy's composition, unweighted vertices riding their mesh's node, the
+// bind pose, clip lookup (core geometry skinned_character.hpp), and velocities against finite
+// differences of the positions over a step sweep.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "fd_check.hpp"
-#include "invfem/core/geometry/skinning.hpp"
+#include "invfem/collisions/colliders/skinning.hpp"
 
 namespace invfem {
 namespace {

@@ -1,5 +1,6 @@
 #include "invfem/collisions/colliders/skinned_body.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -22,6 +23,7 @@ SkinnedBody::SkinnedBody(std::string name, SkinnedCharacter character, SkinnedBo
     throw std::invalid_argument(what + "the transform must be finite and invertible");
   bind_ = bind_pose(character_);
   bind_ = (bind_ * settings_.linear.transpose()).rowwise() + settings_.translation.transpose();
+  check_positions(bind_, character_.source + " (skinned body \"" + this->name() + "\", its bind pose)");
   skinned(0, first_, nullptr);
   TriangleSurface shape;
   shape.x = first_;
@@ -43,10 +45,12 @@ void SkinnedBody::skinned(double c, Points& x, Points* v) const {
   skin_vertices(character_, pose, x, v);
   x = (x * settings_.linear.transpose()).rowwise() + settings_.translation.transpose();
   if (v) *v = *v * settings_.linear.transpose();
-  check_positions(x, character_.source + " (skinned body \"" + name() + "\" at clip time " + std::to_string(c) + " s)");
-  if (v && !v->allFinite())
-    throw MeshError(character_.source + " (skinned body \"" + name() + "\" at clip time " + std::to_string(c) +
-                    " s): a velocity is not finite");
+  // The message is made only for a bad pose: this runs at every substep.
+  const bool placed = x.allFinite() && x.cwiseAbs().maxCoeff() <= kMaxBodyCoordinate;
+  if (placed && (!v || v->allFinite())) return;
+  const std::string what = character_.source + " (skinned body \"" + name() + "\" at clip time " + std::to_string(c) + " s)";
+  check_positions(x, what);
+  throw MeshError(what + ": a velocity is not finite");
 }
 
 void SkinnedBody::evaluate(double t, Points& x, Points& v) {

@@ -34,25 +34,24 @@ void flatten(const aiNode* node, int parent, SkinnedCharacter& c, std::map<const
   for (unsigned k = 0; k < node->mNumChildren; ++k) flatten(node->mChildren[k], i, c, index, by_name);
 }
 
+Vec3 to_value(const aiVector3D& v) { return {v.x, v.y, v.z}; }
+Eigen::Quaterniond to_value(const aiQuaternion& q) { return Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized(); }
+bool finite(const Vec3& v) { return v.allFinite(); }
+bool finite(const Eigen::Quaterniond& q) { return q.coeffs().allFinite(); }  // a zero quaternion normalizes to NaN
+
 // The keys of one channel in seconds, keeping only strictly increasing times.
-template <class Key, class Value, class Convert>
+template <class Key, class Value>
 void read_keys(const Key* keys, unsigned count, double ticks_per_second, std::vector<double>& times,
-               std::vector<Value>& values, const Convert& convert, const std::string& what) {
+               std::vector<Value>& values, const std::string& what) {
   for (unsigned k = 0; k < count; ++k) {
     const double t = keys[k].mTime / ticks_per_second;
-    const Value v = convert(keys[k].mValue);
-    if (!std::isfinite(t) || !v.coeffs().allFinite()) throw MeshError(what + ": key " + std::to_string(k) + " is not finite");
+    const Value v = to_value(keys[k].mValue);
+    if (!std::isfinite(t) || !finite(v)) throw MeshError(what + ": key " + std::to_string(k) + " is not finite");
     if (!times.empty() && t <= times.back()) continue;  // a repeated key time: the first one stands
     times.push_back(t);
     values.push_back(v);
   }
 }
-
-struct VecCoeffs : Vec3 {  // read_keys checks coeffs() of both value kinds
-  using Vec3::Vec3;
-  VecCoeffs(const Vec3& v) : Vec3(v) {}
-  const Vec3& coeffs() const { return *this; }
-};
 
 }  // namespace
 
@@ -172,15 +171,9 @@ SkinnedCharacter read_skinned_character(const std::string& path) {
       if (found == by_name.end()) throw MeshError(what + ": no such node");
       NodeTrack track;
       track.node = found->second;
-      std::vector<VecCoeffs> positions, scales;
-      read_keys(channel->mPositionKeys, channel->mNumPositionKeys, tps, track.position_times, positions,
-                [](const aiVector3D& v) { return VecCoeffs(Vec3(v.x, v.y, v.z)); }, what);
-      read_keys(channel->mRotationKeys, channel->mNumRotationKeys, tps, track.rotation_times, track.rotations,
-                [](const aiQuaternion& q) { return Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized(); }, what);
-      read_keys(channel->mScalingKeys, channel->mNumScalingKeys, tps, track.scale_times, scales,
-                [](const aiVector3D& v) { return VecCoeffs(Vec3(v.x, v.y, v.z)); }, what);
-      track.positions.assign(positions.begin(), positions.end());
-      track.scales.assign(scales.begin(), scales.end());
+      read_keys(channel->mPositionKeys, channel->mNumPositionKeys, tps, track.position_times, track.positions, what);
+      read_keys(channel->mRotationKeys, channel->mNumRotationKeys, tps, track.rotation_times, track.rotations, what);
+      read_keys(channel->mScalingKeys, channel->mNumScalingKeys, tps, track.scale_times, track.scales, what);
       clip.tracks.push_back(std::move(track));
     }
     c.clips.push_back(std::move(clip));

@@ -1,18 +1,18 @@
 #pragma once
-// A kinematic body from a rigged, animated character (core geometry skinned_character.hpp's data,
-// read by core io skinned_file.hpp, skinned by skinning.hpp): at each time its vertices are the linear blend skinning of one clip,
-// every mesh merged into one surface, then placed by a transform (units, up axis). The velocity
-// is the time derivative of that same evaluation. The body acts on the cloth as every animated
-// mesh body does (animated_mesh_body.hpp).
+// A kinematic body from a rigged, animated character (core geometry skinned_character.hpp's
+// data, read by core io skinned_file.hpp, skinned by skinning.hpp): at each time its vertices are
+// the linear blend skinning of one clip, every mesh merged into one surface, then placed by a
+// transform (units, up axis). The velocity is the time derivative of that same evaluation. The
+// body acts on the cloth as every animated mesh body does (animated_mesh_body.hpp).
 //
 // Time: clip time c = t - start_time.
 //   c in [0, duration]: the clip at c.
 //   c > duration: hold the last pose (velocity 0), or loop (c modulo the duration).
 //   c < 0 without a pre-roll: the clip's first pose, still.
 //   c < 0 with a pre-roll P > 0: the bind pose (skinning.hpp bind_pose, which a garment is
-//     dressed in) until c = -P, then over the pre-roll the vertices go from the bind pose to the clip's
-//     first pose, x = (1 - s) x_bind + s x_first with the smoothstep s = 3u^2 - 2u^3, u = 1 + c/P
-//     (no jump in velocity as the pre-roll starts).
+//     dressed in) until c = -P, then over the pre-roll the vertices go from the bind pose to the
+//     clip's first pose, x = (1 - s) x_bind + s x_first with the smoothstep s = 3u^2 - 2u^3,
+//     u = 1 + c/P (no jump in velocity as the pre-roll starts).
 #include <string>
 
 #include "invfem/collisions/colliders/animated_mesh_body.hpp"

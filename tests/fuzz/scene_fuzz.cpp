@@ -565,9 +565,10 @@ bool mutate(Rng& rng, Mutant& m, const std::vector<Seed>& seeds, bool for_run) {
       m.log.push_back("vector " + q.to_string() + " -> " + short_text(t + "]"));
       break;
     }
-    default: {  // the file as a whole: cut, emptied, another top-level type, garbage around it
+    default: {  // the file as a whole: cut, emptied, another top-level type, garbage around it, a key
+                // twice, a byte that is not UTF-8
       const std::string full = m.text();
-      switch (pick(rng, 6)) {
+      switch (pick(rng, 8)) {
         case 0: m.raw_document = full.substr(0, pick(rng, full.size())); m.log.push_back("file cut"); break;
         case 1: m.raw_document = " "; m.log.push_back("file blank"); break;
         case 2: m.raw_document = pick_of(rng, std::vector<std::string>{"[]", "null", "1", "\"scene\"", "[{}]"});
@@ -575,6 +576,22 @@ bool mutate(Rng& rng, Mutant& m, const std::vector<Seed>& seeds, bool for_run) {
                 break;
         case 3: m.raw_document = "\xef\xbb\xbf" + full; m.log.push_back("file with a BOM"); break;
         case 4: m.raw_document = full + "\n{}"; m.log.push_back("file with trailing data"); break;
+        case 5: {
+          const std::size_t brace = full.find('{');
+          if (brace == std::string::npos) return false;
+          m.raw_document = full;
+          m.raw_document.insert(brace + 1, " \"frames\": 1,");
+          m.log.push_back("file with \"frames\" given twice");
+          break;
+        }
+        case 6: {
+          const std::size_t value = full.find("\": \"");
+          if (value == std::string::npos) return false;
+          m.raw_document = full;
+          m.raw_document.insert(value + 4, "\xe9");
+          m.log.push_back("file with a Latin-1 byte in a string");
+          break;
+        }
         default: m.raw_document = full + std::string("\0garbage", 8); m.log.push_back("file with a NUL after it"); break;
       }
       break;

@@ -114,7 +114,7 @@ int render_command(const std::vector<std::string>& raw) {
     }
     try {
       preview.render(f);
-    } catch (const std::exception& e) {
+    } catch (const MeshError& e) {  // a frame file that cannot be read (the renderer's own failures stop here)
       bad.push_back(f);
       if (first_problem.empty()) first_problem = e.what();
       continue;

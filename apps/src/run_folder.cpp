@@ -1,5 +1,6 @@
 #include "run_folder.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 
@@ -48,7 +49,8 @@ EarlierRun find_earlier_run(const fs::path& dir) {
   if (fs::is_directory(dir / "frames", ec))
     for (const auto& object : fs::directory_iterator(dir / "frames", ec))
       if (object.is_directory(ec))
-        for (const auto& f : fs::directory_iterator(object.path(), ec)) r.last_frame = std::max(r.last_frame, frame_number(f.path()));
+        for (const auto& f : fs::directory_iterator(object.path(), ec))
+          r.last_frame = std::max(r.last_frame, frame_number(f.path()));
   return r;
 }
 

@@ -219,15 +219,15 @@ constexpr double kPatternScaleLow = 0.5, kPatternScaleHigh = 2;  // a sewing pat
 constexpr double kPatternScaleRefused = 1e3;
 void warn_about_cloth_start(const ClothSpec& spec, const Garment& g, const Points& x0) {
   const std::string file = spec.mesh.empty() ? "cloth \"" + spec.name + "\"" : spec.mesh.string();
-  if (const double s = pattern_scale(g);
-      spec.rest_shape == "pattern" && s > 0 && (s < 1 / kPatternScaleRefused || s > kPatternScaleRefused)) {
+  const double s = pattern_scale(g);
+  if (spec.rest_shape == "pattern" && s > 0 && (s < 1 / kPatternScaleRefused || s > kPatternScaleRefused)) {
     std::ostringstream e;
     e << file << ": the pattern's edges (vt) are a median " << s << " times the mesh's, outside [1e-3, 1e3]: "
       << "with rest_shape \"pattern\" the cloth would rest at that size; give the pattern in the mesh's unit, or "
       << "rest_shape \"mesh\"";
     throw InputError(e.str());
   }
-  if (const double s = pattern_scale(g); s > 0 && (s < kPatternScaleLow || s > kPatternScaleHigh)) {
+  if (s > 0 && (s < kPatternScaleLow || s > kPatternScaleHigh)) {
     std::ostringstream w;
     w << "warning: " << file << ": the pattern's edges are a median " << s << " times the mesh's (outside ["
       << kPatternScaleLow << ", " << kPatternScaleHigh << "]): its vt may be a texture layout, not a pattern in "

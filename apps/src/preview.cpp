@@ -109,10 +109,7 @@ WrittenFrames written_frames(const std::filesystem::path& out_dir, const Scene& 
   std::error_code ec;
   for (const auto& o : objects)
     for (const auto& e : std::filesystem::directory_iterator(out_dir / "frames" / o.name, ec)) {
-      const std::string file = e.path().filename().string();
-      if (file.size() < 8 || file.size() > 13 || e.path().extension() != ".obj") continue;
-      const std::string digits = file.substr(0, file.size() - 4);
-      if (digits.find_first_not_of("0123456789") == std::string::npos) w.last = std::max(w.last, std::stoi(digits));
+      if (e.path().extension() == ".obj") w.last = std::max(w.last, RunOutput::frame_number(e.path()));
     }
   for (int f = 0; f <= w.last; ++f)
     for (const auto& o : objects)

@@ -8,22 +8,13 @@
 
 #include "checkpoint.hpp"
 #include "json_fields.hpp"
+#include "run_output.hpp"
 
 namespace invfem::app {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-// NNNN of a frame file name (digits before the first dot), or -1.
-int frame_number(const fs::path& file) {
-  const std::string stem = file.filename().string();
-  const std::size_t dot = stem.find('.');
-  if (dot == 0 || dot == std::string::npos || dot > 9) return -1;
-  for (std::size_t i = 0; i < dot; ++i)
-    if (stem[i] < '0' || stem[i] > '9') return -1;
-  return std::stoi(stem.substr(0, dot));
-}
 
 bool is_run_file(const fs::path& p) {
   const std::string name = p.filename().string(), ext = p.extension().string();
@@ -50,7 +41,7 @@ EarlierRun find_earlier_run(const fs::path& dir) {
     for (const auto& object : fs::directory_iterator(dir / "frames", ec))
       if (object.is_directory(ec))
         for (const auto& f : fs::directory_iterator(object.path(), ec))
-          r.last_frame = std::max(r.last_frame, frame_number(f.path()));
+          r.last_frame = std::max(r.last_frame, RunOutput::frame_number(f.path()));
   return r;
 }
 

@@ -180,6 +180,12 @@ std::string RunOutput::frame_name(int frame) {
   return buf;
 }
 
+int RunOutput::frame_number(const std::filesystem::path& file) {
+  const std::string stem = file.stem().string();
+  if (stem.size() < 4 || stem.size() > 9 || stem.find_first_not_of("0123456789") != std::string::npos) return -1;
+  return std::stoi(stem);
+}
+
 void RunOutput::write_frame(int frame, const World& world, const FrameReport& r) {
   write_frame_files(frame, world);
   // One USD stage for the shot (OUT/shot.usda), referencing every object's and body's layer.
@@ -216,11 +222,11 @@ void RunOutput::write_frame_files(int frame, const World& world) {
       write_ply(base.string() + ".ply", surface.x, surface.tris, PlyEncoding::binary_little_endian,
                 uv.rows() > 0 ? &uv : nullptr);
     }
+    // The surface's velocities, once for the USD layer and a cloth's VTU frame.
+    const Points v = usd_.count(o.name) || (pvd_.count(o.name) && o.tets.rows() == 0) ? surface_velocities(o) : Points{};
     // Each frame with its own triangles: a fracturing solid's topology changes (usd_writer.hpp).
-    if (auto it = usd_.find(o.name); it != usd_.end()) {
-      const Points v = surface_velocities(o);
+    if (auto it = usd_.find(o.name); it != usd_.end())
       it->second->add_frame(frame, surface.x, surface.tris, v.rows() == surface.x.rows() ? &v : nullptr);
-    }
     if (auto it = pvd_.find(o.name); it != pvd_.end()) {
       VtuFields fields;
       if (o.tets.rows()) {  // a solid: its tets, det F and inverted flags per cell
@@ -228,7 +234,7 @@ void RunOutput::write_frame_files(int frame, const World& world) {
         fields.point_vectors["velocity"] = o.body.v;
         write_vtu(base.string() + ".vtu", o.body.x, o.tets, fields);
       } else {  // a cloth: its surface
-        fields.point_vectors["velocity"] = surface_velocities(o);
+        fields.point_vectors["velocity"] = v;
         write_vtu(base.string() + ".vtu", o.surface.x, o.surface.tris, fields);
       }
       it->second->add(world.time(), vtu_entry(o.name, frame));

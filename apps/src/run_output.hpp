@@ -50,6 +50,9 @@ class RunOutput {
 
   const std::string& csv() const { return csv_; }
   static std::string frame_name(int frame);  // "0012"
+  // The frame of a file named as frame_name writes it, NNNN.ext (4 to 9 digits, one extension:
+  // "0012.obj" -> 12, "0012.obj.tmp" -> -1), or -1.
+  static int frame_number(const std::filesystem::path& file);
   const std::filesystem::path& dir() const { return dir_; }
 
  private:

@@ -238,6 +238,13 @@ MotionSpec parse_motion(const Fields& f) {
   return m;
 }
 
+// An animated body's `after_end` (a sequence's or a skinned body's): "hold" or "loop".
+std::string read_after_end(const Fields& f, const std::string& fallback) {
+  std::string v = f.string("after_end", fallback);
+  if (v != "hold" && v != "loop") f.fail("after_end", "\"hold\" or \"loop\"");
+  return v;
+}
+
 // The frames of a "sequence" collider: `frames` {pattern, first, last} or `files` [...], paths
 // relative to the scene's folder. With check_files every frame file must exist (a stat each;
 // frame 0 is read and checked when the world is built, later frames when the run reaches them).
@@ -288,8 +295,7 @@ SequenceSpec parse_sequence(const Fields& f, const std::filesystem::path& dir, b
     q.start_frame = f.integer("start_frame", 0, 0, static_cast<int>(q.files.size()) - 1);
     q.start_time = -*q.start_frame / q.fps;
   }
-  q.after_end = f.string("after_end", q.after_end);
-  if (q.after_end != "hold" && q.after_end != "loop") f.fail("after_end", "\"hold\" or \"loop\"");
+  q.after_end = read_after_end(f, q.after_end);
   return q;
 }
 
@@ -306,8 +312,7 @@ SkinnedSpec parse_skinned(const Fields& f, const std::filesystem::path& dir, boo
   }
   k.start_time = f.number_in("start_time", k.start_time, -1e9, 1e9);
   k.pre_roll = f.number_in("pre_roll", k.pre_roll, 0, 1e6);
-  k.after_end = f.string("after_end", k.after_end);
-  if (k.after_end != "hold" && k.after_end != "loop") f.fail("after_end", "\"hold\" or \"loop\"");
+  k.after_end = read_after_end(f, k.after_end);
   return k;
 }
 

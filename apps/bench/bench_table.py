@@ -112,14 +112,17 @@ def unit_row(unit, rows, several_files):
         return [f"`{unit}`", status, "-" if peer is None else fmt(peer), "-", cell(goal), "-"]
     figures = [r["ours"] for r in ok]
     ours = statistics.median(figures)
+    summed = any(r.get("figure") == "sum" for r in ok)
     if several_files:
         spread = figures if len(figures) > 1 else []
     else:
-        spread = ok[0].get("samples", [])
+        spread = [] if summed else ok[0].get("samples", [])
     factor, prefix = scale_of(ours)
     text = f"{fmt(ours / factor)}{prefix} {measure}"
     if len(spread) > 1:
         text += f" ({fmt(min(spread) / factor)}-{fmt(max(spread) / factor)})"
+    if summed:
+        text += " in all"
     if len(ok) < len(rows):
         text += f", {len(rows) - len(ok)} of {len(rows)} runs {'/'.join(sorted({r['status'] for r in rows if r['status'] != 'ok'}))}"
     peer_text = "-" if peer is None else f"{fmt(peer / factor)}{prefix}"
@@ -138,6 +141,10 @@ def unit_row(unit, rows, several_files):
     runs_text = "-" if not runs else (str(runs[0]) if len(runs) == 1 else f"{runs[0]}-{runs[-1]}")
     if several_files and runs:
         runs_text = f"{len(ok)} x {runs_text}"
+    if any(r.get("quick") for r in ok):
+        # A reduced window (--quick) is no verdict on a goal that is set for the whole unit.
+        text += " (quick window)"
+        goal = f"{goal}: not judged on the quick window" if goal else goal
     return [f"`{unit}`", cell(text), peer_text, ratio_text, cell(goal), runs_text]
 
 

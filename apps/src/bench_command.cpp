@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <numeric>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -27,14 +28,14 @@ const char* const kBenchHelp =
     "                    [--preconditioner auto|block_jacobi|amg] [--json FILE] [--list]\n"
     "\n"
     "Runs the benchmark work units in this process and prints a table: unit, our figure (the\n"
-    "median of at least 5 repetitions), the peer's figure, the measure, the ratio (above 1 when\n"
+    "median of at least 5 repetitions, or a whole run's sum), the peer's figure, the measure, the ratio (above 1 when\n"
     "invfem is better: peer/ours for times, ours/peer for rates) and the goal, then one note per\n"
     "unit (sizes, counts, what was shortened). A unit whose work does not exist yet prints n/a and\n"
     "the reason. Progress goes to stderr. The full run times whole shots (torus_115k: its 90\n"
-    "frames of collapse and recovery) and takes several times as long as --quick.\n"
+    "frames of collapse and recovery; dress_dance_full: the whole dance) and takes hours.\n"
     "Options:\n"
     "  --quick        every unit at reduced length (fewer frames or passes, the same sizes), in\n"
-    "                 under ten minutes; the output says so\n"
+    "                 under ten minutes; the output says so and judges no goal on it\n"
     "  --units LIST   only these units, comma separated (see --list)\n"
     "  --linear S     scene units: solve the implicit step's Newton systems by S, cg or direct\n"
     "                 (solver.linear; default: each scene's own)\n"
@@ -42,7 +43,7 @@ const char* const kBenchHelp =
     "                 (solver.preconditioner; default: each scene's own)\n"
     "  --json FILE    also write the rows as a JSON list of objects: unit, ours, peer, measure,\n"
     "                 ratio (null when n/a), goal, runs, samples, note, status (ok, n/a, failed),\n"
-    "                 quick; rewritten after every unit\n"
+    "                 figure (median or sum), quick; rewritten after every unit\n"
     "  --list         print the units with their peers and goals, and exit\n"
     "Exit codes: 0 ok, 1 a unit failed (its row says why), 2 bad option.\n";
 
@@ -102,6 +103,7 @@ struct Row {
   std::string status = "ok";  // ok | n/a | failed
   std::optional<double> ours, peer, ratio;
   std::vector<double> samples;
+  bool total = false;  // ours is the samples' sum (Unit::total)
   double seconds = 0;
 };
 
@@ -118,6 +120,7 @@ Row run_unit(const Unit& unit, const bench::RunOptions& options) {
   row.goal = unit.goal;
   row.peer_source = unit.peer_source;
   row.peer = unit.peer;
+  row.total = unit.total;
   if (!unit.unavailable.empty() || !unit.run) {
     row.status = "n/a";
     row.note = unit.unavailable.empty() ? "no work yet" : unit.unavailable;
@@ -131,7 +134,7 @@ Row run_unit(const Unit& unit, const bench::RunOptions& options) {
     for (double s : result.samples)
       if (!(std::isfinite(s) && s > 0)) throw std::logic_error(bench::strf("a repetition gave %g", s));
     row.samples = std::move(result.samples);
-    row.ours = median(row.samples);
+    row.ours = unit.total ? std::accumulate(row.samples.begin(), row.samples.end(), 0.0) : median(row.samples);
     row.note = result.note;
     if (row.peer) row.ratio = unit.higher_is_better ? *row.ours / *row.peer : *row.peer / *row.ours;
   } catch (const std::exception& e) {
@@ -170,11 +173,12 @@ void print_table(const std::vector<Row>& rows, bool quick) {
   for (const Row& r : rows)
     std::printf("%-18s %9s %9s  %-9s %7s  %s\n", r.unit.c_str(), r.status == "failed" ? "FAILED" : figure(r.ours).c_str(),
                 r.peer ? figure(r.peer).c_str() : "-", r.measure.c_str(), r.ratio ? bench::strf("%.3g", *r.ratio).c_str() : "n/a",
-                r.goal.c_str());
+                quick && !r.goal.empty() ? "(quick window: not judged)" : r.goal.c_str());
   std::printf("\nnotes (ratio above 1: invfem is better; ours: the median of the repetitions%s):\n",
               quick ? "; --quick: reduced length" : "");
   for (const Row& r : rows) {
     std::string note = r.status == "ok" ? r.note : r.status + ": " + r.note;
+    if (r.total && r.status == "ok") note += bench::strf("; the figure is the sum of %zu frames", r.samples.size());
     if (r.peer) note += "; peer: " + r.peer_source;
     std::printf("  %s: %s\n", r.unit.c_str(), note.c_str());
   }
@@ -192,6 +196,7 @@ nlohmann::json to_json(const std::vector<Row>& rows, bool quick) {
                     {"goal", r.goal},
                     {"runs", r.samples.size()},
                     {"samples", r.samples},
+                    {"figure", r.total ? "sum" : "median"},
                     {"note", r.note},
                     {"peer_source", r.peer_source},
                     {"status", r.status},
@@ -251,7 +256,8 @@ int bench_command(const std::vector<std::string>& raw) {
       failed = true;
       std::cerr << prefix << ": FAILED: " << r.note << "\n";
     } else if (r.status == "ok") {
-      std::cerr << prefix << ": " << figure(r.ours) << " " << r.measure << " (median of " << r.samples.size() << ") in "
+      std::cerr << prefix << ": " << figure(r.ours) << " " << r.measure << (r.total ? " (sum of " : " (median of ")
+                << r.samples.size() << ") in "
                 << duration(r.seconds) << "\n";
     }
     if (json_path) atomic_write(*json_path, to_json(rows, quick).dump(2) + "\n");

@@ -22,4 +22,9 @@ void set_integrator(nlohmann::json& scene, const char* integrator);
 // --preconditioner) where they are not empty; "" leaves the scene's default.
 void set_solver(nlohmann::json& scene, const RunOptions& o);
 
+// The intersection certificate (`invfem check`) on the world as it stands: the intersecting pairs
+// among the objects' surfaces (a garment's seams as welds) and the kinematic bodies' collision
+// surfaces (a body's own crossings uncounted, as check does; analytic shapes left out).
+long long world_intersections(const World& world);
+
 }  // namespace invfem::app::bench

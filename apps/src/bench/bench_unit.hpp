@@ -38,6 +38,7 @@ struct Unit {
   std::string goal;               // the target, as text
   std::string unavailable;        // non-empty: the work does not exist yet; printed as n/a with this
   std::function<UnitResult(const RunOptions&)> run;
+  bool total = false;             // the figure is the samples' sum (a whole run's seconds), not their median
 };
 
 // Helpers shared by the unit files.

@@ -32,6 +32,12 @@ void AnimatedMeshBody::check_positions(const Points& x, const std::string& what)
     }
 }
 
+void AnimatedMeshBody::replace_animation() {
+  const double t = time_;
+  placed_ = false;
+  move_to(t);
+}
+
 void AnimatedMeshBody::move_to(double t) {
   if (placed_ && t == time_) return;  // the World moves bodies to a step's end, then again to the frame's
   Points x, v;

@@ -70,7 +70,7 @@ BodySequence::BodySequence(std::string name, BodySequenceSettings settings)
   const TriangleSurface first = read_sequence_frame(settings_.files[0]);
   tris_ = first.tris;
   vertices_ = first.x.rows();
-  cache_.push_back({0, posed(first, settings_.files[0]), ++clock_});
+  cache_.push_back({0, posed(first.x, settings_.files[0]), ++clock_});
   loads_ = 1;
   TriangleSurface shape;
   shape.tris = tris_;
@@ -96,15 +96,31 @@ BodySequence::Bracket BodySequence::bracket(double t) const {
   return {k, (k + 1) % n, std::clamp(s - k, 0.0, 1.0), true};
 }
 
-Points BodySequence::posed(const TriangleSurface& f, const std::string& file) const {
-  Points x(f.x.rows(), 3);
+Points BodySequence::posed(const Points& file_x, const std::string& file) const {
+  Points x(file_x.rows(), 3);
   for (Eigen::Index i = 0; i < x.rows(); ++i)
-    x.row(i) = (settings_.linear * f.x.row(i).transpose() + settings_.translation).transpose();
+    x.row(i) = (settings_.linear * file_x.row(i).transpose() + settings_.translation).transpose();
   check_positions(x, file);
   return x;
 }
 
+void BodySequence::set_frame_source(FrameSource source, std::string what) {
+  source_ = std::move(source);
+  source_what_ = std::move(what);
+  cache_.clear();
+  replace_animation();
+}
+
 Points BodySequence::load(int k) const {
+  if (source_) {
+    const std::string where = source_what_ + ", frame " + std::to_string(k);
+    const Points x = source_(k);
+    if (x.rows() != vertices_)
+      throw MeshError(where + ": " + std::to_string(x.rows()) + " vertices, but frame 0 (" + settings_.files[0] +
+                      ") has " + std::to_string(vertices_) + "; every frame of body sequence \"" + name() +
+                      "\" must have frame 0's vertices");
+    return posed(x, where);
+  }
   const std::string& file = settings_.files[static_cast<std::size_t>(k)];
   const TriangleSurface f = read_sequence_frame(file);
   const std::string body = "; every frame of body sequence \"" + name() + "\" must have frame 0's vertices and triangles";
@@ -127,10 +143,11 @@ Points BodySequence::load(int k) const {
                     (obj ? "" : " (formats other than OBJ are read through assimp, which welds coincident vertices "
                                 "and drops zero-area triangles)"));
   }
-  return posed(f, file);
+  return posed(f.x, file);
 }
 
 void BodySequence::check_frames() const {
+  if (source_) return;  // a function's frames are checked as they come
   for (int k = 1; k < frame_count(); ++k) (void)load(k);
 }
 

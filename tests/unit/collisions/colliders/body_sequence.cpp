@@ -157,6 +157,47 @@ TEST(BodySequence, StartOffsetAndTransformApplyToPositionsAndVelocities) {
   EXPECT_NEAR(b.velocities()(0, 1), 2 * 25 * (f.centres[2] - f.centres[1]).x(), 1e-9);
 }
 
+// Frames from a function (the Python module's drive_body) move the body exactly as the same
+// frames from files: the same interpolation and transform, bit for bit; a wrong vertex count or a
+// non-finite vertex is reported naming the source; an empty source returns to the files.
+TEST(BodySequence, AFrameSourceMovesTheBodyAsTheSameFramesFromFiles) {
+  Fixture f;
+  BodySequenceSettings s;
+  s.files = f.files;
+  s.fps = 10;
+  s.translation = Vec3(0, 1, 0);
+  BodySequence files("box", s), driven("box", s);
+  int calls = 0;
+  driven.set_frame_source(
+      [&](int k) {
+        ++calls;
+        return box_at(f.h, f.centres[static_cast<std::size_t>(k)]);
+      },
+      "the test's frames");
+  EXPECT_EQ(calls, 2);  // placed again at t = 0: frames 0 and 1
+  for (double t : {0.0, 0.05, 0.1, 0.125, 0.2, 0.3}) {
+    files.move_to(t);
+    driven.move_to(t);
+    EXPECT_EQ(driven.surface()->x, files.surface()->x) << "t = " << t;
+    EXPECT_EQ(driven.velocities(), files.velocities()) << "t = " << t;
+  }
+  BodySequence wrong("box", s);
+  try {  // placing the body at t = 0 needs frame 1 already
+    wrong.set_frame_source([&](int k) { return k == 0 ? box_at(f.h, f.centres[0]) : Points(Points::Zero(3, 3)); },
+                           "wrong frames");
+    FAIL() << "a frame with 3 vertices was taken";
+  } catch (const MeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("wrong frames, frame 1: 3 vertices"), std::string::npos) << e.what();
+  }
+  Points bad = box_at(f.h, f.centres[1]);
+  bad(2, 1) = std::nan("");
+  EXPECT_THROW(wrong.set_frame_source([&](int) { return bad; }, "NaN frames"), MeshError);
+  wrong.set_frame_source({}, "");
+  wrong.move_to(0.15);
+  files.move_to(0.15);
+  EXPECT_EQ(wrong.surface()->x, files.surface()->x);
+}
+
 TEST(BodySequence, StreamsFramesLazilyWithASmallCache) {
   TempDir dir;
   std::vector<Vec3> centres;

@@ -42,6 +42,9 @@ class AnimatedMeshBody : public KinematicBody {
   // Called once by the derived constructor: the topology (and panels) of every pose, and the body
   // moved to t = 0.
   void set_surface(TriangleSurface shape);
+  // The animation changed (a new source of poses): the body is placed again at the time of its
+  // last move_to.
+  void replace_animation();
   // The animation at time t: x and v (#V x 3, world frame).
   virtual void evaluate(double t, Points& x, Points& v) = 0;
   // Throws MeshError "<what>: vertex i ..." for a position that is not finite or lies beyond

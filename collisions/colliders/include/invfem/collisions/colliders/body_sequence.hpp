@@ -26,11 +26,16 @@
 // reads goes through load_triangle_surface, which welds coincident vertices and drops zero-area
 // triangles: a frame where that changes the topology is reported as such.
 //
+// Frames may come from a function instead of files (set_frame_source: a body computed by a
+// script, the Python module's drive_body): the same interpolation, checks and cache; frame 0's
+// file still gives the topology.
+//
 // Errors (MeshError, naming the file): a missing or unreadable file, a non-finite coordinate, a
 // frame whose vertex count or triangles differ from frame 0's. They are thrown by the constructor
 // (frame 0, and the frame it starts on) or by move_to when it first needs the bad frame; the body
 // then stays where it was.
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -74,6 +79,14 @@ class BodySequence final : public AnimatedMeshBody {
   // Frames currently held in the cache.
   std::size_t frames_cached() const { return cache_.size(); }
 
+  // Frame k's vertices as a file would hold them (#V x 3, before the transform).
+  using FrameSource = std::function<Points(int k)>;
+  // From now on frames come from `source` (called once per frame the cache lacks; what it throws
+  // goes through move_to), checked as a file's frame is (frame 0's vertex count, finite and in
+  // range); `what` names the source in errors. The cache is emptied and the body placed again at
+  // the time of its last move_to. An empty source returns to the files.
+  void set_frame_source(FrameSource source, std::string what);
+
   // Reads and checks every frame now, one at a time (none is kept; the cache is untouched): a
   // long run's bad frame found before the run. Throws MeshError naming the first bad file.
   void check_frames() const;
@@ -95,7 +108,7 @@ class BodySequence final : public AnimatedMeshBody {
   const Points& frame(int k);
   // Frame k read, checked against frame 0's topology, and transformed.
   Points load(int k) const;
-  Points posed(const TriangleSurface& f, const std::string& file) const;
+  Points posed(const Points& file_x, const std::string& file) const;
 
   BodySequenceSettings settings_;
   Tris tris_;  // frame 0's, every frame's
@@ -106,6 +119,8 @@ class BodySequence final : public AnimatedMeshBody {
     unsigned long long used;
   };
   std::vector<Cached> cache_;
+  FrameSource source_;          // set_frame_source; empty: the files
+  std::string source_what_;
   unsigned long long clock_ = 0;
   long long loads_ = 0;
 };

@@ -152,10 +152,7 @@ int run_command(const std::vector<std::string>& raw) {
   // checked: a non-finite position, velocity or energy stops the run (exit 1) before it is written.
   auto emit = [&](int frame, FrameReport& r, FrameTimings& t) {
     auto t0 = clock();
-    world.measure(r);
-    std::string bad = world.non_finite_state();
-    if (bad.empty() && !std::isfinite(r.kinetic + r.elastic + r.gravity)) bad = "the total energy";
-    if (!bad.empty())
+    if (const std::string bad = measure_frame(world, r); !bad.empty())
       throw std::runtime_error(scene_path + ": the simulation produced a non-finite state in frame " +
                                std::to_string(frame) + " (t = " + std::to_string(world.time()) + " s): " + bad +
                                (frame > 0 ? "; frames up to " + std::to_string(frame - 1) + " are in " + out_dir.string()

@@ -271,7 +271,15 @@ void RunOutput::write_frame_rows(int frame, const World& world, const FrameRepor
   atomic_write(dir_ / "energies.csv", csv_);
 }
 
-void RunOutput::write_stats(int frame, const World& world, const FrameReport& r, const FrameTimings& t) {
+std::string measure_frame(const World& world, FrameReport& r) {
+  world.measure(r);
+  std::string bad = world.non_finite_state();
+  if (bad.empty() && !std::isfinite(r.kinetic + r.elastic + r.gravity)) bad = "the total energy";
+  return bad;
+}
+
+std::string stats_record(int frame, const World& world, const FrameReport& r, const FrameTimings& t) {
+  std::string record;
   // Field order is fixed (frame first: a resumed run filters lines by it).
   char line[2048];
   std::snprintf(line, sizeof line,
@@ -284,7 +292,7 @@ void RunOutput::write_stats(int frame, const World& world, const FrameReport& r,
                 r.cg_condition, r.colliding_nodes, r.elements.inverted, r.elements.elements, r.elements.min_det_F, r.elements.yielded,
                 r.elements.yielded_hinges, r.elements.open_stitches, r.elements.widest_stitch_gap, r.newton_iterations, r.newton_capped, r.newton_worst_residual, r.motion_limited_steps,
                 r.largest_step_motion, r.step_motion_limit, r.retried_steps);
-  stats_ += line;
+  record += line;
   // Each after-step pass's record under its name (the self-collision layer: "self_collision"),
   // its seconds in "seconds" beside the other phases.
   auto number = [](double v) {
@@ -294,38 +302,43 @@ void RunOutput::write_stats(int frame, const World& world, const FrameReport& r,
     return std::string(text);
   };
   for (const PassRecord& p : r.passes) {
-    stats_ += nlohmann::json(p.name).dump() + ":{";
+    record += nlohmann::json(p.name).dump() + ":{";
     bool first = true;
     for (const auto& [key, value] : p.figures) {
       if (key == "seconds") continue;
-      if (!first) stats_ += ',';
-      stats_ += nlohmann::json(key).dump();
-      stats_ += ':';
-      stats_ += number(value);
+      if (!first) record += ',';
+      record += nlohmann::json(key).dump();
+      record += ':';
+      record += number(value);
       first = false;
     }
-    stats_ += "},";
+    record += "},";
   }
   std::snprintf(line, sizeof line, "\"seconds\":{\"simulate\":%.6f,", t.simulate);
-  stats_ += line;
+  record += line;
   for (const PassRecord& p : r.passes)
     if (const double* s = p.find_figure("seconds")) {
       std::snprintf(line, sizeof line, ":%.6f,", *s);
-      stats_ += nlohmann::json(p.name).dump() + line;
+      record += nlohmann::json(p.name).dump() + line;
     }
   std::snprintf(line, sizeof line, "\"measure\":%.6f,\"write\":%.6f,\"render\":%.6f,\"coupling\":%.6f,\"objects\":{",
                 t.measure, t.write, t.render, r.coupling_seconds);
-  stats_ += line;
+  record += line;
   // Per object, the seconds of its steps (simulate = the objects' + coupling + self_collision + the rest).
   for (std::size_t k = 0; k < world.objects().size(); ++k) {
     char value[64];
     std::snprintf(value, sizeof value, "%.6f", k < r.object_seconds.size() ? r.object_seconds[k] : 0.0);
-    if (k) stats_ += ',';
-    stats_ += nlohmann::json(world.objects()[k].name).dump();
-    stats_ += ':';
-    stats_ += value;
+    if (k) record += ',';
+    record += nlohmann::json(world.objects()[k].name).dump();
+    record += ':';
+    record += value;
   }
-  stats_ += "}}}\n";
+  record += "}}}";
+  return record;
+}
+
+void RunOutput::write_stats(int frame, const World& world, const FrameReport& r, const FrameTimings& t) {
+  stats_ += stats_record(frame, world, r, t) + "\n";
   atomic_write(dir_ / "stats.jsonl", stats_);
 }
 

@@ -37,6 +37,14 @@ std::set<std::string> parse_formats(const std::string& list);  // "obj,ply,vtu,u
 // start of every run and resume, before anything is written. Returns how many were removed.
 int remove_stale_temporaries(const std::filesystem::path& out_dir);
 
+// Measures the world's frame into `report` (World::measure) and returns what in it is not finite
+// (a position, a velocity, the total energy), or "" when all is: a frame to stop on, unwritten.
+std::string measure_frame(const World& world, FrameReport& report);
+
+// One line of stats.jsonl (without its newline): frame `frame`'s counts, each after-step pass's
+// record and the seconds per phase, as JSON with a fixed field order (frame first).
+std::string stats_record(int frame, const World& world, const FrameReport& report, const FrameTimings& timings);
+
 class RunOutput {
  public:
   // Creates folders and writes scene.json. `resume_csv` is the energies.csv content of a

@@ -592,7 +592,11 @@ Scene load_scene(const std::filesystem::path& file, const std::vector<std::strin
   require_input_file(file, "scene file", kMaxSceneBytes);
   std::ifstream in(file);
   if (!in) throw InputError(file.string() + ": cannot open the scene file");
-  nlohmann::json j = parse_json(in, file.string());
+  return scene_from_json(parse_json(in, file.string()), file, overrides, quick);
+}
+
+Scene scene_from_json(nlohmann::json j, const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                      bool quick) {
   if (quick && j.is_object() && j.contains("quick") && j["quick"].is_object()) {
     const nlohmann::json q = j["quick"];
     for (auto it = q.begin(); it != q.end(); ++it)

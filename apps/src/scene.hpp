@@ -368,6 +368,10 @@ struct Scene {
 // validation (--set); `quick` applies the scene's own "quick" overrides first.
 Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {},
                  bool quick = false);
+// load_scene's work on a scene already parsed (the Python module's dicts): `file` names it in
+// errors and resolves its relative paths.
+Scene scene_from_json(nlohmann::json j, const std::filesystem::path& file, const std::vector<std::string>& overrides = {},
+                      bool quick = false);
 // check_files = false skips the existence checks of mesh paths (rendering a finished run needs
 // only its frames).
 Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bool check_files = true);

@@ -254,8 +254,14 @@ class ModuleTest(unittest.TestCase):
             raise ZeroDivisionError("from the callback")
 
         fresh = self.simulation()
+        fresh.set_body_frame("body", 0, body_frame(0))
+        with self.assertRaises(TypeError):
+            fresh.drive_body("body", 5)  # not callable: the pushed frames stay in use
         with self.assertRaises(ZeroDivisionError):
             fresh.drive_body("body", failing)
+        for k in range(3):  # pushed frames again after the failed callback
+            fresh.set_body_frame("body", k, body_frame(k))
+        self.assertEqual(fresh.step_frame()["frame"], 1)
         nan = self.simulation()
         with self.assertRaises(ValueError):
             nan.drive_body("body", lambda k: body_frame(k) * np.nan)

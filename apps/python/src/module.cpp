@@ -165,19 +165,27 @@ class Simulation {
   // returns frame k as the file would hold it, (V, 3) float64; None returns to the files.
   void drive_body(const std::string& name, const py::object& source) {
     BodySequence& body = sequence(name);
-    pushed_.erase(name);
+    if (!source.is_none() && !PyCallable_Check(source.ptr()))
+      throw py::type_error("drive_body: the source must be callable (k -> (V, 3) array) or None");
+    // The pushed frames' source reads pushed_[name]: replaced before that entry goes.
     if (source.is_none()) {
       body.set_frame_source({}, "");
+      pushed_.erase(name);
       return;
     }
-    if (!PyCallable_Check(source.ptr())) throw py::type_error("drive_body: the source must be callable (k -> (V, 3) array) or None");
     auto fn = std::make_shared<py::object>(source);
-    body.set_frame_source(
-        [fn](int k) {
-          py::gil_scoped_acquire gil;
-          return points_from(py::object((*fn)(k)), "drive_body: frame " + std::to_string(k));
-        },
-        "body \"" + name + "\" (driven from Python)");
+    try {  // the source is set even when placing the body with it throws (a bad first frame)
+      body.set_frame_source(
+          [fn](int k) {
+            py::gil_scoped_acquire gil;
+            return points_from(py::object((*fn)(k)), "drive_body: frame " + std::to_string(k));
+          },
+          "body \"" + name + "\" (driven from Python)");
+    } catch (...) {
+      pushed_.erase(name);
+      throw;
+    }
+    pushed_.erase(name);
   }
 
   // Gives frame k of a driven sequence body (switching it to the pushed frames at the first call).

@@ -65,10 +65,9 @@ FrameReport Session::advance_to(double t) {
   world_.advance_to(t, r);
   // The last whole frame reached: a frame time computed in floating point counts as reached.
   frame_ = static_cast<int>(std::floor(world_.time() * scene_.fps + 1e-9));
-  world_.measure(r);
-  if (!world_.state_is_finite())
+  if (const std::string bad = measure_frame(world_, r); !bad.empty())
     throw std::runtime_error(scene_.file.string() + ": the simulation produced a non-finite state by t = " +
-                             std::to_string(world_.time()) + " s: " + world_.non_finite_state());
+                             std::to_string(world_.time()) + " s: " + bad);
   return r;
 }
 

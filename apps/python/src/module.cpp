@@ -39,14 +39,10 @@ nlohmann::json to_json_value(const py::object& value) {
   return nlohmann::json::parse(text);
 }
 
-py::object to_python(const nlohmann::json& value) {
-  return py::module_::import("json").attr("loads")(value.dump());
-}
-
 // The frame report as a dict: the stats.jsonl record of the frame (counts, Newton, each after-step
 // pass's figures, seconds per phase) plus the energies [J].
 py::dict report_dict(int frame, const World& world, const FrameReport& r) {
-  py::dict d = to_python(nlohmann::json::parse(stats_record(frame, world, r, FrameTimings{})));
+  py::dict d = py::module_::import("json").attr("loads")(stats_record(frame, world, r, FrameTimings{}));
   d["kinetic"] = r.kinetic;
   d["elastic"] = r.elastic;
   d["gravity"] = r.gravity;

@@ -10,6 +10,8 @@
 #include <string>
 #include <system_error>
 
+#include "invfem/core/io/output_error.hpp"
+
 namespace invfem {
 namespace {
 
@@ -20,7 +22,7 @@ std::filesystem::path temp_path_for(const std::filesystem::path& path) {
 }
 
 [[noreturn]] void fail(const std::filesystem::path& path, const std::string& what) {
-  throw std::runtime_error("atomic_write(" + path.string() + "): " + what);
+  throw OutputError("cannot write " + path.string() + ": " + what);
 }
 
 void remove_quietly(const std::filesystem::path& p) {
@@ -43,7 +45,10 @@ void commit(const std::filesystem::path& path, const std::filesystem::path& tmp,
     if (options.fsync) fsync_file(path, tmp);
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
-    if (ec) fail(path, "rename from " + tmp.string() + " failed: " + ec.message());
+    std::error_code dir_ec;
+    if (ec)
+      fail(path, "renaming " + tmp.string() + " over it failed: " + ec.message() +
+                     (std::filesystem::is_directory(path, dir_ec) ? " (a folder is in its place: move it away)" : ""));
   } catch (...) {
     remove_quietly(tmp);
     throw;
@@ -54,7 +59,7 @@ void commit(const std::filesystem::path& path, const std::filesystem::path& tmp,
 
 void atomic_write(const std::filesystem::path& path,
                   const std::function<void(std::ostream&)>& write, AtomicWriteOptions options) {
-  if (path.empty()) throw std::runtime_error("atomic_write: empty output path");
+  if (path.empty()) throw OutputError("cannot write a file with an empty path");
   const std::filesystem::path tmp = temp_path_for(path);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -63,7 +68,8 @@ void atomic_write(const std::filesystem::path& path,
       std::error_code ec;
       const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
       fail(path, "cannot open " + tmp.string() + " for writing (" + why +
-                     (std::filesystem::is_directory(dir, ec) ? ")" : "; the folder " + dir.string() + " does not exist)"));
+                     (std::filesystem::is_directory(dir, ec) ? "; check the folder's permissions and free space)"
+                                                             : "; the folder " + dir.string() + " does not exist)"));
     }
     try {
       write(out);
@@ -76,12 +82,12 @@ void atomic_write(const std::filesystem::path& path,
     if (!out) {
       out.close();
       remove_quietly(tmp);
-      fail(path, "write to " + tmp.string() + " failed (disk full?)");
+      fail(path, "writing " + tmp.string() + " failed (disk full? free space or choose another folder)");
     }
     out.close();
     if (!out) {
       remove_quietly(tmp);
-      fail(path, "closing " + tmp.string() + " failed");
+      fail(path, "closing " + tmp.string() + " failed (disk full? free space or choose another folder)");
     }
   }
   commit(path, tmp, options);

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "invfem/core/io/output_error.hpp"
+
 namespace invfem {
 
 namespace {
@@ -12,7 +14,8 @@ namespace {
 static_assert(sizeof(float) == 4 && sizeof(std::int32_t) == 4);
 
 void write_all(std::FILE* f, const void* data, std::size_t bytes, const std::string& path) {
-  if (std::fwrite(data, 1, bytes, f) != bytes) throw std::runtime_error(path + ": cannot write the point cache");
+  if (std::fwrite(data, 1, bytes, f) != bytes)
+    throw OutputError(path + ": cannot write the point cache (disk full? free space or choose another folder)");
 }
 }  // namespace
 
@@ -22,12 +25,12 @@ Pc2Writer::Pc2Writer(std::string path, Eigen::Index points, int first_frame)
   if (first_frame > 0 && std::filesystem::exists(path_)) {
     // Resuming: keep the existing cache's samples before first_frame, if it holds them all.
     file_ = std::fopen(path_.c_str(), "r+b");
-    if (!file_) throw std::runtime_error(path_ + ": cannot reopen the point cache to resume it");
+    if (!file_) throw OutputError(path_ + ": cannot reopen the point cache to resume it (check its permissions)");
     char head[kHeaderBytes];
     std::int32_t stored_points = 0, stored_samples = 0;
     float stored_start = 0;
     if (std::fread(head, 1, sizeof head, file_) != sizeof head || std::memcmp(head, "POINTCACHE2\0", 12) != 0)
-      throw std::runtime_error(path_ + ": not a PC2 point cache");
+      throw OutputError(path_ + ": not a PC2 point cache, so a resumed run cannot continue it: move it away");
     std::memcpy(&stored_points, head + 16, 4);
     std::memcpy(&stored_start, head + 20, 4);
     std::memcpy(&stored_samples, head + 28, 4);
@@ -42,7 +45,7 @@ Pc2Writer::Pc2Writer(std::string path, Eigen::Index points, int first_frame)
     }
   }
   if (!file_) file_ = std::fopen(path_.c_str(), "w+b");  // a new cache from first_frame on
-  if (!file_) throw std::runtime_error(path_ + ": cannot write the point cache");
+  if (!file_) throw OutputError(path_ + ": cannot write the point cache (check the folder's permissions)");
   char head[kHeaderBytes] = {};
   std::memcpy(head, "POINTCACHE2\0", 12);
   const std::int32_t version = 1, n = static_cast<std::int32_t>(points_), samples = samples_;
@@ -75,7 +78,8 @@ void Pc2Writer::add(const Points& x) {
   const std::int32_t samples = samples_;
   std::fseek(file_, 28, SEEK_SET);
   write_all(file_, &samples, 4, path_);
-  if (std::fflush(file_) != 0) throw std::runtime_error(path_ + ": cannot write the point cache");
+  if (std::fflush(file_) != 0)
+    throw OutputError(path_ + ": cannot write the point cache (disk full? free space or choose another folder)");
 }
 
 }  // namespace invfem

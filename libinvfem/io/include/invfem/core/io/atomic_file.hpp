@@ -15,8 +15,9 @@ struct AtomicWriteOptions {
   bool fsync = false;
 };
 
-// Writes `contents` to `path` atomically. The parent directory must exist. Throws
-// std::runtime_error naming the path and the failing step; the temporary is removed on failure.
+// Writes `contents` to `path` atomically. The parent directory must exist. Throws OutputError
+// (output_error.hpp) naming the path, the failing step and what to do; the temporary is removed
+// on failure.
 void atomic_write(const std::filesystem::path& path, std::string_view contents,
                   AtomicWriteOptions options = {});
 

@@ -20,7 +20,7 @@ class Pc2Writer {
   // A cache of `points` vertices at `path` whose next sample is frame first_frame. An existing
   // cache of as many points holding the frames before it (a resumed run) is continued, its later
   // samples dropped; otherwise a new cache starts at first_frame (its header's start frame).
-  // Throws std::runtime_error naming the file when it cannot be written or is no PC2 cache.
+  // Throws OutputError (output_error.hpp) naming the file when it cannot be written or is no PC2 cache.
   Pc2Writer(std::string path, Eigen::Index points, int first_frame = 0);
   ~Pc2Writer();
   Pc2Writer(const Pc2Writer&) = delete;

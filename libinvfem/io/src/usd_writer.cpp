@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -150,6 +151,41 @@ void UsdaAnimationWriter::set_texture_coordinates(const Eigen::Matrix<double, Ei
     }
   st_ = st + "]";
   st_indices_ = indices + "]";
+}
+
+void UsdaAnimationWriter::set_panels(const std::vector<std::string>& names, const std::vector<int>& triangle_group) {
+  if (names.empty()) {
+    panels_.clear();
+    panels_type_.clear();
+    return;
+  }
+  const Tris& tris = topologies_.front().tris;
+  if (triangle_group.size() != static_cast<std::size_t>(tris.rows()))
+    throw std::invalid_argument("UsdaAnimationWriter(" + path_ + "): " + std::to_string(triangle_group.size()) +
+                                " panel entries for " + std::to_string(tris.rows()) + " triangles");
+  std::vector<std::vector<int>> faces(names.size());
+  std::size_t in_panels = 0;
+  for (std::size_t t = 0; t < triangle_group.size(); ++t) {
+    const int g = triangle_group[t];
+    if (g < 0 || g >= static_cast<int>(names.size()) || names[static_cast<std::size_t>(g)].empty()) continue;
+    faces[static_cast<std::size_t>(g)].push_back(static_cast<int>(t));
+    ++in_panels;
+  }
+  std::set<std::string> taken;
+  std::string subsets;
+  for (std::size_t g = 0; g < names.size(); ++g) {
+    if (faces[g].empty()) continue;
+    const std::string base = usd_identifier(names[g]);
+    std::string id = base;
+    for (int k = 2; !taken.insert(id).second; ++k) id = base + "_" + std::to_string(k);
+    subsets += "\n        def GeomSubset \"" + id + "\"\n        {\n";
+    subsets += "            uniform token elementType = \"face\"\n            uniform token familyName = \"panels\"\n";
+    subsets += "            int[] indices = [";
+    for (std::size_t i = 0; i < faces[g].size(); ++i) subsets += (i ? ", " : "") + std::to_string(faces[g][i]);
+    subsets += "]\n        }\n";
+  }
+  panels_ = subsets;
+  panels_type_ = subsets.empty() ? "" : in_panels == triangle_group.size() ? "partition" : "nonOverlapping";
 }
 
 bool UsdaAnimationWriter::topology_varies() const {
@@ -299,6 +335,8 @@ std::string UsdaAnimationWriter::render() const {
     out += ",\n";
   }
   out += "        }\n        uniform token subdivisionScheme = \"none\"\n";
+  if (!panels_type_.empty() && !varies)
+    out += "        uniform token subsetFamily:panels:familyType = \"" + panels_type_ + "\"\n";
   bool moving = false;
   for (const auto& [k, f] : frames_) moving = moving || !f.velocities.empty();
   if (moving) {
@@ -307,6 +345,7 @@ std::string UsdaAnimationWriter::render() const {
       if (!f.velocities.empty()) out += "            " + std::to_string(k) + ": " + f.velocities + ",\n";
     out += "        }\n";
   }
+  if (!varies) out += panels_;
   out += "    }\n}\n";
   return out;
 }

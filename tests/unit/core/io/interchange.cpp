@@ -1,5 +1,6 @@
-// Interchange writers: binary/ASCII PLY (read back through assimp), VTK XML .vtu + .pvd (checked
-// with a strict XML parser of our own), USD ASCII animation (structural check of our own).
+// Interchange writers: binary/ASCII PLY (read back through assimp), the ParaView .pvd (checked
+// with a strict XML parser of our own), USD ASCII animation (structural check of our own). The
+// binary .vtu frames have their own decoder (vtu_writer.cpp).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -16,10 +17,11 @@
 #include <string>
 #include <vector>
 
+#include "invfem/core/io/obj_file.hpp"
+#include "invfem/core/io/obj_writer.hpp"
 #include "invfem/core/io/surface_io.hpp"
 #include "invfem/shells/shapes.hpp"
 #include "invfem/core/io/ply_writer.hpp"
-#include "invfem/solids/tet_mesh.hpp"
 #include "invfem/core/io/usd_writer.hpp"
 #include "invfem/core/io/vtu_writer.hpp"
 #include "xml_check.hpp"
@@ -42,35 +44,6 @@ TriangleSurface curved_sheet(int nx, int ny) {
   return m;
 }
 
-// nx x ny x nz cubes of size h, each split into 6 tets around its main diagonal (Kuhn).
-TetMesh cube_grid(int nx, int ny, int nz, double h) {
-  TetMesh m;
-  auto id = [&](int i, int j, int k) { return (k * (ny + 1) + j) * (nx + 1) + i; };
-  m.X.resize((nx + 1) * (ny + 1) * (nz + 1), 3);
-  for (int k = 0; k <= nz; ++k)
-    for (int j = 0; j <= ny; ++j)
-      for (int i = 0; i <= nx; ++i) m.X.row(id(i, j, k)) << i * h, j * h + 0.25, k * h - 0.5;
-  static const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  m.tets.resize(6 * nx * ny * nz, 4);
-  int e = 0;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i)
-        for (const auto& p : perms) {
-          int c[3] = {i, j, k};
-          int row[4];
-          row[0] = id(c[0], c[1], c[2]);
-          for (int s = 0; s < 3; ++s) {
-            c[p[s]] += 1;
-            row[s + 1] = id(c[0], c[1], c[2]);
-          }
-          m.tets.row(e) << row[0], row[1], row[2], row[3];
-          if (tet_signed_volume6(m.X, m.tets, e) < 0) std::swap(m.tets(e, 2), m.tets(e, 3));
-          ++e;
-        }
-  return m;
-}
-
 std::vector<double> numbers(const std::string& text) {
   std::vector<double> v;
   std::istringstream in(text);
@@ -82,12 +55,6 @@ std::vector<double> numbers(const std::string& text) {
     v.push_back(d);
   }
   return v;
-}
-
-const XmlNode& array_named(const XmlNode& parent, const std::string& name) {
-  for (const XmlNode* a : parent.all("DataArray"))
-    if (a->attr("Name") == name) return *a;
-  throw std::runtime_error("no DataArray " + name + " in <" + parent.name + ">");
 }
 
 // Loads `path` through assimp and checks it holds exactly the sheet `m`, positions to float
@@ -236,111 +203,14 @@ TEST(PlyWriter, RejectsBadInputWithoutTouchingTheFile) {
   EXPECT_THROW(write_ply(dir.path("missing/dir/x.ply"), m.x, m.tris), std::runtime_error);
 }
 
-// ---------------------------------------------------------------------------------- VTU / PVD
+// ---------------------------------------------------------------------------------------- PVD
 
-TEST(VtuWriter, WellFormedWithExactCountsCellsAndFields) {
-  TempDir dir;
-  const TetMesh mesh = cube_grid(3, 2, 2, 0.1);
-  const Eigen::Index n = mesh.X.rows(), m = mesh.tets.rows();
-  Points x = mesh.X;
-  x.col(1) *= 0.9;
-  VtuFields f;
-  Eigen::VectorXd det(m), inv(m), pressure(n);
-  for (Eigen::Index e = 0; e < m; ++e) det[e] = (e % 7 == 3) ? -0.25 - 1e-3 * e : 0.9 + 1e-3 * e;
-  for (Eigen::Index e = 0; e < m; ++e) inv[e] = det[e] < 0 ? 1 : 0;
-  for (Eigen::Index i = 0; i < n; ++i) pressure[i] = std::exp(0.1 * i) * 1e-7;
-  f.cell_scalars["det_F"] = det;
-  f.cell_scalars["inverted"] = inv;
-  f.point_scalars["p<&\"q>"] = pressure;  // escaped in the attribute
-  f.point_vectors["velocity"] = 2 * x;
-  const std::string p = dir.path("frame.vtu");
-  write_vtu(p, x, mesh.tets, f);
-
-  const XmlNode root = XmlParser(slurp(p)).document();
-  ASSERT_EQ(root.name, "VTKFile");
-  EXPECT_EQ(root.attr("type"), "UnstructuredGrid");
-  EXPECT_EQ(root.attr("byte_order"), "LittleEndian");
-  const XmlNode& piece = root.one("UnstructuredGrid").one("Piece");
-  ASSERT_EQ(piece.attr("NumberOfPoints"), std::to_string(n));
-  ASSERT_EQ(piece.attr("NumberOfCells"), std::to_string(m));
-
-  const XmlNode& pts = piece.one("Points").one("DataArray");
-  EXPECT_EQ(pts.attr("NumberOfComponents"), "3");
-  EXPECT_EQ(pts.attr("format"), "ascii");
-  const auto xv = numbers(pts.text);
-  ASSERT_EQ(xv.size(), static_cast<std::size_t>(3 * n));
-  for (Eigen::Index i = 0; i < 3 * n; ++i) EXPECT_EQ(xv[i], x.data()[i]);
-
-  const XmlNode& cells = piece.one("Cells");
-  const auto conn = numbers(array_named(cells, "connectivity").text);
-  const auto offs = numbers(array_named(cells, "offsets").text);
-  const auto types = numbers(array_named(cells, "types").text);
-  ASSERT_EQ(conn.size(), static_cast<std::size_t>(4 * m));
-  ASSERT_EQ(offs.size(), static_cast<std::size_t>(m));
-  ASSERT_EQ(types.size(), static_cast<std::size_t>(m));
-  for (Eigen::Index e = 0; e < m; ++e) {
-    EXPECT_EQ(offs[e], 4.0 * (e + 1));
-    EXPECT_EQ(types[e], 10.0);
-    for (int k = 0; k < 4; ++k) EXPECT_EQ(conn[4 * e + k], mesh.tets(e, k));
-  }
-
-  const XmlNode& cd = piece.one("CellData");
-  const auto dv = numbers(array_named(cd, "det_F").text);
-  const auto iv = numbers(array_named(cd, "inverted").text);
-  ASSERT_EQ(dv.size(), static_cast<std::size_t>(m));
-  ASSERT_EQ(iv.size(), static_cast<std::size_t>(m));
-  int inverted = 0;
-  for (Eigen::Index e = 0; e < m; ++e) {
-    EXPECT_EQ(dv[e], det[e]);
-    EXPECT_EQ(iv[e], det[e] < 0 ? 1.0 : 0.0);
-    inverted += iv[e] > 0;
-  }
-  EXPECT_GT(inverted, 0);
-
-  const XmlNode& pd = piece.one("PointData");
-  const auto pv = numbers(array_named(pd, "p<&\"q>").text);
-  ASSERT_EQ(pv.size(), static_cast<std::size_t>(n));
-  for (Eigen::Index i = 0; i < n; ++i) EXPECT_EQ(pv[i], pressure[i]);
-  const XmlNode& vel = array_named(pd, "velocity");
-  EXPECT_EQ(vel.attr("NumberOfComponents"), "3");
-  const auto vv = numbers(vel.text);
-  ASSERT_EQ(vv.size(), static_cast<std::size_t>(3 * n));
-  for (Eigen::Index i = 0; i < 3 * n; ++i) EXPECT_EQ(vv[i], 2 * x.data()[i]);
-}
-
-TEST(VtuWriter, XmlCheckerRejectsMalformedDocuments) {
+TEST(PvdWriter, XmlCheckerRejectsMalformedDocuments) {
   // The checker above must be able to fail: each of these is broken in one way.
   for (const char* bad : {"<a><b></a>", "<a x=\"1\" x=\"2\"/>", "<a>&bogus;</a>", "<a x=\"<\"/>",
                           "<a></a><b/>", "<a>", "<a x=1/>"})
     EXPECT_THROW(XmlParser(bad).document(), std::runtime_error) << bad;
   EXPECT_NO_THROW(XmlParser("<?xml version=\"1.0\"?>\n<a q=\"&amp;\"><b/>t</a>\n").document());
-}
-
-TEST(VtuWriter, RejectsBadFieldsAndMesh) {
-  TempDir dir;
-  const TetMesh mesh = cube_grid(1, 1, 1, 1.0);
-  const std::string p = dir.path("f.vtu");
-  VtuFields f;
-  f.cell_scalars["det_F"] = Eigen::VectorXd::Ones(mesh.tets.rows() + 1);
-  try {
-    write_vtu(p, mesh.X, mesh.tets, f);
-    FAIL() << "wrong length accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("det_F"), std::string::npos) << e.what();
-  }
-  f.cell_scalars["det_F"] = Eigen::VectorXd::Ones(mesh.tets.rows());
-  f.cell_scalars["det_F"][2] = INFINITY;
-  EXPECT_THROW(write_vtu(p, mesh.X, mesh.tets, f), std::invalid_argument);
-  VtuFields g;
-  g.point_vectors["v"] = Points::Zero(mesh.X.rows() - 1, 3);
-  EXPECT_THROW(write_vtu(p, mesh.X, mesh.tets, g), std::invalid_argument);
-  Tets t = mesh.tets;
-  t(0, 0) = -1;
-  EXPECT_THROW(write_vtu(p, mesh.X, t), std::invalid_argument);
-  Points x = mesh.X;
-  x(0, 0) = std::nan("");
-  EXPECT_THROW(write_vtu(p, x, mesh.tets), std::invalid_argument);
-  EXPECT_FALSE(fs::exists(p));
 }
 
 TEST(PvdWriter, RewritesTheWholeCollectionOnEveryAdd) {
@@ -448,6 +318,40 @@ UsdaSummary check_usda(const std::string& text) {
     }
   }
   return s;
+}
+
+// The GeomSubsets of a layer: name -> (elementType, familyName, indices), in file order.
+struct UsdaSubset {
+  std::string name, element_type, family;
+  std::vector<double> indices;
+};
+std::vector<UsdaSubset> usda_subsets(const std::string& text) {
+  std::vector<UsdaSubset> out;
+  std::istringstream in(text);
+  auto quoted = [](const std::string& l) {
+    const auto a = l.find('"'), b = l.rfind('"');
+    return l.substr(a + 1, b - a - 1);
+  };
+  for (std::string line; std::getline(in, line);) {
+    if (line.find("def GeomSubset \"") == std::string::npos) continue;
+    UsdaSubset s;
+    s.name = quoted(line);
+    while (std::getline(in, line) && line.find('}') == std::string::npos) {
+      if (line.find("uniform token elementType = ") != std::string::npos) s.element_type = quoted(line);
+      else if (line.find("uniform token familyName = ") != std::string::npos) s.family = quoted(line);
+      else if (line.find("int[] indices = ") != std::string::npos)
+        s.indices = usda_numbers(line.substr(line.find(" = ") + 3));
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+// The value of `uniform token subsetFamily:panels:familyType`, "" when absent.
+std::string panels_family_type(const std::string& text) {
+  const std::string key = "uniform token subsetFamily:panels:familyType = \"";
+  const auto at = text.find(key);
+  return at == std::string::npos ? "" : text.substr(at + key.size(), text.find('"', at + key.size()) - at - key.size());
 }
 
 Points wobble(const Points& X, int frame) {
@@ -572,6 +476,78 @@ TEST(UsdaWriter, TextureCoordinatesAreAFaceVaryingPrimvar) {
   for (Eigen::Index t = 0; t < m.tris.rows(); ++t)
     for (int k = 0; k < 3; ++k) EXPECT_EQ(corners[static_cast<std::size_t>(3 * t + k)], m.tris(t, k));
   EXPECT_THROW(usd.set_texture_coordinates(uv, Tris(1, 3)), std::invalid_argument);
+}
+
+// A garment's panels reach the layer as GeomSubsets of its mesh, each with the faces the OBJ
+// writer groups under that panel's `g` (read back by the OBJ reader).
+TEST(UsdaWriter, PanelsAreGeomSubsetsWithTheObjGroupsFaces) {
+  TempDir dir;
+  TriangleSurface m = curved_sheet(4, 3);
+  // Runs of panels that come back ("back-left" and "back_left" share an identifier), and a panel
+  // with no triangles.
+  m.groups = {"front", "back-left", "back_left", "sleeve"};
+  for (Eigen::Index t = 0; t < m.tris.rows(); ++t) m.triangle_group.push_back(t % 3 == 0 ? 0 : t < 12 ? 1 : 2);
+  write_obj(dir.path("poncho.obj"), m);
+  const ObjFile obj = read_obj_file(dir.path("poncho.obj"));
+  std::map<std::string, std::vector<double>> obj_groups;
+  for (std::size_t f = 0; f < obj.face_group.size(); ++f)
+    obj_groups[obj.groups[obj.face_group[f]]].push_back(static_cast<double>(f));
+  ASSERT_EQ(obj_groups.size(), 3u);
+
+  const std::string p = dir.path("poncho.usda");
+  UsdaAnimationWriter usd(p, "poncho", m.tris, 25);
+  usd.set_panels(m.groups, m.triangle_group);
+  usd.add_frame(0, m.x);
+  usd.add_frame(1, wobble(m.x, 1));
+  const std::string text = slurp(p);
+  ASSERT_NO_THROW(check_usda(text));
+  const std::vector<UsdaSubset> subsets = usda_subsets(text);
+  const std::vector<std::pair<std::string, std::string>> names = {
+      {"front", "front"}, {"back_left", "back-left"}, {"back_left_2", "back_left"}};
+  ASSERT_EQ(subsets.size(), names.size());
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    EXPECT_EQ(subsets[k].name, names[k].first);
+    EXPECT_EQ(subsets[k].element_type, "face");
+    EXPECT_EQ(subsets[k].family, "panels");
+    EXPECT_EQ(subsets[k].indices, obj_groups.at(names[k].second)) << names[k].second;
+  }
+  EXPECT_EQ(panels_family_type(text), "partition");
+  // The subsets are the mesh's children: after its attributes, before it closes.
+  EXPECT_LT(text.find("uniform token subsetFamily:panels:familyType"), text.find("def GeomSubset"));
+  EXPECT_GT(text.find("def GeomSubset"), text.find("def Mesh \"mesh\""));
+  EXPECT_EQ(text.substr(text.size() - 18), "        }\n    }\n}\n");
+  if (std::system("command -v usdcat > /dev/null 2>&1") == 0) {
+    EXPECT_EQ(std::system(("usdcat '" + p + "' > /dev/null").c_str()), 0);
+  }
+
+  // Triangles in no panel (an index outside the names, an unnamed panel): the family no longer
+  // covers every face.
+  std::vector<std::string> some = m.groups;
+  some.push_back("");
+  std::vector<int> partial = m.triangle_group;
+  partial[1] = -1;
+  partial[2] = 4;
+  usd.set_panels(some, partial);
+  usd.add_frame(1, wobble(m.x, 1));
+  const std::string gaps = slurp(p);
+  EXPECT_EQ(panels_family_type(gaps), "nonOverlapping");
+  std::set<double> covered;
+  for (const UsdaSubset& s : usda_subsets(gaps)) covered.insert(s.indices.begin(), s.indices.end());
+  EXPECT_EQ(covered.size(), static_cast<std::size_t>(m.tris.rows()) - 2);
+  EXPECT_EQ(covered.count(1.0) + covered.count(2.0), 0u);
+
+  // A topology that changes: the panels index faces that are gone, so they are not written.
+  const TriangleSurface b = curved_sheet(5, 4);
+  usd.add_frame(2, b.x, b.tris);
+  const std::string cut = slurp(p);
+  EXPECT_TRUE(usda_subsets(cut).empty());
+  EXPECT_EQ(panels_family_type(cut), "");
+
+  EXPECT_THROW(usd.set_panels(m.groups, std::vector<int>(3, 0)), std::invalid_argument);
+  UsdaAnimationWriter plain(dir.path("plain.usda"), "plain", m.tris, 25);
+  plain.set_panels({}, m.triangle_group);  // no names: no panels, as the OBJ writer writes no `g`
+  plain.add_frame(0, m.x);
+  EXPECT_EQ(slurp(dir.path("plain.usda")).find("GeomSubset"), std::string::npos);
 }
 
 TEST(UsdaWriter, ATopologyThatChangesIsTimeSampledWhereItChanges) {

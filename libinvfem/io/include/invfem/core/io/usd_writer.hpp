@@ -16,7 +16,8 @@ namespace invfem {
 // faceVertexIndices, points (first frame) plus points.timeSamples and extent(.timeSamples),
 // normals.timeSamples (per vertex, "vertex" interpolation: the area-weighted mean of its
 // triangles' normals, unit length, zero where they cancel) and, for frames given velocities,
-// velocities.timeSamples [m/s] (motion blur in renderers).
+// velocities.timeSamples [m/s] (motion blur in renderers); a garment's panels are GeomSubsets
+// /<name>/mesh/<panel> (set_panels).
 // Time code = frame number. Points are point3f (USD's schema type), written with 9 digits.
 // Cost: the text of each frame is formatted once and kept, but the file write grows with the
 // number of frames (quadratic over a run).
@@ -25,7 +26,9 @@ namespace invfem {
 // file is exactly as above; once one differs, faceVertexCounts and faceVertexIndices also get
 // timeSamples (USD holds an array attribute's sample until the next one): a sample at the first
 // frame and at every frame whose triangles differ from the previous frame's, the default value
-// being the first frame's. points may then change size from one sample to the next.
+// being the first frame's. points may then change size from one sample to the next. Texture
+// coordinates and panels index the faces, so they are written only while the topology does not
+// vary: a layer whose faces change has neither.
 class UsdaAnimationWriter {
  public:
   // `object_name` becomes the prim name: characters outside [A-Za-z0-9_] become '_', and a
@@ -51,6 +54,17 @@ class UsdaAnimationWriter {
   // outside [0, #UV) or a non-finite coordinate.
   void set_texture_coordinates(const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>& uv,
                                const Tris& uv_tris);
+
+  // The surface's panels, as the OBJ writer writes them as `g` groups (names; triangle_group[t]
+  // indexes names for triangle t, as TriangleSurface holds them), written as GeomSubset children
+  // of the mesh while the topology does not vary: one per panel with triangles and a non-empty
+  // name, in the order of `names`, named by usd_identifier (a name taken already gets a suffix
+  // _2, _3, ..), with elementType "face", familyName "panels" and the panel's triangles as
+  // ascending indices. The mesh declares subsetFamily:panels:familyType "partition" when every
+  // triangle is in a panel, else "nonOverlapping" (a triangle whose group is outside
+  // [0, #names) or unnamed is in none). No names: no subsets. Throws std::invalid_argument for a
+  // triangle_group whose length is not the number of triangles.
+  void set_panels(const std::vector<std::string>& names, const std::vector<int>& triangle_group);
 
   const std::string& path() const { return path_; }
   const std::string& prim_name() const { return prim_; }
@@ -79,6 +93,7 @@ class UsdaAnimationWriter {
   Eigen::Index num_points_ = -1;  // fixed by the first frame
   std::map<int, Frame> frames_;
   std::string st_, st_indices_;  // primvars:st and its indices, "" when none
+  std::string panels_type_, panels_;  // the panels' family type and GeomSubset prims, "" when none
 };
 
 // The velocities.timeSamples of a layer UsdaAnimationWriter wrote (frame -> #points x 3), for a

@@ -55,7 +55,7 @@ void read_keys(const Key* keys, unsigned count, double ticks_per_second, std::ve
 
 }  // namespace
 
-SkinnedCharacter read_skinned_character(const std::string& path) {
+SkinnedCharacter read_skinned_character(const std::string& path, const SkinnedReadOptions& options) {
   check_input_file(path);
   Assimp::Importer importer;
   // Without normals and UVs, JoinIdenticalVertices welds the corners that share a position.
@@ -138,10 +138,10 @@ SkinnedCharacter read_skinned_character(const std::string& path) {
     }
   }
   if (tris.empty()) throw MeshError(path + ": the file has no triangles");
-  if (c.bones.empty())
+  if (c.bones.empty() && options.require_rig)
     throw MeshError(path + ": no mesh has bones (a rigged character has a skeleton; use a \"mesh\" collider for a "
                            "static one or a \"sequence\" for baked frames)");
-  if (scene->mNumAnimations == 0) throw MeshError(path + ": the file has no animation clip");
+  if (scene->mNumAnimations == 0 && options.require_rig) throw MeshError(path + ": the file has no animation clip");
 
   c.bind.resize(static_cast<Eigen::Index>(vertices.size()), 3);
   for (std::size_t i = 0; i < vertices.size(); ++i)

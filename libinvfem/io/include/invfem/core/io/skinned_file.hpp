@@ -14,9 +14,16 @@
 
 namespace invfem {
 
+struct SkinnedReadOptions {
+  // A skinned body needs bones and a clip. Without them required, any file assimp reads is read
+  // (`invfem inspect`): a static one is a character without bones or clips, each vertex riding
+  // its mesh's node (bind_pose places it as the file does).
+  bool require_rig = true;
+};
+
 // Throws MeshError naming the file: missing or unreadable, no triangles, no bones (use a mesh
-// collider), no animation clip, a bone or a channel naming no node, a non-finite vertex, key or
-// weight, or a negative weight.
-SkinnedCharacter read_skinned_character(const std::string& path);
+// collider) or no animation clip where the rig is required, a bone or a channel naming no node, a
+// non-finite vertex, key or weight, or a negative weight.
+SkinnedCharacter read_skinned_character(const std::string& path, const SkinnedReadOptions& options = {});
 
 }  // namespace invfem

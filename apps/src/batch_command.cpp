@@ -20,9 +20,11 @@
 #include "invfem/renders/image.hpp"
 #include "invfem/renders/image_compare.hpp"
 #include "input_check.hpp"
+#include "memory_estimate.hpp"
 #include "json_fields.hpp"
 #include "preview.hpp"
 #include "run_folder.hpp"
+#include "run_manifest.hpp"
 #include "run_output.hpp"
 #include "scene.hpp"
 #include "video.hpp"
@@ -33,6 +35,7 @@ namespace invfem::app {
 
 const char* const kBatchHelp =
     "usage: invfem batch SCENE... --out DIR [--jobs N] [--quick] [--shard I/N] [--mp4] [--overwrite]\n"
+    "                    [--memory-limit SIZE] [--strict]\n"
     "\n"
     "Runs and renders many scenes, each in its own process (one failing scene does not stop the\n"
     "others), into DIR/<scene>/ (the layout of invfem run, with png/), then writes\n"
@@ -46,6 +49,9 @@ const char* const kBatchHelp =
     "  --mp4         also encode DIR/<scene>/<scene>.mp4 with ffmpeg (when ffmpeg is installed)\n"
     "  --overwrite   clear each scene's earlier run in DIR/<scene>/ (without it, a batch whose\n"
     "                folders hold earlier runs is refused before any scene starts)\n"
+    "  --memory-limit SIZE  each scene's memory budget (invfem run --memory-limit); default: 80% of\n"
+    "                this machine's memory shared by the --jobs scenes that run at once\n"
+    "  --strict      each run refuses a scene with a warning at load (invfem run --strict)\n"
     "Exit code: 0 when every scene ran, 1 when any failed (they are listed), 2 bad input.\n";
 
 namespace {
@@ -101,7 +107,8 @@ std::pair<int, int> parse_shard(const std::string& text) {
 }  // namespace
 
 int batch_command(const std::vector<std::string>& raw, const std::string& self_exe) {
-  const ParsedArgs args = parse_args(raw, "batch", {"--out", "--jobs", "--shard"}, {"--help", "-h", "--quick", "--mp4", "--overwrite"});
+  const ParsedArgs args = parse_args(raw, "batch", {"--out", "--jobs", "--shard", "--memory-limit"},
+                                     {"--help", "-h", "--quick", "--mp4", "--overwrite", "--strict"});
   if (args.flag("--help") || args.flag("-h")) {
     std::cout << kBatchHelp;
     return 0;
@@ -110,6 +117,11 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
   if (!args.has("--out")) throw InputError("batch: --out DIR is required");
   const std::filesystem::path out = args.value("--out");
   const int jobs = args.integer("--jobs", 1, 1, 256);
+  // Scenes running side by side share the machine: each gets its part of the default budget.
+  const std::string memory_limit =
+      args.has("--memory-limit")
+          ? (parse_memory_size(args.value("--memory-limit"), "--memory-limit"), args.value("--memory-limit"))
+          : std::to_string(std::max<std::uint64_t>(default_memory_limit() / static_cast<std::uint64_t>(jobs), 1000000));
 
   std::vector<std::filesystem::path> scenes;
   for (const auto& s : args.positional) {
@@ -148,6 +160,8 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
       std::vector<std::string> argv{self_exe, "run", j.scene.string(), "--out", dir.string(), "--render"};
       if (args.flag("--quick")) argv.push_back("--quick");
       if (overwrite) argv.push_back("--overwrite");
+      if (args.flag("--strict")) argv.push_back("--strict");
+      argv.insert(argv.end(), {"--memory-limit", memory_limit});
       j.pid = spawn(argv, dir / "log.txt");
       live[j.pid] = &j;
       ++running;
@@ -191,20 +205,28 @@ int batch_command(const std::vector<std::string>& raw, const std::string& self_e
       continue;
     }
     const auto dir = out / j.name;
-    int last = -1;
+    Scene written;  // the scene as run (its frame rate and first frame number), from its scene.json
+    try {
+      written = parse_scene(parse_json(read_text_file((dir / "scene.json").string(), 1u << 26, "batch"),
+                                       (dir / "scene.json").string()),
+                            dir / "scene.json", /*check_files=*/false);
+    } catch (const std::exception& e) {
+      failed.push_back(j.name + " (its scene.json: " + e.what() + ")");
+      continue;
+    }
+    const int first = written.first_frame_number;
+    int last = first - 1;
     while (std::filesystem::exists(dir / "png" / (RunOutput::frame_name(last + 1) + ".png"))) ++last;
-    if (last < 0) {
+    if (last < first) {
       failed.push_back(j.name + " (no preview written)");
       continue;
     }
     images.push_back(renders::read_png((dir / "png" / (RunOutput::frame_name(last) + ".png")).string()));
     labels.push_back(j.name + " frame " + std::to_string(last));
     if (mp4 && have_ffmpeg()) {
-      try {  // at the scene's frame rate, as written in its scene.json
-        const Scene written = parse_scene(parse_json(read_text_file((dir / "scene.json").string(), 1u << 26, "batch"),
-                                                     (dir / "scene.json").string()),
-                                          dir / "scene.json", /*check_files=*/false);
-        encode_mp4(dir / "png", 0, last, written.fps, dir / (j.name + ".mp4"));
+      try {  // at the scene's frame rate
+        if (RunManifest::exists(dir)) RunManifest(dir).record(dir / (j.name + ".mp4"));
+        encode_mp4(dir / "png", first, last, written.fps, dir / (j.name + ".mp4"));
       } catch (const std::exception& e) {
         std::cerr << "error: " << e.what() << "\n";
         failed.push_back(j.name + " (mp4 encoding)");

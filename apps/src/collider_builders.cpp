@@ -83,6 +83,7 @@ Colliders build_colliders(const Scene& scene) {
         s.start_time = c.skinned.start_time;
         s.pre_roll = c.skinned.pre_roll;
         s.after_end = c.skinned.after_end == "loop" ? AnimationEnd::Loop : AnimationEnd::Hold;
+        s.loop_blend = c.loop_blend;
         s.linear = c.transform.scale * rotation_of(c.transform);
         s.translation = to_vec(c.transform.translate);
         s.friction = c.friction;

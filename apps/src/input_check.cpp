@@ -25,7 +25,7 @@ void prepare_output_dir(const std::filesystem::path& dir, const std::string& opt
   const std::string where = option + " " + dir.string() + ": ";
   std::error_code ec;
   const fs::file_status st = fs::status(dir, ec);
-  if (!ec && fs::exists(st) && !fs::is_directory(st)) throw InputError(where + "is a file, not a folder");
+  if (!ec && fs::exists(st) && !fs::is_directory(st)) throw InputError(where + "is a file, not a folder (move it away, or give another folder)");
   fs::create_directories(dir, ec);
   if (ec) throw InputError(where + "cannot create the folder: " + ec.message());
   if (!fs::is_directory(dir, ec)) throw InputError(where + "is not a folder");

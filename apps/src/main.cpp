@@ -1,4 +1,4 @@
-// The invfem command line. Exit codes: 0 ok, 1 simulation failure, 2 bad input.
+// The invfem command line. Exit codes: 0 ok, 1 simulation failure, 2 bad input or output path.
 #include <malloc.h>
 
 #include <exception>
@@ -7,11 +7,13 @@
 #include <string>
 #include <vector>
 
-#include "json_fields.hpp"
 #include "batch_command.hpp"
 #include "bench_command.hpp"
 #include "ccd_command.hpp"
 #include "check_command.hpp"
+#include "inspect_command.hpp"
+#include "invfem/core/io/output_error.hpp"
+#include "json_fields.hpp"
 #include "render_command.hpp"
 #include "run_command.hpp"
 #include "sheet_command.hpp"
@@ -29,6 +31,8 @@ const char* const kHelp =
     "  render OUTDIR              render a run's frames to OUTDIR/png/NNNN.png (offscreen)\n"
     "  batch SCENE... --out DIR   run and render many scenes; a contact sheet of their last frames\n"
     "  check-scene SCENE.json     validate a scene and its meshes without simulating\n"
+    "  inspect FILE               a mesh's, garment's or rigged character's size, bounds, up axis,\n"
+    "                             bones and clips, to place it in a scene\n"
     "  check OUT | MESH...        count intersecting triangle pairs, exactly, in every frame\n"
     "  mesh SURFACE --out MESH    tet-mesh a closed triangle surface (BCC lattice)\n"
     "  bench [--quick] [--json F] time the benchmark work units against the peers' figures\n"
@@ -36,8 +40,8 @@ const char* const kHelp =
     "  sheet PNG... --out SHEET   tile chosen PNGs into one contact sheet, with captions\n"
     "  help [COMMAND]             this text, or a command's options\n"
     "\n"
-    "Exit codes: 0 ok, 1 simulation failure, 2 bad input (scene, mesh or option); `check`: 1 when it\n"
-    "finds intersections.\n";
+    "Exit codes: 0 ok, 1 simulation failure, 2 bad input (scene, mesh or option) or an output that\n"
+    "cannot be written; `check`: 1 when it finds intersections.\n";
 
 // The running binary, for the batch command's child processes.
 std::string self_executable(const char* argv0) {
@@ -72,6 +76,7 @@ int main(int argc, char** argv) {
     if (cmd == "render") return invfem::app::render_command(rest);
     if (cmd == "check-scene") return invfem::app::check_scene_command(rest);
     if (cmd == "check") return invfem::app::check_command(rest);
+    if (cmd == "inspect") return invfem::app::inspect_command(rest);
     if (cmd == "mesh") return invfem::app::mesh_command(rest);
     if (cmd == "ccd") return invfem::app::ccd_command(rest);
     if (cmd == "sheet") return invfem::app::sheet_command(rest);
@@ -81,6 +86,13 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const invfem::app::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const invfem::OutputError& e) {  // an output that cannot be written: a bad output path
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {  // a folder that cannot be made or listed
+    std::cerr << "error: " << e.path1().string() << ": " << e.code().message()
+              << " (check that the path is a folder you can write to)\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -119,7 +119,9 @@ void check_object_size(const Points& X, double scale, const std::string& what) {
   throw InputError(m.str());
 }
 
-SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh_out) {
+SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh_out, LoadWarnings* warnings) {
+  LoadWarnings printed_only;
+  LoadWarnings& warn = warnings ? *warnings : printed_only;
   TetMesh mesh;
   try {
     if (is_tet_mesh_file(spec.mesh)) {
@@ -133,6 +135,7 @@ SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh
       BccMeshOptions options;
       options.resolution = spec.mesh_resolution;
       CheckedBccMesh meshed = check_and_bcc_mesh(surface, spec.mesh.string(), options);
+      for (const auto& w : meshed.check.warnings) warn.add_printed(w);
       const BccMeshReport& r = meshed.result.report;
       std::cerr << "meshed " << spec.mesh.filename().string() << ": " << r.tets << " tets, volume ratio "
                 << meshed.volume_ratio_text();
@@ -140,7 +143,7 @@ SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh
       mesh = std::move(meshed.result.mesh);
     }
     const TetMeshReport report = validate_and_orient(mesh);
-    for (const auto& w : report.warnings) std::cerr << "warning: " << spec.mesh.string() << ": " << w << "\n";
+    for (const auto& w : report.warnings) warn.add(spec.mesh.string() + ": " + w);
     if (!report.unused_nodes.empty())
       throw MeshError(spec.mesh.string() + ": " + std::to_string(report.unused_nodes.size()) +
                       " nodes belong to no tetrahedron (first: node " + std::to_string(report.unused_nodes[0]) +
@@ -217,7 +220,7 @@ std::vector<int> pinned_vertices(const PinSpec& p, const Garment& g, const Point
 // that fling it (a 1e-8 pattern, or 1e150 before the OBJ reader's range).
 constexpr double kPatternScaleLow = 0.5, kPatternScaleHigh = 2;  // a sewing pattern is the garment's size
 constexpr double kPatternScaleRefused = 1e3;
-void warn_about_cloth_start(const ClothSpec& spec, const Garment& g, const Points& x0) {
+void warn_about_cloth_start(const ClothSpec& spec, const Garment& g, const Points& x0, LoadWarnings& warnings) {
   const std::string file = spec.mesh.empty() ? "cloth \"" + spec.name + "\"" : spec.mesh.string();
   const double s = pattern_scale(g);
   if (spec.rest_shape == "pattern" && s > 0 && (s < 1 / kPatternScaleRefused || s > kPatternScaleRefused)) {
@@ -229,10 +232,10 @@ void warn_about_cloth_start(const ClothSpec& spec, const Garment& g, const Point
   }
   if (s > 0 && (s < kPatternScaleLow || s > kPatternScaleHigh)) {
     std::ostringstream w;
-    w << "warning: " << file << ": the pattern's edges are a median " << s << " times the mesh's (outside ["
-      << kPatternScaleLow << ", " << kPatternScaleHigh << "]): its vt may be a texture layout, not a pattern in "
-      << "metres; the rest shape is that much " << (s < 1 ? "smaller" : "larger") << " than the garment\n";
-    std::cerr << w.str();
+    w << file << ": the pattern's edges are a median " << s << " times the mesh's (outside [" << kPatternScaleLow
+      << ", " << kPatternScaleHigh << "]): its vt may be a texture layout, not a pattern in "
+      << "metres; the rest shape is that much " << (s < 1 ? "smaller" : "larger") << " than the garment";
+    warnings.add(w.str());
   }
   TriangleSurface start{x0, g.surface.tris, file};
   std::vector<Weld> seams;
@@ -240,11 +243,11 @@ void warn_about_cloth_start(const ClothSpec& spec, const Garment& g, const Point
   const certificate::IntersectionCount c = certificate::count_intersections({&start}, {welds_from_seams(seams).welds}, 1);
   if (c.self_total() > 0) {
     std::ostringstream w;
-    w << "warning: " << file << ": the cloth starts crossing itself: " << c.self_total()
+    w << file << ": the cloth starts crossing itself: " << c.self_total()
       << " pairs of triangles intersect (first: triangles " << c.examples[0].triangle_a << " and "
       << c.examples[0].triangle_b << "); the self-collision layer keeps crossings from forming, it does not undo "
-      << "them (`invfem check OUT --frames 0-0`)\n";
-    std::cerr << w.str();
+      << "them (`invfem check OUT --frames 0-0`)";
+    warnings.add(w.str());
   }
 }
 
@@ -265,7 +268,8 @@ Garment load_cloth_geometry(const ClothSpec& spec) {
 
 }  // namespace
 
-SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
+SimObject build_cloth(const ClothSpec& spec, const Scene& scene, LoadWarnings* warnings) {
+  LoadWarnings printed_only;
   const std::string what = "cloth \"" + spec.name + "\"";
   const std::string where = scene.file.string() + ": " + what;
   Garment g;
@@ -285,7 +289,7 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene) {
     check_object_size(*g.initial, spec.initial_transform.value_or(spec.transform).scale, where + ": initial shape");
   const Points& x0 = g.initial ? *g.initial : g.surface.x;
   const int n = static_cast<int>(x0.rows());
-  warn_about_cloth_start(spec, g, x0);
+  warn_about_cloth_start(spec, g, x0, warnings ? *warnings : printed_only);
   const auto& m = spec.material;
   ClothObjectParams params;
   params.thickness = m.thickness;

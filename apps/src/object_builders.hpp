@@ -4,13 +4,16 @@
 #include "invfem/core/world/world.hpp"
 #include "invfem/solids/solid_object.hpp"
 #include "invfem/solids/tet_mesh.hpp"
+#include "load_warnings.hpp"
 #include "scene.hpp"
 
 namespace invfem::app {
 
 // `mesh_out`, if given, receives the rest mesh the solid is built on (a fracturing solid's root).
-SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh_out = nullptr);
-SimObject build_cloth(const ClothSpec& spec, const Scene& scene);
+// The load's warnings (printed as found) are added to `warnings` when given.
+SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh_out = nullptr,
+                        LoadWarnings* warnings = nullptr);
+SimObject build_cloth(const ClothSpec& spec, const Scene& scene, LoadWarnings* warnings = nullptr);
 
 // The transform's rotation: about x, then y, then z, by rotate_degrees.
 Mat3 rotation_of(const Transform& t);

@@ -4,7 +4,10 @@
 
 #include "invfem/renders/mesh_renderer.hpp"
 #include "invfem/core/io/obj_file.hpp"
+#include "invfem/core/io/output_error.hpp"
+#include "input_check.hpp"
 #include "collider_builders.hpp"
+#include "run_manifest.hpp"
 #include "run_output.hpp"
 
 namespace invfem::app {
@@ -45,6 +48,7 @@ struct PreviewRenderer::Impl {
   renders::MeshRenderer renderer;
   renders::Camera camera;
   renders::RenderSettings settings;
+  std::optional<RunManifest> manifest;  // the run folder's, where it has one: the PNGs are listed there
 
   std::vector<renders::Drawable> load(int frame) const {
     std::vector<renders::Drawable> meshes;
@@ -62,7 +66,7 @@ struct PreviewRenderer::Impl {
 };
 
 PreviewRenderer::PreviewRenderer(std::filesystem::path out_dir, const Scene& scene, PreviewOptions options)
-    : impl_(new Impl{std::move(out_dir), scene, std::move(options), object_views(scene), {}, {}, {}}) {
+    : impl_(new Impl{std::move(out_dir), scene, std::move(options), object_views(scene), {}, {}, {}, {}}) {
   Impl& m = *impl_;
   m.settings.width = m.options.width > 0 ? m.options.width : scene.render.width;
   m.settings.height = m.options.height > 0 ? m.options.height : scene.render.height;
@@ -81,7 +85,8 @@ PreviewRenderer::PreviewRenderer(std::filesystem::path out_dir, const Scene& sce
   } else {
     m.camera = renders::Camera{to_vec(cam.position), to_vec(cam.target), Vec3::UnitY(), cam.fov_degrees};
   }
-  std::filesystem::create_directories(m.dir / "png");
+  prepare_output_dir(m.dir / "png", "the previews' folder");  // a file in its place is bad output (exit 2)
+  if (RunManifest::exists(m.dir)) m.manifest.emplace(m.dir);
 }
 
 PreviewRenderer::~PreviewRenderer() = default;
@@ -95,11 +100,17 @@ renders::Image PreviewRenderer::render(int frame) {
   renders::RenderSettings settings = m.settings;
   if (m.options.caption) {
     char buf[128];
-    std::snprintf(buf, sizeof buf, "%s  frame %d  t=%.3fs", m.scene.name.c_str(), frame, frame / m.scene.fps);
+    std::snprintf(buf, sizeof buf, "%s  frame %d  t=%.3fs", m.scene.name.c_str(), frame,
+                  (frame - m.scene.first_frame_number) / m.scene.fps);
     settings.caption = buf;
   }
   renders::Image image = m.renderer.render(m.load(frame), m.camera, settings);
-  renders::write_png(png_path(frame).string(), image);
+  if (m.manifest) m.manifest->record(png_path(frame));
+  try {
+    renders::write_png(png_path(frame).string(), image);
+  } catch (const std::runtime_error& e) {  // the renderer knows no exit codes: a PNG that cannot be written is bad output
+    throw OutputError(e.what());
+  }
   return image;
 }
 
@@ -111,7 +122,7 @@ WrittenFrames written_frames(const std::filesystem::path& out_dir, const Scene& 
     for (const auto& e : std::filesystem::directory_iterator(out_dir / "frames" / o.name, ec)) {
       if (e.path().extension() == ".obj") w.last = std::max(w.last, RunOutput::frame_number(e.path()));
     }
-  for (int f = 0; f <= w.last; ++f)
+  for (int f = scene.first_frame_number; f <= w.last; ++f)
     for (const auto& o : objects)
       if (!std::filesystem::exists(obj_path(out_dir, o.name, f))) {
         w.missing[f] = obj_path(out_dir, o.name, f);

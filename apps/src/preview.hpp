@@ -24,18 +24,19 @@ class PreviewRenderer {
   PreviewRenderer(std::filesystem::path out_dir, const Scene& scene, PreviewOptions options);
   ~PreviewRenderer();
 
-  // Render frame `frame` from its OBJ files; returns the image and writes png/NNNN.png.
-  renders::Image render(int frame);
-  std::filesystem::path png_path(int frame) const;
+  // Renders the frame whose files are numbered `number` (frames/<object>/NNNN.obj: the frame plus
+  // the scene's first_frame_number); returns the image and writes png/NNNN.png, numbered alike.
+  renders::Image render(int number);
+  std::filesystem::path png_path(int number) const;
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
-// The frames a run wrote for the scene's objects and drawn bodies: the highest frame number any
-// of them has (-1: none), and the frames in 0..last where one of them is missing, each with the
-// first missing file.
+// The frames a run wrote for the scene's objects and drawn bodies, by file number: the highest any
+// of them has (-1: none), and the numbers from the scene's first_frame_number to it where one of
+// them is missing, each with the first missing file.
 struct WrittenFrames {
   int last = -1;
   std::map<int, std::filesystem::path> missing;

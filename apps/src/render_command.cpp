@@ -14,6 +14,8 @@
 #include "input_check.hpp"
 #include "json_fields.hpp"
 #include "preview.hpp"
+#include "run_manifest.hpp"
+#include "run_output.hpp"
 #include "video.hpp"
 
 namespace invfem::app {
@@ -23,6 +25,7 @@ const char* const kRenderHelp =
     "                     [--frames A-B] [--no-caption] [--mp4]\n"
     "\n"
     "Renders every frame a run wrote (OUTDIR/frames/<object>/NNNN.obj) into OUTDIR/png/NNNN.png,\n"
+    "frames named by their files' numbers (--frames too; the scene's first_frame_number is the first),\n"
     "offscreen through OSMesa. The size and camera default to the scene's \"render\" block\n"
     "(OUTDIR/scene.json); without a camera there, the view is framed on frame 0.\n"
     "  --mp4   then encode the rendered frames into OUTDIR/<scene name>.mp4 at the scene's fps\n"
@@ -84,12 +87,16 @@ int render_command(const std::vector<std::string>& raw) {
   options.caption = !args.flag("--no-caption");
 
   const WrittenFrames written = written_frames(dir, scene);
-  if (written.last < 0) throw InputError(dir.string() + ": no frames to render (frames/<object>/0000.obj is missing)");
+  const int first_number = scene.first_frame_number;
+  if (written.last < first_number)
+    throw InputError(dir.string() + ": no frames to render (frames/<object>/" + RunOutput::frame_name(first_number) +
+                     ".obj is missing)");
   auto [first, last] = args.has("--frames") ? parse_frame_range(args.value("--frames"), "--frames")
-                                            : std::pair<int, int>{0, written.last};
-  if (last > written.last)
-    throw InputError("--frames: frame " + std::to_string(last) + " was not written (the run has frames 0-" +
-                     std::to_string(written.last) + ")");
+                                            : std::pair<int, int>{first_number, written.last};
+  if (last > written.last || first < first_number)
+    throw InputError("--frames: frame " + std::to_string(last > written.last ? last : first) +
+                     " was not written (the run has frames " + std::to_string(first_number) + "-" +
+                     std::to_string(written.last) + ", numbered as its files)");
   const bool mp4 = args.flag("--mp4");
   if (mp4 && !have_ffmpeg())
     throw InputError("--mp4: ffmpeg is not installed (Debian: apt install ffmpeg); nothing was rendered");
@@ -130,6 +137,7 @@ int render_command(const std::vector<std::string>& raw) {
                      first_problem + ")" + (mp4 ? "; no video encoded" : ""));
   if (mp4) {
     const std::filesystem::path video = dir / (scene.name + ".mp4");
+    if (RunManifest::exists(dir)) RunManifest(dir).record(video);
     try {
       encode_mp4(dir / "png", first, last, scene.fps, video);
     } catch (const std::runtime_error& e) {

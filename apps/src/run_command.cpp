@@ -14,6 +14,7 @@
 #include "checkpoint.hpp"
 #include "cli_args.hpp"
 #include "input_check.hpp"
+#include "memory_estimate.hpp"
 #include "json_fields.hpp"
 #include "preview.hpp"
 #include "run_folder.hpp"
@@ -26,7 +27,7 @@ namespace invfem::app {
 const char* const kRunHelp =
     "usage: invfem run SCENE.json --out DIR [--quick] [--set path.to.field=value]... [--render]\n"
     "                  [--format obj,ply,vtu,usd,pc2] [--frames A-B] [--resume | --overwrite]\n"
-    "                  [--checkpoint-every K] [--threads N] [--quiet]\n"
+    "                  [--checkpoint-every K] [--threads N] [--memory-limit SIZE] [--strict] [--quiet]\n"
     "\n"
     "Simulates the scene and writes, as frames are made:\n"
     "  DIR/scene.json               the scene as run, every default filled in\n"
@@ -38,7 +39,8 @@ const char* const kRunHelp =
     "Options:\n"
     "  --out DIR      output folder (created if missing). A run owns it: a folder holding another\n"
     "                 run is refused unless --resume or --frames continues that run (the same\n"
-    "                 scene, no shorter) or --overwrite clears it first\n"
+    "                 scene, no shorter) or --overwrite clears it first; a folder holding no run\n"
+    "                 (no invfem-manifest.txt) is used only if none of the run's files are there\n"
     "  --quick        apply the scene's \"quick\" overrides (a quick resolution, as the tests use)\n"
     "  --set P=V      override a scene field before validation, e.g. --set solids.0.material.young=1e6\n"
     "                 (V is JSON, or plain text for a string); repeatable\n"
@@ -49,17 +51,24 @@ const char* const kRunHelp =
     "                 topology as time samples), pc2 (DIR/<object>.pc2 point caches, objects and\n"
     "                 bodies, for Blender's Mesh Cache modifier over the frame-0 OBJ)\n"
     "  --frames A-B   write frames A to B only (B <= the scene's frames); the run starts from the\n"
-    "                 newest checkpoint at or before A, or from frame 0\n"
+    "                 newest checkpoint at or before A, or from frame 0; the folder's other frames\n"
+    "                 and their rows in energies.csv and stats.jsonl are kept\n"
     "  --resume       continue from the newest valid checkpoint in DIR (same scene and options, but\n"
     "                 `frames` may grow: --set frames=N --resume extends a finished run);\n"
     "                 frames after it are rewritten, so the result is bit-identical to a run that\n"
     "                 was never stopped (with the same --threads)\n"
-    "  --overwrite    remove the earlier run in DIR (its frames, checkpoints, previews and files)\n"
-    "                 before this one starts; other files in DIR are kept\n"
+    "  --overwrite    remove the earlier run in DIR before this one starts: the files it wrote, as\n"
+    "                 DIR/invfem-manifest.txt lists them; other files in DIR are kept\n"
     "  --checkpoint-every K  frames between checkpoints (default 10; 0 = none)\n"
     "  --threads N    worker threads (default: all cores); results do not depend on it\n"
+    "  --memory-limit SIZE  refuse (exit 2, before building anything) a scene whose estimated memory\n"
+    "                 (invfem check-scene prints it) exceeds SIZE: 16G, 512M, or none (default: 80%\n"
+    "                 of this machine's memory, or of its cgroup's limit)\n"
+    "  --strict       refuse the scene (exit 2) if it earns any warning at load: a cloth or solid\n"
+    "                 that starts through a body or itself, a pattern of another scale, a surface\n"
+    "                 with holes\n"
     "  --quiet        no progress lines\n"
-    "Exit codes: 0 ok, 1 simulation failure, 2 bad input.\n";
+    "Exit codes: 0 ok, 1 simulation failure, 2 bad input or an output that cannot be written.\n";
 
 namespace {
 
@@ -78,8 +87,8 @@ std::string format_duration(double s) {
 
 int run_command(const std::vector<std::string>& raw) {
   const ParsedArgs args =
-      parse_args(raw, "run", {"--out", "--threads", "--set", "--format", "--frames", "--checkpoint-every"},
-                 {"--help", "-h", "--quiet", "--quick", "--render", "--resume", "--overwrite"});
+      parse_args(raw, "run", {"--out", "--threads", "--set", "--format", "--frames", "--checkpoint-every", "--memory-limit"},
+                 {"--help", "-h", "--quiet", "--quick", "--render", "--resume", "--overwrite", "--strict"});
   if (args.flag("--help") || args.flag("-h")) {
     std::cout << kRunHelp;
     return 0;
@@ -102,18 +111,24 @@ int run_command(const std::vector<std::string>& raw) {
     thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
 
   const Scene scene = load_scene(scene_path, args.all("--set"), args.flag("--quick"));
+  const MemoryLimit memory = memory_limit_from(args.has("--memory-limit") ? args.value("--memory-limit") : "", "--memory-limit");
+  check_memory_budget(estimate_memory(scene), memory.bytes, memory.source, scene_path);
   auto [first_out, last] = args.has("--frames") ? parse_frame_range(args.value("--frames"), "--frames")
                                                  : std::pair<int, int>{0, scene.frames};
   if (last > scene.frames)
     throw InputError("--frames: frame " + std::to_string(last) + " is past the scene's last frame " +
                      std::to_string(scene.frames));
   prepare_output_dir(out_dir, "--out");
-  claim_run_folder(out_dir, scene, args.flag("--resume"), args.has("--frames"), args.flag("--overwrite"), quiet);
-  // A run killed mid-write left NNNN.obj.tmp and the like: no run writes into this folder now.
-  if (const int n = remove_stale_temporaries(out_dir); n > 0 && !quiet)
-    std::printf("removed %d stale temporary file%s (*.tmp) left by a stopped run in %s\n", n, n == 1 ? "" : "s",
-                out_dir.string().c_str());
-  World world = build_world(scene);
+  RunClaim claim;
+  claim.resume = args.flag("--resume");
+  claim.partial = args.has("--frames");
+  claim.overwrite = args.flag("--overwrite");
+  claim.quiet = quiet;
+  claim.planned = {formats, args.flag("--render")};
+  claim_run_folder(out_dir, scene, claim);
+  LoadWarnings warnings;
+  World world = build_world(scene, nullptr, &warnings);
+  if (args.flag("--strict")) warnings.refuse_any(scene_path);
 
   // Where to start: the newest checkpoint at or before the first frame asked for.
   int start_frame = 0;
@@ -164,12 +179,14 @@ int run_command(const std::vector<std::string>& raw) {
     t.write = seconds(t1, t2);
     if (args.flag("--render") && frame >= first_out) {
       if (!preview) preview = std::make_unique<PreviewRenderer>(out_dir, scene, PreviewOptions{});
-      preview->render(frame);
+      preview->render(scene.file_number(frame));
     }
     t.render = seconds(t2, clock());
-    output.write_stats(frame, world, r, t);
-    if (checkpoint_every > 0 && frame > 0 && (frame % checkpoint_every == 0 || frame == last))
-      save_checkpoint(out_dir, scene, world, frame, output.csv());
+    if (frame >= first_out) output.write_stats(frame, world, r, t);
+    if (checkpoint_every > 0 && frame > 0 && (frame % checkpoint_every == 0 || frame == last)) {
+      output.manifest().record(checkpoint_path(out_dir, frame));
+      save_checkpoint(out_dir, scene, world, frame, output.csv_through(frame));
+    }
   };
 
   const auto start = clock();

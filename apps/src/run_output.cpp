@@ -24,27 +24,23 @@ const char* const kCsvHeader =
     "frame,time,kinetic,elastic,gravity,total,inverted,elements,min_det_F,volume,rest_volume,substeps,"
     "cg_iterations\n";
 
-// Keep the lines of `text` (after a header line if `has_header`) whose first field, a frame
-// number, is below `first_frame`.
-std::string keep_rows_before(const std::string& text, int first_frame, bool has_header, bool json) {
+// The rows of a CSV (after its header line) or JSON-lines text by the frame number each begins
+// with; lines without one are dropped.
+std::map<int, std::string> rows_by_frame(const std::string& text, bool has_header, bool json) {
   std::istringstream in(text);
-  std::string out, line;
-  bool header = has_header;
+  std::map<int, std::string> rows;
+  std::string line;
+  if (has_header) std::getline(in, line);
   while (std::getline(in, line)) {
-    if (header) {
-      out += line + "\n";
-      header = false;
-      continue;
-    }
     int frame = -1;
     if (json) {
       std::sscanf(line.c_str(), "{\"frame\":%d", &frame);
     } else {
       std::sscanf(line.c_str(), "%d", &frame);
     }
-    if (frame >= 0 && frame < first_frame) out += line + "\n";
+    if (frame >= 0) rows[frame] = line + "\n";
   }
-  return out;
+  return rows;
 }
 
 std::string read_file(const std::filesystem::path& p) {
@@ -72,51 +68,35 @@ std::set<std::string> parse_formats(const std::string& list) {
   return out;
 }
 
-int remove_stale_temporaries(const std::filesystem::path& out_dir) {
-  namespace fs = std::filesystem;
-  int removed = 0;
-  std::error_code ec;
-  // No symbolic links followed: only the run's own folders are cleaned.
-  for (fs::recursive_directory_iterator it(out_dir, ec), end; !ec && it != end; it.increment(ec)) {
-    std::error_code type_ec;
-    if (it->path().extension() == ".tmp" && it->is_regular_file(type_ec) && !it->is_symlink(type_ec)) {
-      std::error_code rm_ec;
-      if (fs::remove(it->path(), rm_ec)) ++removed;
-    }
-  }
-  return removed;
-}
-
 RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World& world, std::set<std::string> formats,
-                     int first_frame, const std::string& resume_csv)
-    : dir_(std::move(dir)), formats_(std::move(formats)) {
+                     int first_frame, const std::string& checkpoint_csv)
+    : dir_(std::move(dir)), manifest_(dir_), formats_(std::move(formats)), first_number_(scene.first_frame_number) {
   // Each frame folder made and probed now: one that cannot be written is bad output (exit 2)
   // before any work, not a failure at the first frame.
   for (const auto& o : world.objects()) prepare_output_dir(dir_ / "frames" / o.name, "--out");
   for (const auto& k : world.kinematic_bodies())
     if (k->surface()) prepare_output_dir(dir_ / "frames" / k->name(), "--out");
-  atomic_write(dir_ / "scene.json", to_json(scene).dump(2) + "\n");
+  write_file(dir_ / "scene.json", to_json(scene).dump(2) + "\n");
   // A garment's seams, once per object with stitches, for `invfem check` (welds_file.hpp).
   for (const auto& o : world.objects())
     for (const auto& f : o.forces)
       if (!f->seams().empty())
-        atomic_write(dir_ / "frames" / o.name / "welds.txt", welds_text(o.name, welds_from_seams(f->seams())));
+        write_file(dir_ / "frames" / o.name / "welds.txt", welds_text(o.name, welds_from_seams(f->seams())));
   const double fps = scene.fps;
   fps_ = fps;
-  first_usd_frame_ = first_frame;
-  csv_ = first_frame > 0 ? keep_rows_before(resume_csv, first_frame, true, false) : kCsvHeader;
-  if (first_frame > 0) {
-    // Repaired now from the checkpoint's rows and the frames before it, even when no frame follows
-    // (a finished run resumed).
-    stats_ = keep_rows_before(read_file(dir_ / "stats.jsonl"), first_frame, false, true);
-    atomic_write(dir_ / "energies.csv", csv_);
-    atomic_write(dir_ / "stats.jsonl", stats_);
+  first_usd_frame_ = number(first_frame);
+  read_earlier_rows(checkpoint_csv);
+  // Written now, so a finished run resumed has its rows repaired even when no frame follows.
+  if (!csv_rows_.empty() || !stats_rows_.empty()) {
+    write_csv();
+    write_stats_file();
   }
   // Point caches (OUT/<name>.pc2), objects' and kinematic bodies' alike, in their frames' vertex
   // order; a resumed run drops the samples from its first frame on.
   if (formats_.count("pc2")) {
     auto cache = [&](const std::string& name, const Points& x) {
-      pc2_[name] = std::make_unique<Pc2Writer>((dir_ / (name + ".pc2")).string(), x.rows(), first_frame);
+      manifest_.record(dir_ / (name + ".pc2"));
+      pc2_[name] = std::make_unique<Pc2Writer>((dir_ / (name + ".pc2")).string(), x.rows(), number(first_frame));
     };
     for (const auto& o : world.objects()) cache(o.name, o.material_surface().x);
     for (const auto& k : world.kinematic_bodies())
@@ -124,9 +104,11 @@ RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World&
   }
   // ParaView series (OUT/<name>.pvd), objects' and kinematic bodies' alike.
   auto series = [&](const std::string& name) {
+    manifest_.record(dir_ / (name + ".pvd"));
     pvd_[name] = std::make_unique<PvdWriter>((dir_ / (name + ".pvd")).string());
     for (int f = 0; f < first_frame; ++f)
-      if (std::filesystem::exists(dir_ / "frames" / name / (frame_name(f) + ".vtu"))) pvd_[name]->add(f / fps, vtu_entry(name, f));
+      if (std::filesystem::exists(dir_ / "frames" / name / (frame_name(number(f)) + ".vtu")))
+        pvd_[name]->add(f / fps, vtu_entry(name, number(f)));
   };
   if (formats_.count("vtu")) {
     for (const auto& o : world.objects()) series(o.name);
@@ -134,20 +116,22 @@ RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World&
       if (k->surface()) series(k->name());
   }
   // One animated USD layer per object and per kinematic body (frames/<name>.usda), with a
-  // garment's texture coordinates; a resumed run rebuilds its earlier samples from the OBJ frames.
+  // garment's texture coordinates and panels; a resumed run rebuilds its earlier samples from the OBJ frames.
   auto layer = [&](const std::string& name, const TriangleSurface& m) {
     const std::string path = (dir_ / "frames" / (name + ".usda")).string();
+    manifest_.record(path);
     // A resumed run's earlier frames: positions from their OBJ files, velocities from the layer.
     const std::map<int, Points> velocities = first_frame > 0 ? read_usda_velocities(path) : std::map<int, Points>{};
     usd_[name] = std::make_unique<UsdaAnimationWriter>(path, name, m.tris, fps);
     if (m.uv.rows() > 0 && m.uv_tris.rows() == m.tris.rows()) usd_[name]->set_texture_coordinates(m.uv, m.uv_tris);
+    if (m.triangle_group.size() == static_cast<std::size_t>(m.tris.rows())) usd_[name]->set_panels(m.groups, m.triangle_group);
     for (int f = 0; f < first_frame; ++f) {
-      const auto obj = dir_ / "frames" / name / (frame_name(f) + ".obj");
+      const auto obj = dir_ / "frames" / name / (frame_name(number(f)) + ".obj");
       if (std::filesystem::exists(obj)) {
         const TriangleSurface s = read_obj_surface(obj.string());
-        const auto v = velocities.find(f);
-        usd_[name]->add_frame(f, s.x, s.tris, v != velocities.end() && v->second.rows() == s.x.rows() ? &v->second : nullptr);
-        first_usd_frame_ = std::min(first_usd_frame_, f);
+        const auto v = velocities.find(number(f));
+        usd_[name]->add_frame(number(f), s.x, s.tris, v != velocities.end() && v->second.rows() == s.x.rows() ? &v->second : nullptr);
+        first_usd_frame_ = std::min(first_usd_frame_, number(f));
       }
     }
   };
@@ -159,6 +143,37 @@ RunOutput::RunOutput(std::filesystem::path dir, const Scene& scene, const World&
 }
 
 RunOutput::~RunOutput() = default;
+
+void RunOutput::write_file(const std::filesystem::path& file, const std::string& contents) {
+  manifest_.record(file);
+  atomic_write(file, contents);
+}
+
+void RunOutput::read_earlier_rows(const std::string& checkpoint_csv) {
+  std::error_code ec;
+  if (std::filesystem::exists(dir_ / "energies.csv", ec)) csv_rows_ = rows_by_frame(read_file(dir_ / "energies.csv"), true, false);
+  if (std::filesystem::exists(dir_ / "stats.jsonl", ec)) stats_rows_ = rows_by_frame(read_file(dir_ / "stats.jsonl"), false, true);
+  // A checkpoint's rows stand in for those the folder's file lost (a truncated energies.csv).
+  for (auto& [frame, row] : rows_by_frame(checkpoint_csv, true, false)) csv_rows_.emplace(frame, std::move(row));
+}
+
+void RunOutput::write_csv() {
+  std::string csv = kCsvHeader;
+  for (const auto& [frame, row] : csv_rows_) csv += row;
+  write_file(dir_ / "energies.csv", csv);
+}
+
+void RunOutput::write_stats_file() {
+  std::string stats;
+  for (const auto& [frame, row] : stats_rows_) stats += row;
+  write_file(dir_ / "stats.jsonl", stats);
+}
+
+std::string RunOutput::csv_through(int frame) const {
+  std::string csv = kCsvHeader;
+  for (auto it = csv_rows_.begin(); it != csv_rows_.end() && it->first <= frame; ++it) csv += it->second;
+  return csv;
+}
 
 void RunOutput::add_to_cache(const std::string& name, const Points& x) {
   const auto it = pc2_.find(name);
@@ -180,6 +195,17 @@ std::string RunOutput::frame_name(int frame) {
   return buf;
 }
 
+std::set<int> RunOutput::frames_on_disk(const std::filesystem::path& dir) {
+  std::set<int> frames;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir / "frames", ec)) return frames;
+  for (const auto& object : std::filesystem::directory_iterator(dir / "frames", ec))
+    if (object.is_directory(ec))
+      for (const auto& f : std::filesystem::directory_iterator(object.path(), ec))
+        if (const int n = frame_number(f.path()); n >= 0) frames.insert(n);
+  return frames;
+}
+
 int RunOutput::frame_number(const std::filesystem::path& file) {
   const std::string stem = file.stem().string();
   if (stem.size() < 4 || stem.size() > 9 || stem.find_first_not_of("0123456789") != std::string::npos) return -1;
@@ -194,7 +220,7 @@ void RunOutput::write_frame(int frame, const World& world, const FrameReport& r)
     for (const auto& o : world.objects()) layers.emplace_back(o.name, "frames/" + o.name + ".usda");
     for (const auto& k : world.kinematic_bodies())
       if (usd_.count(k->name())) layers.emplace_back(k->name(), "frames/" + k->name() + ".usda");
-    atomic_write(dir_ / "shot.usda", usda_stage(layers, first_usd_frame_, frame, fps_));
+    write_file(dir_ / "shot.usda", usda_stage(layers, first_usd_frame_, number(frame), fps_));
   }
   write_frame_rows(frame, world, r);
 }
@@ -213,47 +239,51 @@ Points surface_velocities(const SimObject& o) {
 }  // namespace
 
 void RunOutput::write_frame_files(int frame, const World& world) {
+  // Each frame file's path, recorded in the manifest before it is written.
+  auto file = [&](const std::string& name, const char* extension) {
+    const std::filesystem::path p = dir_ / "frames" / name / (frame_name(number(frame)) + extension);
+    manifest_.record(p);
+    return p.string();
+  };
   for (const auto& o : world.objects()) {
-    const auto base = dir_ / "frames" / o.name / frame_name(frame);
     const TriangleSurface& surface = o.material_surface();  // a cut solid's embedded surface
-    if (formats_.count("obj")) write_obj(base.string() + ".obj", surface);
+    if (formats_.count("obj")) write_obj(file(o.name, ".obj"), surface);
     if (formats_.count("ply")) {
       const auto uv = per_vertex_uv(surface);  // a garment's, where it has one per vertex
-      write_ply(base.string() + ".ply", surface.x, surface.tris, PlyEncoding::binary_little_endian,
+      write_ply(file(o.name, ".ply"), surface.x, surface.tris, PlyEncoding::binary_little_endian,
                 uv.rows() > 0 ? &uv : nullptr);
     }
     // The surface's velocities, once for the USD layer and a cloth's VTU frame.
     const Points v = usd_.count(o.name) || (pvd_.count(o.name) && o.tets.rows() == 0) ? surface_velocities(o) : Points{};
     // Each frame with its own triangles: a fracturing solid's topology changes (usd_writer.hpp).
     if (auto it = usd_.find(o.name); it != usd_.end())
-      it->second->add_frame(frame, surface.x, surface.tris, v.rows() == surface.x.rows() ? &v : nullptr);
+      it->second->add_frame(number(frame), surface.x, surface.tris, v.rows() == surface.x.rows() ? &v : nullptr);
     if (auto it = pvd_.find(o.name); it != pvd_.end()) {
       VtuFields fields;
       if (o.tets.rows()) {  // a solid: its tets, det F and inverted flags per cell
         for (const auto& f : o.forces) f->add_cell_fields(fields.cell_scalars);
         fields.point_vectors["velocity"] = o.body.v;
-        write_vtu(base.string() + ".vtu", o.body.x, o.tets, fields);
+        write_vtu(file(o.name, ".vtu"), o.body.x, o.tets, fields);
       } else {  // a cloth: its surface
         fields.point_vectors["velocity"] = v;
-        write_vtu(base.string() + ".vtu", o.surface.x, o.surface.tris, fields);
+        write_vtu(file(o.name, ".vtu"), o.surface.x, o.surface.tris, fields);
       }
-      it->second->add(world.time(), vtu_entry(o.name, frame));
+      it->second->add(world.time(), vtu_entry(o.name, number(frame)));
     }
   }
   // Kinematic bodies, placed at this frame's time: for previews and for the user's own renders.
   for (const auto& k : world.kinematic_bodies()) {
     const TriangleSurface* s = k->surface();
     if (!s) continue;
-    const std::string base = (dir_ / "frames" / k->name() / frame_name(frame)).string();
-    if (formats_.count("obj")) write_obj(base + ".obj", *s);
-    if (formats_.count("ply")) write_ply(base + ".ply", s->x, s->tris);
+    if (formats_.count("obj")) write_obj(file(k->name(), ".obj"), *s);
+    if (formats_.count("ply")) write_ply(file(k->name(), ".ply"), s->x, s->tris);
     if (auto it = pvd_.find(k->name()); it != pvd_.end()) {
-      write_vtu(base + ".vtu", s->x, s->tris);
-      it->second->add(world.time(), vtu_entry(k->name(), frame));
+      write_vtu(file(k->name(), ".vtu"), s->x, s->tris);
+      it->second->add(world.time(), vtu_entry(k->name(), number(frame)));
     }
     if (auto it = usd_.find(k->name()); it != usd_.end()) {
       const Points v = k->surface_velocities();
-      it->second->add_frame(frame, s->x, s->tris, v.rows() == s->x.rows() ? &v : nullptr);
+      it->second->add_frame(number(frame), s->x, s->tris, v.rows() == s->x.rows() ? &v : nullptr);
     }
   }
   for (const auto& o : world.objects()) add_to_cache(o.name, o.material_surface().x);
@@ -267,8 +297,8 @@ void RunOutput::write_frame_rows(int frame, const World& world, const FrameRepor
                 r.kinetic, r.elastic, r.gravity, r.kinetic + r.elastic + r.gravity, r.elements.inverted,
                 r.elements.elements, r.elements.min_det_F, r.elements.volume, r.elements.rest_volume, r.substeps,
                 r.cg_iterations);
-  csv_ += row;
-  atomic_write(dir_ / "energies.csv", csv_);
+  csv_rows_[frame] = row;
+  write_csv();
 }
 
 std::string measure_frame(const World& world, FrameReport& r) {
@@ -338,8 +368,8 @@ std::string stats_record(int frame, const World& world, const FrameReport& r, co
 }
 
 void RunOutput::write_stats(int frame, const World& world, const FrameReport& r, const FrameTimings& t) {
-  stats_ += stats_record(frame, world, r, t) + "\n";
-  atomic_write(dir_ / "stats.jsonl", stats_);
+  stats_rows_[frame] = stats_record(frame, world, r, t) + "\n";
+  write_stats_file();
 }
 
 }  // namespace invfem::app

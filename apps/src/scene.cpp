@@ -333,7 +333,7 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
     for (const char* k : {"frames", "files", "fps", "start_frame"})
       if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a " + c.type + " collider (it belongs to a sequence)");
   if (c.type != "skinned")
-    for (const char* k : {"file", "clip", "pre_roll"})
+    for (const char* k : {"file", "clip", "pre_roll", "loop_blend"})
       if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on a " + c.type + " collider (it belongs to a skinned body)");
   if (c.type != "sequence" && c.type != "skinned")
     for (const char* k : {"start_time", "after_end"})
@@ -345,8 +345,14 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
     for (const char* k : {"point", "normal", "radius", "half_extents", "half_height", "teeth", "outer_radius",
                           "root_radius", "thickness", "clearance", "mesh", "motion"})
       if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on " + what + " give its shape and motion)");
-    if (c.type == "skinned") c.skinned = parse_skinned(f, dir, check_files);
-    else c.sequence = parse_sequence(f, dir, check_files);
+    if (c.type == "skinned") {
+      c.skinned = parse_skinned(f, dir, check_files);
+      rows_of(table, {"loop_blend"}).read(f, c);
+      if (c.loop_blend > 0 && c.skinned.after_end != "loop")
+        f.fail("loop_blend", "0 with after_end \"" + c.skinned.after_end + "\" (a blend is for a loop)");
+    } else {
+      c.sequence = parse_sequence(f, dir, check_files);
+    }
     rows_of(table, {"query_radius", "offset"}).read(f, c);
     check_offset(f, c.offset, c.query_radius);
     c.transform = parse_transform(f.object_or_empty("transform"));
@@ -716,7 +722,7 @@ nlohmann::json collider_json(const ColliderSpec& c) {
     j["start_time"] = k.start_time;
     j["pre_roll"] = k.pre_roll;
     j["after_end"] = k.after_end;
-    rows_of(table, {"query_radius", "offset"}).write(j, c);
+    rows_of(table, {"loop_blend", "query_radius", "offset"}).write(j, c);
     j["transform"] = transform_json(c.transform);
     return j;
   }

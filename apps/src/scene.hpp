@@ -300,6 +300,7 @@ struct ColliderSpec {
   double offset = 1e-3;                       // mesh, sequence, skinned: collision surface outside the mesh [m]
   SequenceSpec sequence;                      // sequence
   SkinnedSpec skinned;                        // skinned
+  double loop_blend = 0;                      // skinned, after_end loop: [s] the wrap's cross-fade
   Transform transform;                        // body -> world at rest (not with keyframes)
   MotionSpec motion;
   double friction = 0.3;
@@ -351,6 +352,10 @@ struct Scene {
   std::string name;
   double fps = 30;
   int frames = 60;  // frames after frame 0
+  // The number frame 0 carries in the files a run writes (NNNN.obj, png/NNNN.png) and in their
+  // time codes (USD, PC2): DCC timelines start at 1. Frame k is written as k + first_frame_number;
+  // options and energies.csv count frames from 0.
+  int first_frame_number = 0;
   std::array<double, 3> gravity{0, -9.81, 0};
   SolverSpec solver;
   SelfCollisionSpec self_collision;
@@ -361,6 +366,7 @@ struct Scene {
   nlohmann::json quick;           // field overrides for a quick-resolution run (--quick)
 
   static const FieldTable<Scene>& fields();  // scene_fields.cpp
+  int file_number(int frame) const { return frame + first_frame_number; }
 };
 
 // Parse and validate. Throws InputError naming the file, the JSON path, what was expected and

@@ -16,6 +16,10 @@ const FieldTable<Scene>& Scene::fields() {
       {.key = "fps", .member = &S::fps, .unit = "1/s", .range = {1, 10000}, .description = "output frame rate"},
       {.key = "frames", .member = &S::frames, .unit = "count", .range = {0, 1000000},
        .description = "frames after frame 0 (the rest state)"},
+      {.key = "first_frame_number", .member = &S::first_frame_number, .unit = "count", .range = {0, 1000000},
+       .description = "the number of frame 0 in the files a run writes (`NNNN.obj`, previews) and in USD and PC2 "
+                      "time codes, e.g. 1 for a DCC timeline that starts at 1; `--frames` and `energies.csv` "
+                      "count from 0"},
       {.key = "gravity", .unit = "m/s²", .description = "acceleration of gravity", .default_text = "`[0, -9.81, 0]`"},
       {.key = "solver", .description = "time stepping", .default_text = "see below"},
       {.key = "self_collision", .description = "the self-collision layer", .default_text = "see below"},
@@ -476,6 +480,11 @@ const FieldTable<ColliderSpec>& ColliderSpec::fields() {
        .description = "`skinned`: before `start_time`, the body goes from its bind pose (its skeleton at rest) into "
                       "the clip's first pose over this long, in [0, 1e6]; 0: no bind pose, the first pose holds",
        .default_text = "0"},
+      {.key = "loop_blend", .member = &S::loop_blend, .unit = "s", .range = {0, 1e6},
+       .description = "`skinned` with `after_end` `loop`: the wrap is cross-faded over this long, the clip's last "
+                      "`loop_blend` seconds into its first (the loop's period is then the clip's duration minus it; "
+                      "at most half the duration); 0: none, and a clip whose last pose lies further than "
+                      "`query_radius` - `offset` from its first is refused (the wrap would be a jump)"},
   });
   return table;
 }

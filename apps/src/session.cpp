@@ -7,6 +7,7 @@
 #include "checkpoint.hpp"
 #include "input_check.hpp"
 #include "json_fields.hpp"
+#include "memory_estimate.hpp"
 #include "run_folder.hpp"
 #include "world_builder.hpp"
 
@@ -18,12 +19,32 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
+namespace {
+// The scene checked against its memory budget before the world is built (the constructor's
+// initializer list builds it).
+const Scene& within_memory_limit(const Scene& scene, const SessionOptions& options) {
+  const MemoryLimit limit = memory_limit_from(options.memory_limit, "memory_limit");
+  check_memory_budget(estimate_memory(scene), limit.bytes, limit.source, scene.file.string());
+  return scene;
+}
+
+World built_world(const Scene& scene, const SessionOptions& options, Colliders& colliders) {
+  LoadWarnings warnings;
+  World world = build_world(within_memory_limit(scene, options), &colliders, &warnings);
+  if (options.strict) warnings.refuse_any(scene.file.string());
+  return world;
+}
+}  // namespace
+
 Session::Session(Scene scene, SessionOptions options)
-    : scene_(std::move(scene)), options_(std::move(options)), world_(build_world(scene_, &colliders_)) {
+    : scene_(std::move(scene)), options_(std::move(options)), world_(built_world(scene_, options_, colliders_)) {
   if (!options_.out) return;
   prepare_output_dir(*options_.out, "out");
-  claim_run_folder(*options_.out, scene_, false, false, options_.overwrite, true);
-  remove_stale_temporaries(*options_.out);
+  RunClaim claim;
+  claim.overwrite = options_.overwrite;
+  claim.quiet = true;
+  claim.planned.formats = options_.formats;
+  claim_run_folder(*options_.out, scene_, claim);
   output_ = std::make_unique<RunOutput>(*options_.out, scene_, world_, options_.formats);
   FrameReport r;
   (void)checked(std::move(r), FrameTimings{});
@@ -76,7 +97,9 @@ std::filesystem::path Session::save_checkpoint(const std::filesystem::path& dir)
     throw std::logic_error("save_checkpoint: the simulation is between frames (t = " + std::to_string(world_.time()) +
                            " s); a checkpoint holds a whole frame");
   prepare_output_dir(dir, "checkpoint folder");
-  app::save_checkpoint(dir, scene_, world_, frame_, output_ ? output_->csv() : std::string());
+  std::error_code ec;
+  if (output_ && std::filesystem::equivalent(dir, *options_.out, ec)) output_->manifest().record(checkpoint_path(*options_.out, frame_));
+  app::save_checkpoint(dir, scene_, world_, frame_, output_ ? output_->csv_through(frame_) : std::string());
   return checkpoint_path(dir, frame_);
 }
 

@@ -19,12 +19,15 @@ struct SessionOptions {
   std::optional<std::filesystem::path> out;  // a run folder, written as `invfem run --out` writes it
   std::set<std::string> formats{"obj"};      // its per-frame formats (parse_formats)
   bool overwrite = false;                    // clear an earlier run in `out` (run --overwrite)
+  std::string memory_limit;                  // run --memory-limit ("": the default share, "none")
+  bool strict = false;                       // refuse a scene with a warning at load (run --strict)
 };
 
 class Session {
  public:
-  // Builds the scene's world (InputError naming the file and field for bad input); with an output
-  // folder, claims it as `invfem run` does and writes scene.json and frame 0.
+  // Builds the scene's world (InputError naming the file and field for bad input; a scene whose
+  // estimated memory exceeds the limit is refused before anything is built, as `invfem run` does);
+  // with an output folder, claims it as `invfem run` does and writes scene.json and frame 0.
   Session(Scene scene, SessionOptions options);
   ~Session();
 
@@ -47,7 +50,7 @@ class Session {
   // Throws std::logic_error between frames (a checkpoint holds a whole frame).
   std::filesystem::path save_checkpoint(const std::filesystem::path& dir) const;
   // Restores a checkpoint of this scene (InputError naming the file otherwise); with an output
-  // folder, its rows after that frame are dropped and frames are written on from there.
+  // folder, frames are written on from there, each replacing its earlier files and rows.
   void load_checkpoint(const std::filesystem::path& file);
 
  private:

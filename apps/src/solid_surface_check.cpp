@@ -54,7 +54,10 @@ SolidSurfaceCheck check_solid_surface(const TriangleSurface& surface, const std:
   // Triangles by their order in the file (the loader keeps it, less the zero-area ones it drops)
   // and a corner, for a reader looking for them.
   auto triangle_name = [&](int t) { return "triangle " + std::to_string(t) + " at " + point(surface, surface.tris(t, 0)); };
-  auto warn = [&](const std::string& what) { std::cerr << "warning: " << file << ": " << what << "\n"; };
+  auto warn = [&](const std::string& what) {
+    out.warnings.push_back(file + ": " + what);
+    std::cerr << "warning: " << out.warnings.back() << "\n";
+  };
   if (d.open_edges > 0)
     warn(std::to_string(d.open_edges) + " open edges (used by one triangle; first: " + edge_name(surface, d.first_open_edge) +
          "): the surface has holes, so inside is decided by the generalized winding number, which closes them "

@@ -13,6 +13,7 @@
 //     exact across them; `invfem mesh` prints their counts), a surface turned inside out (both
 //     inside tests ignore the sign).
 #include <string>
+#include <vector>
 
 #include "invfem/core/geometry/surface_check.hpp"
 #include "invfem/solids/bcc_mesher.hpp"
@@ -24,6 +25,7 @@ struct SolidSurfaceCheck {
   long long self_intersections = 0;  // pairs of triangles sharing no vertex that share a point
   int first_intersection[2] = {-1, -1};  // the smallest such pair (triangle indices)
   double seconds = 0;                // wall time of the whole check
+  std::vector<std::string> warnings;  // as printed, without "warning: "
 };
 
 // Checks `surface` (read from `file`, named in every message), prints the warnings to stderr and

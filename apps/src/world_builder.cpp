@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "collider_builders.hpp"
+#include "invfem/collisions/certificate/intersection_count.hpp"
 #include "invfem/collisions/colliders/rigid_collisions.hpp"
 #include "invfem/core/world/attachment_embedding.hpp"
 #include "invfem/collisions/self_collision/self_collision_pass.hpp"
@@ -74,14 +75,39 @@ void check_thickness(const Scene& scene, const World& world) {
   }
 }
 
+// An object that starts through an animated or mesh body (a garment placed through the
+// character): the certificate's count of crossing pairs between its surface and the body's at
+// t = 0. Neither the collision processing nor the self-collision layer undoes a crossing that is
+// there from the start: a warning with the count (--strict refuses it). Analytic colliders have
+// no exact triangles (check_not_inside_colliders judges them).
+void warn_about_starts_through_bodies(const Scene& scene, const World& world, LoadWarnings& warnings) {
+  for (const auto& k : world.kinematic_bodies()) {
+    const TriangleSurface* body = k->surface();
+    if (!body || !k->surface_is_shape() || body->tris.rows() == 0) continue;
+    for (const SimObject& o : world.objects()) {
+      if (o.surface.tris.rows() == 0) continue;
+      const certificate::IntersectionCount c = certificate::count_intersections({&o.surface, body}, {}, 1, {0, 0});
+      if (c.cross_total() == 0) continue;
+      warnings.add(scene.file.string() + ": \"" + o.name + "\" starts through body \"" + k->name() + "\": " +
+                   std::to_string(c.cross_total()) + " pairs of their triangles intersect (first: its triangle " +
+                   std::to_string(c.examples[0].triangle_a) + " and the body's " +
+                   std::to_string(c.examples[0].triangle_b) +
+                   "); the collisions keep crossings from forming, they do not undo them: place the object "
+                   "outside the body (`invfem check OUT --frames 0-0` lists the pairs)");
+    }
+  }
+}
+
 }  // namespace
 
-World build_world(const Scene& scene, Colliders* typed) {
+World build_world(const Scene& scene, Colliders* typed, LoadWarnings* warnings) {
+  LoadWarnings printed_only;
+  LoadWarnings& warn = warnings ? *warnings : printed_only;
   std::vector<SimObject> objects;
   std::vector<FracturingSolid> fracturing;
   for (const auto& spec : scene.solids) {
     TetMesh mesh;
-    SolidObject solid = build_solid(spec, scene, &mesh);
+    SolidObject solid = build_solid(spec, scene, &mesh, &warn);
     objects.push_back(std::move(solid.object));
     if (!spec.fracture) continue;
     FracturingSolid f{spec.name, std::move(mesh), FractureCriterion{}, solid.tet_force};
@@ -99,7 +125,7 @@ World build_world(const Scene& scene, Colliders* typed) {
     }
     fracturing.push_back(std::move(f));
   }
-  for (const auto& spec : scene.cloths) objects.push_back(build_cloth(spec, scene));
+  for (const auto& spec : scene.cloths) objects.push_back(build_cloth(spec, scene, &warn));
   // Attached cloth vertices: embedded in their solid at the start (scene.cpp checked the names).
   for (SimObject& cloth : objects)
     for (AttachmentGroup& group : cloth.attachments) {
@@ -138,6 +164,7 @@ World build_world(const Scene& scene, Colliders* typed) {
   try {
     World world(settings, std::move(objects), std::move(colliders.bodies),
                 std::make_unique<RigidCollisions>(std::move(colliders.collision), std::move(couplings)));
+    warn_about_starts_through_bodies(scene, world, warn);
     const SelfCollisionSpec& sc = scene.self_collision;
     if (sc.enabled) check_thickness(scene, world);
     if (sc.enabled) {

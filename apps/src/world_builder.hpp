@@ -7,13 +7,15 @@
 
 #include "invfem/core/world/world.hpp"
 #include "collider_builders.hpp"
+#include "load_warnings.hpp"
 #include "scene.hpp"
 
 namespace invfem::app {
 
 // Loads and validates every mesh; throws InputError naming the file, the object and the problem.
 // colliders (optional): the world's kinematic bodies by type (Colliders::rigid, ::sequences).
-World build_world(const Scene& scene, Colliders* colliders = nullptr);
+// warnings (optional): the load's warnings (printed as found), for --strict.
+World build_world(const Scene& scene, Colliders* colliders = nullptr, LoadWarnings* warnings = nullptr);
 
 // The step size at the world's current state and what a frame costs at it (World::step_size,
 // substeps_for), as `invfem run` states it at its start and `invfem check-scene` reports it.

@@ -3,7 +3,8 @@
 # code. `render` and `check` name every missing or unreadable frame of the range asked for and
 # exit 2 (render draws the others first); a UTF-8 byte order mark is skipped by the OBJ, CCD query
 # and welds readers; a key given twice in a scene is an error naming it; output files that cannot
-# be written (check --json, bench --json, a frame folder) are exit 2 before any work.
+# be written (check --json, bench --json, a frame folder, render's png/) are exit 2 before any
+# work, and so is a write that fails on the way (a full disk).
 #   frames_and_inputs.sh INVFEM SOURCE_DIR WORKDIR
 invfem="$1" src="$2" work="$3"
 source "$(dirname "$0")/lib.sh"
@@ -27,11 +28,26 @@ sed -i '1s/.*/v nan 0 0/' "$work/nan/frames/cloth/0003.obj"
 expect_output 2 "frame 3 of 1-4 missing or unreadable" -- render "$work/nan" --frames 1-4 --width 32 --height 24 --camera 0,1,3,0,0,0
 
 # Output files that cannot be written: exit 2, before any work.
+# A write that fails mid-run (a full disk, simulated by a file-size limit with SIGXFSZ ignored, so
+# the write returns EFBIG as on a full disk) is bad output too: exit 2, naming the file.
+code=$( (trap '' XFSZ; ulimit -f 8; timeout 60 "$invfem" run "$scene" --quick --quiet --set frames=2 --out "$work/full" 2>"$work/full.err"); echo $?)
+if [ "$code" != 2 ] || ! grep -qF "cannot write $work/full/frames/cloth/0000.obj: writing $work/full/frames/cloth/0000.obj.tmp failed (disk full? free space or choose another folder)" "$work/full.err"; then
+  echo "FAIL: a write to a full disk: exit $code (want 2), stderr: $(cat "$work/full.err")"
+  fail=1
+fi
+# render where OUT/png is a file: exit 2 naming it.
+cp -r "$work/run" "$work/pngfile" && rm -rf "$work/pngfile/png" && echo "mine" > "$work/pngfile/png"
+expect 2 "the previews' folder $work/pngfile/png: is a file, not a folder (move it away, or give another folder)" \
+  -- render "$work/pngfile" --width 32 --height 24
 expect 2 "check: --json: cannot write \"/proc/x.json\"" -- check "$work/run" --json /proc/x.json
 expect 2 "bench: --json: cannot write \"/proc/x.json\"" -- bench --quick --json /proc/x.json
 expect 2 "check: --json: cannot write \"$work\": it is a folder" -- check "$work/run" --json "$work"
-mkdir -p "$work/blocked/frames" && touch "$work/blocked/frames/cloth"
-expect 2 "--out $work/blocked/frames/cloth: is a file, not a folder" -- run "$scene" --quick --out "$work/blocked" --resume
+cp -r "$work/run" "$work/blocked" && rm -r "$work/blocked/frames/cloth" && touch "$work/blocked/frames/cloth"
+expect 2 "--out $work/blocked/frames/cloth: is a file, not a folder" -- run "$scene" --quick --set frames=5 --out "$work/blocked" --resume
+# Without a run there, the same file is in the run's way, and not invfem's to replace.
+rm "$work/blocked/invfem-manifest.txt"
+expect 2 "holds scene.json, energies.csv, stats.jsonl, checkpoints, which this run would write, but no run of invfem" \
+  -- run "$scene" --quick --set frames=5 --out "$work/blocked"
 
 # A key twice in one object: an error naming it.
 sed 's/"fps": *\([0-9.]*\),/"fps": \1, "fps": 50,/' "$scene" > "$work/twice.json"

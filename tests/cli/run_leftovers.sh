@@ -9,18 +9,20 @@ rm -rf "$work" && mkdir -p "$work"
 scene="$src/apps/scenes/torus_puddle.json"
 fail=0
 
-# Stale temporaries: planted where atomic_write puts them, removed by the resume, nothing else touched.
+# Stale temporaries: planted where atomic_write puts them, removed by the resume; the user's own
+# *.tmp files, which the run's manifest does not list, and every other file stay.
 "$invfem" run "$scene" --quick --set frames=4 --checkpoint-every 2 --quiet --out "$work/run" || { echo "FAIL: run"; exit 1; }
 touch "$work/run/frames/torus/0003.obj.tmp" "$work/run/checkpoints/0004.ckpt.tmp" "$work/run/energies.csv.tmp"
-touch "$work/run/keep.txt"
+touch "$work/run/keep.txt" "$work/run/mine.tmp" "$work/run/frames/torus/notes.tmp"
 out=$("$invfem" run "$scene" --quick --set frames=4 --checkpoint-every 2 --out "$work/run" --resume 2>&1)
 if ! grep -qF "removed 3 stale temporary files (*.tmp) left by a stopped run in $work/run" <<<"$out"; then
   echo "FAIL: no report of the removed temporaries: $out"
   fail=1
 fi
-left=$(find "$work/run" -name '*.tmp')
-if [ -n "$left" ] || [ ! -f "$work/run/keep.txt" ]; then
-  echo "FAIL: temporaries left ($left) or another file removed"
+left=$(find "$work/run" -name '*.tmp' | sort)
+want=$(printf '%s\n' "$work/run/frames/torus/notes.tmp" "$work/run/mine.tmp" | sort)
+if [ "$left" != "$want" ] || [ ! -f "$work/run/keep.txt" ]; then
+  echo "FAIL: temporaries left are ($left), want only the user's ($want), or another file was removed"
   fail=1
 fi
 

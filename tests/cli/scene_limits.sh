@@ -117,4 +117,22 @@ fi
 expect 2 '$.solver.max_substeps_per_frame: expected an integer in [1, 2147483647]' -- \
   check-scene "$torus" --set solver.max_substeps_per_frame=0
 
+# 7. Memory inside the allowed ranges: a scene is estimated before anything is built (check-scene
+#    prints it) and one over the budget (--memory-limit, default a share of the machine's memory)
+#    is refused with the estimate and the field to change; the refusal comes at once, before the
+#    BCC mesher would take gigabytes.
+muscle="$src/apps/scenes/muscle.json"
+start=$(date +%s)
+expect 2 "the scene needs about 335 GB" -- run "$muscle" --out "$work/mem" --set solids.0.mesh_resolution=1000
+expect 2 "solids[0].mesh_resolution: mesh_resolution" -- check-scene "$muscle" --set solids.0.mesh_resolution=1000
+[ $(( $(date +%s) - start )) -lt 30 ] || { echo "FAIL: the refusals of a 335 GB scene took $(( $(date +%s) - start )) s"; fail=1; }
+[ ! -e "$work/mem/frames" ] || { echo "FAIL: a refused scene wrote frames"; fail=1; }
+expect 2 "more than the limit of 50 MB (--memory-limit 50M): cloths[0].grid.nx: nx and ny scaled by" -- \
+  run "$drape" --quick --out "$work/mem" --set cloths.0.grid.nx=400 --set cloths.0.grid.ny=400 --memory-limit 50M
+expect 2 "--memory-limit: expected a size such as 16G, 512M or 2000000000 (bytes), or none; found \"12Q\"" -- \
+  run "$drape" --quick --out "$work/mem" --memory-limit 12Q
+expect_output 0 "memory: about 8" -- check-scene "$muscle"
+expect_output 0 "limit none" -- check-scene "$muscle" --memory-limit none
+expect_output 0 "valid" -- check-scene "$muscle" --set solids.0.mesh_resolution=48 --memory-limit 1G
+
 exit $fail

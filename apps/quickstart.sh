@@ -2,7 +2,8 @@
 # One command from a fresh clone: install what is missing, build (Release), and run the default
 # scene, the ITF04 Figure 5 Buddha with a cape (apps/scenes/buddha_cape.json) at a middle
 # resolution (7.6K tets, a 2.3K-triangle cape, 60 frames: about 3-5 minutes on 2 cores), writing
-# its frames and preview PNGs.
+# its frames and preview PNGs. It also builds the Python module invfem (build/apps/python), so that
+# README.md's Python example runs next.
 #   apps/quickstart.sh [OUT_DIR]          (default: out/buddha_cape)
 #   apps/quickstart.sh --torus [OUT_DIR]  the ITF04 Figure 2 torus puddle instead (default: out/torus_puddle)
 set -euo pipefail
@@ -15,7 +16,7 @@ fi
 bash "$root/apps/deps.sh"
 build="$root/build"
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build" -j"$(nproc)" --target invfem
+cmake --build "$build" -j"$(nproc)" --target invfem invfem_python
 out="${1:-$root/out/$scene}"
 if [[ "$scene" == buddha_cape ]]; then
   # The middle resolution; the scene file itself holds the full one (about 300K tets, an
@@ -36,3 +37,6 @@ else
 fi
 echo "previews: $out/png/NNNN.png"
 echo "energies: $out/energies.csv"
+# The interpreter the module is built for (Debian's, with NumPy; the top CMakeLists.txt).
+python=$(sed -n 's/^PYTHON_EXECUTABLE:[A-Z]*=//p' "$build/CMakeCache.txt")
+echo "python:   PYTHONPATH=$build/apps/python ${python:-python3}   (then import invfem: README.md, \"Python\")"

@@ -5,13 +5,16 @@ What it must show: a scene stepped from Python writes the same frames, byte for 
 run`; a body driven from arrays (a callable or pushed frames) gives the same frames as the same
 motion given as a mesh sequence; a bad field raises ValueError with its JSON path; arrays have the
 documented shapes and dtypes; checkpoint and resume are bit-identical; the certificate on arrays;
-stepping releases the GIL; errors are Python exceptions.
+stepping releases the GIL; calls on one Simulation from several threads run one at a time; a dict
+scene's values are converted with their path named in errors; errors are Python exceptions.
 """
 
+import copy
 import filecmp
 import json
 import os
 import subprocess
+import sys
 import tempfile
 import threading
 import unittest
@@ -215,23 +218,154 @@ class ModuleTest(unittest.TestCase):
             invfem.check([(np.array([[0, 0, np.nan], [1, 0, 0], [0, 1, 0]]), tri)])
 
     def test_stepping_releases_the_gil(self):
+        """Deterministic, not timed. With a switch interval of 1000 s no thread hands the GIL over by
+        itself: the other thread, started then, runs until it blocks on `go`, and once `go` is set
+        it can take the GIL, and set `ran`, only when the main thread releases it. A pure-Python
+        loop first shows that it does not run then (the control); stepping must let it run."""
+        scene = copy.deepcopy(self.scene)
+        scene["colliders"] = []  # a falling sheet: any number of frames
+        sim = invfem.Simulation(scene)
+        go, ran = threading.Event(), threading.Event()
+
+        def other():
+            go.wait()
+            ran.set()
+
+        interval = sys.getswitchinterval()
+        sys.setswitchinterval(1e3)
+        t = threading.Thread(target=other)
+        try:
+            t.start()
+            go.set()  # `other` now waits for the GIL alone
+            busy = sum(i * i for i in range(200000))  # holds the GIL all along
+            self.assertFalse(ran.is_set(), "the control: pure Python gave the GIL away (%d)" % busy)
+            frames = 0
+            while not ran.is_set() and frames < 200:
+                sim.step_frame()
+                frames += 1
+        finally:
+            sys.setswitchinterval(interval)
+            go.set()
+            t.join()
+        self.assertTrue(ran.is_set(), "no other thread ran during %d frames of stepping" % frames)
+
+    def test_threads_stepping_one_simulation_take_turns(self):
+        """Two threads step and read one Simulation whose body is driven by a Python callable (which
+        needs the GIL while the other thread waits for the Simulation). Run in a subprocess, so a
+        crash or a deadlock is this test's failure: every report's frame is distinct and the
+        frames reached add up."""
+        script = r"""
+import json, sys, threading
+sys.path.insert(0, sys.argv[1])
+import invfem
+from test_module import body_frame, sheet_scene
+sim = invfem.Simulation(sheet_scene("body{N}.obj", 10), base_dir=sys.argv[2])
+sim.drive_body("body", body_frame)
+frames, errors = [], []
+def work():
+    try:
+        for _ in range(4):
+            frames.append(sim.step_frame()["frame"])
+            assert sim.positions("sheet").shape == (81, 3)
+            assert sim.surface("body")["vertices"].shape == (8, 3)
+            assert sim.frame >= 1 and sim.time > 0
+    except BaseException as e:
+        errors.append(repr(e))
+threads = [threading.Thread(target=work) for _ in range(2)]
+for t in threads: t.start()
+for t in threads: t.join()
+print(json.dumps({"frame": sim.frame, "frames": sorted(frames), "errors": errors}))
+"""
+        done = subprocess.run([sys.executable, "-c", script, os.path.dirname(os.path.abspath(__file__)), self.dir],
+                              capture_output=True, text=True, timeout=300)
+        self.assertEqual(done.returncode, 0, "the process ended with %d: %s" % (done.returncode, done.stderr[-2000:]))
+        result = json.loads(done.stdout.strip().splitlines()[-1])
+        self.assertEqual(result["errors"], [])
+        self.assertEqual(result["frame"], 8)
+        self.assertEqual(result["frames"], list(range(1, 9)))
+
+    def test_a_call_from_a_drive_body_source_into_its_simulation_raises(self):
         sim = self.simulation()
-        ticks = []
-        done = threading.Event()
 
-        def tick():
-            while not done.is_set():
-                ticks.append(1)
-                done.wait(0.001)
+        def source(k):
+            sim.positions("sheet")  # would wait for the step that calls this source
+            return body_frame(k)
 
-        t = threading.Thread(target=tick)
-        t.start()
-        before = len(ticks)
-        self.run_frames(sim, 3)
-        during = len(ticks) - before
-        done.set()
-        t.join()
-        self.assertGreater(during, 5)
+        with self.assertRaises(RuntimeError) as e:
+            sim.drive_body("body", source)
+        self.assertIn("its own calls", str(e.exception))
+
+    def test_dict_values_are_converted_with_their_path_in_errors(self):
+        def refused(change, *where, set=None):
+            scene = copy.deepcopy(self.scene)
+            change(scene)
+            with self.assertRaises(ValueError) as e:
+                invfem.Simulation(scene, base_dir=self.dir, set=set or {})
+            for text in where:
+                self.assertIn(text, str(e.exception))
+            return str(e.exception)
+
+        refused(lambda s: s.update(gravity=[0, float("nan"), 0]), "$.gravity[1]", "nan")
+        refused(lambda s: s["cloths"][0]["material"].update(young=float("inf")), "$.cloths[0].material.young", "inf")
+        refused(lambda s: s["cloths"][0]["material"].update(young=np.float32("-inf")), "$.cloths[0].material.young")
+        refused(lambda s: s.update(name=b"sheet"), "$.name", "bytes")
+        refused(lambda s: s["cloths"][0]["transform"].update(translate={0, 0.45}), "$.cloths[0].transform.translate", "set")
+        refused(lambda s: s.update(fps=object()), "$.fps", "object")
+        refused(lambda s: s.update(fps=np.complex128(25)), "$.fps", "complex")
+        refused(lambda s: s.update(frames=2 ** 70), "$.frames", "64-bit")
+        refused(lambda s: s["cloths"][0].update({1: "one"}), "$.cloths[0]", "key 1", "int")
+        refused(lambda s: s["colliders"][0].update({"my key": float("nan")}), '$.colliders[0]["my key"]')
+        refused(lambda s: s.update(loop=s), "$.loop", "contains itself")
+        refused(lambda s: None, 'set["gravity"][1]', set={"gravity": [0, float("nan"), 0]})
+        refused(lambda s: None, 'set["fps"]', "bytes", set={"fps": b"25"})
+        refused(lambda s: None, "set", "key 3", set={3: 1})
+
+    def test_numpy_scalars_in_a_dict_scene_are_the_same_numbers(self):
+        scene = copy.deepcopy(self.scene)
+        scene["frames"] = np.int64(5)
+        scene["fps"] = np.int32(25)
+        scene["cloths"][0]["grid"].update(width=np.float32(0.625), nx=np.uint8(8))
+        scene["cloths"][0]["material"]["young"] = np.float64(2e5)
+        scene["cloths"][0]["self_collision"] = np.True_
+        scene["cloths"][0]["transform"]["translate"] = (0, np.float16(0.5), 0)
+        plain = json.loads(json.dumps(self.scene))
+        plain["frames"] = 5
+        plain["cloths"][0]["grid"]["width"] = 0.625
+        plain["cloths"][0]["self_collision"] = True
+        plain["cloths"][0]["transform"]["translate"] = [0, 0.5, 0]
+        numpy_sim = invfem.Simulation(scene, base_dir=self.dir, set={"solver.max_dt": np.float64(0.01)})
+        plain_sim = invfem.Simulation(plain, base_dir=self.dir, set={"solver.max_dt": 0.01})
+        self.assertEqual((numpy_sim.frames, numpy_sim.fps), (5, 25.0))
+        numpy_sim.step_frame()
+        plain_sim.step_frame()
+        self.assertTrue(np.array_equal(numpy_sim.positions("sheet"), plain_sim.positions("sheet")))
+        self.assertEqual(invfem.Simulation(self.scene, base_dir=self.dir, set={"frames": np.int64(3)}).frames, 3)
+
+    def test_a_body_with_no_surface_says_so(self):
+        sim = invfem.Simulation(os.path.join(SCENES, "cloth_drape.json"), quick=True)
+        self.assertIn("ground", sim.bodies)
+        for read in (sim.positions, sim.velocities, sim.surface):
+            with self.assertRaises(ValueError) as e:
+                read("ground")
+            self.assertIn('"ground" is a kinematic body with no surface (an infinite plane)', str(e.exception))
+        self.assertEqual(sim.positions("ball").shape[1], 3)  # an analytic body has a drawn surface
+        with self.assertRaises(KeyError):
+            sim.positions("floor")
+
+    def test_a_scene_over_its_memory_limit_or_with_a_warning_under_strict_is_refused(self):
+        big = {"cloths.0.grid.nx": 400, "cloths.0.grid.ny": 400}
+        with self.assertRaises(ValueError) as e:
+            invfem.Simulation(os.path.join(SCENES, "cloth_drape.json"), set=big, memory_limit="50M")
+        self.assertIn("more than the limit of 50 MB", str(e.exception))
+        self.assertIn("cloths[0].grid.nx", str(e.exception))
+        with self.assertRaises(ValueError):
+            invfem.Simulation(os.path.join(SCENES, "cloth_drape.json"), quick=True, memory_limit="12Q")
+        through = json.loads(json.dumps(self.scene))
+        through["cloths"][0]["transform"]["translate"] = [0, 0.2, 0]  # the sheet through the box at frame 0
+        self.assertEqual(invfem.Simulation(through, base_dir=self.dir).frame, 0)  # a warning only
+        with self.assertRaises(ValueError) as e:
+            invfem.Simulation(through, base_dir=self.dir, strict=True)
+        self.assertIn('"sheet" starts through body "body"', str(e.exception))
 
     def test_errors_are_python_exceptions(self):
         sim = self.simulation()

@@ -6,6 +6,9 @@
 // Arrays: float64 positions (n, 3), int32 indices; outputs are new arrays (the state they come
 // from moves on at the next step); inputs in C order and float64 are read in place, others are
 // converted once.
+//
+// Threads: calls on one Simulation run one at a time (its mutex); different Simulations step in
+// parallel. The module is invfem._invfem, re-exported by the package invfem (apps/python/invfem).
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -13,15 +16,23 @@
 #include <pybind11/stl/filesystem.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cmath>
 #include <map>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "arrays.hpp"
 #include "invfem/collisions/certificate/intersection_count.hpp"
 #include "invfem/collisions/colliders/body_sequence.hpp"
 #include "invfem/core/io/mesh_error.hpp"
+#include "invfem/core/io/output_error.hpp"
 #include "json_fields.hpp"
 #include "run_output.hpp"
 #include "session.hpp"
@@ -32,11 +43,135 @@ using namespace invfem::app;
 
 namespace {
 
-// The JSON of a Python object (a dict with the scene schema) through Python's own json module:
-// its float repr round-trips, so the numbers are the dict's exactly.
-nlohmann::json to_json_value(const py::object& value) {
-  const std::string text = py::module_::import("json").attr("dumps")(value).cast<std::string>();
-  return nlohmann::json::parse(text);
+// --- Python values to JSON -----------------------------------------------------------------------
+// A scene given as a dict, and the values of `set`, are converted here rather than through Python's
+// json module, so that a value a scene cannot hold raises a ValueError naming where it is:
+// `$.gravity[1]: nan is not a finite number`. Floats are taken as the exact doubles they are.
+
+// A dict entry's path: `.name` for a plain name, `["..."]` (JSON-quoted) for any other key.
+std::string member_path(const std::string& parent, const std::string& key) {
+  const auto plain = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  if (!key.empty() && !std::isdigit(static_cast<unsigned char>(key[0])) && std::all_of(key.begin(), key.end(), plain))
+    return parent + "." + key;
+  return parent + "[" + nlohmann::json(key).dump() + "]";
+}
+
+std::string type_name(py::handle value) { return Py_TYPE(value.ptr())->tp_name; }
+
+[[noreturn]] void not_a_scene_value(py::handle value, const std::string& path) {
+  throw py::value_error(path + ": a value of type " + type_name(value) +
+                        ", which a scene cannot hold (dict, list, tuple, str, int, float, bool or None)");
+}
+
+// A str as UTF-8 (a str with a lone surrogate has none).
+std::string utf8(py::handle text, const std::string& path) {
+  Py_ssize_t size = 0;
+  const char* data = PyUnicode_AsUTF8AndSize(text.ptr(), &size);
+  if (!data) {
+    PyErr_Clear();
+    throw py::value_error(path + ": a str that is not valid Unicode (a lone surrogate)");
+  }
+  return std::string(data, static_cast<std::size_t>(size));
+}
+
+// An int, or anything with __index__ (NumPy integer scalars), within the 64-bit range.
+nlohmann::json integer(py::handle value, const std::string& path) {
+  const auto index = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
+  if (!index) throw py::error_already_set();
+  int overflow = 0;
+  const long long v = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
+  if (overflow == 0) return v;
+  if (overflow > 0) {
+    const unsigned long long u = PyLong_AsUnsignedLongLong(index.ptr());
+    if (!PyErr_Occurred()) return u;
+    PyErr_Clear();
+  }
+  throw py::value_error(path + ": an integer outside the 64-bit range a scene's numbers have");
+}
+
+nlohmann::json finite(double v, const std::string& path) {
+  if (!std::isfinite(v))
+    throw py::value_error(path + ": " + (std::isnan(v) ? "nan" : v > 0 ? "inf" : "-inf") +
+                          " is not a finite number (a scene's numbers are finite; JSON has no NaN or infinity)");
+  return v;
+}
+
+// NumPy's bool and floating scalars (its integers have __index__), looked for only when NumPy is
+// loaded: otherwise there are none.
+std::optional<nlohmann::json> numpy_scalar(py::handle value, const std::string& path) {
+  const auto numpy = py::reinterpret_steal<py::object>(PyImport_GetModule(py::str("numpy").ptr()));
+  if (!numpy) {
+    PyErr_Clear();
+    return std::nullopt;
+  }
+  if (py::isinstance(value, numpy.attr("bool_"))) return value.cast<bool>();
+  if (py::isinstance(value, numpy.attr("floating"))) return finite(value.cast<double>(), path);
+  return std::nullopt;
+}
+
+class JsonFromPython {
+ public:
+  nlohmann::json operator()(py::handle value, const std::string& path) {
+    if (value.is_none()) return nullptr;
+    if (PyBool_Check(value.ptr())) return value.ptr() == Py_True;
+    if (PyFloat_Check(value.ptr())) return finite(PyFloat_AS_DOUBLE(value.ptr()), path);
+    if (PyLong_Check(value.ptr())) return integer(value, path);
+    if (PyUnicode_Check(value.ptr())) return utf8(value, path);
+    if (PyDict_Check(value.ptr())) return container(value, path, [&] { return object(value, path); });
+    if (PyList_Check(value.ptr()) || PyTuple_Check(value.ptr()))
+      return container(value, path, [&] { return array(value, path); });
+    if (auto scalar = numpy_scalar(value, path)) return *scalar;
+    if (PyIndex_Check(value.ptr())) return integer(value, path);
+    not_a_scene_value(value, path);
+  }
+
+ private:
+  // Converts a dict, list or tuple, refusing one that holds itself (it has no JSON form) and
+  // nesting deeper than any scene.
+  template <typename Convert>
+  nlohmann::json container(py::handle value, const std::string& path, Convert convert) {
+    if (std::find(open_.begin(), open_.end(), value.ptr()) != open_.end())
+      throw py::value_error(path + ": the value contains itself (a circular reference)");
+    if (open_.size() >= kMaxDepth)
+      throw py::value_error(path + ": nested deeper than " + std::to_string(kMaxDepth) + " levels");
+    open_.push_back(value.ptr());
+    nlohmann::json j = convert();
+    open_.pop_back();
+    return j;
+  }
+  nlohmann::json object(py::handle dict, const std::string& path) {
+    nlohmann::json j = nlohmann::json::object();
+    for (const auto& [key, item] : py::reinterpret_borrow<py::dict>(dict)) {
+      if (!PyUnicode_Check(key.ptr()))
+        throw py::value_error(path + ": the key " + std::string(py::repr(key)) + " is of type " + type_name(key) +
+                              "; a scene's keys are str");
+      const std::string name = utf8(key, path);
+      j[name] = (*this)(item, member_path(path, name));
+    }
+    return j;
+  }
+  nlohmann::json array(py::handle sequence, const std::string& path) {
+    nlohmann::json j = nlohmann::json::array();
+    const auto items = py::reinterpret_borrow<py::sequence>(sequence);
+    for (std::size_t i = 0; i < items.size(); ++i) j.push_back((*this)(py::object(items[i]), path + "[" + std::to_string(i) + "]"));
+    return j;
+  }
+
+  static constexpr std::size_t kMaxDepth = 200;
+  std::vector<PyObject*> open_;  // the containers being converted, outermost first
+};
+
+// The `set` overrides as invfem run's --set arguments, PATH=JSON; each value named set["PATH"].
+std::vector<std::string> override_arguments(const py::dict& set) {
+  std::vector<std::string> overrides;
+  for (const auto& [key, value] : set) {
+    if (!PyUnicode_Check(key.ptr()))
+      throw py::value_error("set: the key " + std::string(py::repr(key)) + " is of type " + type_name(key) +
+                            "; keys are field paths (str), e.g. \"solver.max_dt\"");
+    const std::string field = utf8(key, "set");
+    overrides.push_back(field + "=" + JsonFromPython{}(value, "set[" + nlohmann::json(field).dump() + "]").dump());
+  }
+  return overrides;
 }
 
 // The frame report as a dict: the stats.jsonl record of the frame (counts, Newton, each after-step
@@ -54,16 +189,16 @@ py::dict report_dict(int frame, const World& world, const FrameReport& r) {
 class Simulation {
  public:
   Simulation(const py::object& scene, const py::dict& set, bool quick, const py::object& out, const std::string& formats,
-             bool overwrite, int threads, const py::object& base_dir) {
+             bool overwrite, int threads, const py::object& base_dir, const std::string& memory_limit, bool strict) {
     if (threads < 0) throw py::value_error("threads must be >= 0 (0: all cores)");
     if (threads > 0)
       limit_ = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
-    std::vector<std::string> overrides;
-    for (const auto& [key, value] : set)
-      overrides.push_back(py::str(key).cast<std::string>() + "=" + to_json_value(py::reinterpret_borrow<py::object>(value)).dump());
+    const std::vector<std::string> overrides = override_arguments(set);
     SessionOptions options;
     options.formats = parse_formats(formats);
     options.overwrite = overwrite;
+    options.memory_limit = memory_limit;
+    options.strict = strict;
     if (!out.is_none()) options.out = std::filesystem::path(py::str(out).cast<std::string>());
     Scene parsed;
     if (py::isinstance<py::dict>(scene)) {
@@ -71,7 +206,7 @@ class Simulation {
       // errors name "<dict>" there.
       const std::filesystem::path dir =
           base_dir.is_none() ? std::filesystem::current_path() : std::filesystem::path(py::str(base_dir).cast<std::string>());
-      parsed = scene_from_json(to_json_value(scene), dir / "<dict>", overrides, quick);
+      parsed = scene_from_json(JsonFromPython{}(scene, "$"), dir / "<dict>", overrides, quick);
     } else {
       parsed = load_scene(std::filesystem::path(py::str(scene).cast<std::string>()), overrides, quick);
     }
@@ -79,9 +214,15 @@ class Simulation {
     session_ = std::make_unique<Session>(std::move(parsed), std::move(options));
   }
 
-  Session& session() { return *session_; }
+  // What a property reads, f(session), taken under the call lock.
+  template <typename Read>
+  auto read(Read f) const {
+    const CallLock lock(*this);
+    return f(static_cast<const Session&>(*session_));
+  }
 
   py::dict step_frame() {
+    const CallLock lock(*this);
     FrameReport r;
     {
       py::gil_scoped_release release;
@@ -91,6 +232,7 @@ class Simulation {
   }
 
   py::dict advance_to(double t) {
+    const CallLock lock(*this);
     FrameReport r;
     {
       py::gil_scoped_release release;
@@ -99,45 +241,26 @@ class Simulation {
     return report_dict(session_->frame(), session_->world(), r);
   }
 
-  const SimObject* find_object(const std::string& name) const {
-    for (const SimObject& o : session_->world().objects())
-      if (o.name == name) return &o;
-    return nullptr;
-  }
-  KinematicBody* find_body(const std::string& name) const {
-    for (const auto& k : session_->world().kinematic_bodies())
-      if (k->name() == name) return k.get();
-    return nullptr;
-  }
-  [[noreturn]] void unknown(const std::string& name) const {
-    std::string known;
-    for (const SimObject& o : session_->world().objects()) known += (known.empty() ? "" : ", ") + o.name;
-    for (const auto& k : session_->world().kinematic_bodies()) known += (known.empty() ? "" : ", ") + k->name();
-    throw py::key_error("no object or body \"" + name + "\" (the scene has: " + known + ")");
-  }
-  const SimObject& object(const std::string& name) const {
-    if (const SimObject* o = find_object(name)) return *o;
-    if (find_body(name)) throw py::value_error("\"" + name + "\" is a kinematic body, not a simulated object");
-    unknown(name);
-  }
-
   py::array positions(const std::string& name) const {
+    const CallLock lock(*this);
     if (const SimObject* o = find_object(name)) return points_array(o->body.x);
-    if (const KinematicBody* k = find_body(name); k && k->surface()) return points_array(k->surface()->x);
+    if (const KinematicBody* k = body_with_surface(name)) return points_array(k->surface()->x);
     unknown(name);
   }
   py::array velocities(const std::string& name) const {
+    const CallLock lock(*this);
     if (const SimObject* o = find_object(name)) return points_array(o->body.v);
-    if (const KinematicBody* k = find_body(name); k && k->surface()) return points_array(k->surface_velocities());
+    if (const KinematicBody* k = body_with_surface(name)) return points_array(k->surface_velocities());
     unknown(name);
   }
   py::dict surface(const std::string& name) const {
+    const CallLock lock(*this);
     const TriangleSurface* s = nullptr;
     py::dict d;
     if (const SimObject* o = find_object(name)) {
       s = &o->material_surface();
       if (o->embedded.empty()) d["nodes"] = int_vector_array(o->surface_nodes);
-    } else if (const KinematicBody* k = find_body(name); k && k->surface()) {
+    } else if (const KinematicBody* k = body_with_surface(name)) {
       s = k->surface();
     } else {
       unknown(name);
@@ -148,8 +271,12 @@ class Simulation {
     d["uv_triangles"] = index_array(s->uv_tris);
     return d;
   }
-  py::array tets(const std::string& name) const { return index_array(object(name).tets); }
+  py::array tets(const std::string& name) const {
+    const CallLock lock(*this);
+    return index_array(object(name).tets);
+  }
   py::dict element_fields(const std::string& name) const {
+    const CallLock lock(*this);
     CellFields fields;
     for (const auto& f : object(name).forces) f->add_cell_fields(fields);
     py::dict d;
@@ -160,6 +287,7 @@ class Simulation {
   // Frames from Python for a sequence collider (BodySequence::set_frame_source): `source(k)`
   // returns frame k as the file would hold it, (V, 3) float64; None returns to the files.
   void drive_body(const std::string& name, const py::object& source) {
+    const CallLock lock(*this);
     BodySequence& body = sequence(name);
     if (!source.is_none() && !PyCallable_Check(source.ptr()))
       throw py::type_error("drive_body: the source must be callable (k -> (V, 3) array) or None");
@@ -188,6 +316,7 @@ class Simulation {
   // A step that reaches frame time k / fps needs frames up to k + 1: the velocity at a frame time
   // is that of the interval after it, as for a mesh sequence (body_sequence.hpp).
   void set_body_frame(const std::string& name, int k, const py::object& x) {
+    const CallLock lock(*this);
     BodySequence& body = sequence(name);
     if (k < 0 || k >= body.frame_count())
       throw py::index_error("set_body_frame: frame " + std::to_string(k) + " outside the sequence's 0-" +
@@ -216,15 +345,72 @@ class Simulation {
   }
 
   std::string save_checkpoint(const std::string& dir) {
+    const CallLock lock(*this);
     py::gil_scoped_release release;
     return session_->save_checkpoint(dir).string();
   }
   void load_checkpoint(const std::string& file) {
+    const CallLock lock(*this);
     py::gil_scoped_release release;
     session_->load_checkpoint(file);
   }
 
  private:
+  // Held for the whole of a call that touches the session: calls from several threads run one at
+  // a time. The GIL is released while waiting, since the holder may need it before it lets go (a
+  // drive_body source, building its result). A call from inside a call on the same thread (a
+  // drive_body source calling back into its Simulation) would wait for itself: it raises instead.
+  class CallLock {
+   public:
+    explicit CallLock(const Simulation& s) : s_(s), lock_(s.mutex_, std::defer_lock) {
+      if (s.holder_.load() == std::this_thread::get_id())
+        throw std::runtime_error("Simulation: called from inside one of its own calls on the same thread (a drive_body "
+                                 "source calling back into its Simulation); that call would wait for itself");
+      if (!lock_.try_lock()) {
+        py::gil_scoped_release release;
+        lock_.lock();
+      }
+      s.holder_ = std::this_thread::get_id();
+    }
+    ~CallLock() { s_.holder_ = std::thread::id(); }
+    CallLock(const CallLock&) = delete;
+    CallLock& operator=(const CallLock&) = delete;
+
+   private:
+    const Simulation& s_;
+    std::unique_lock<std::mutex> lock_;
+  };
+
+  const SimObject* find_object(const std::string& name) const {
+    for (const SimObject& o : session_->world().objects())
+      if (o.name == name) return &o;
+    return nullptr;
+  }
+  KinematicBody* find_body(const std::string& name) const {
+    for (const auto& k : session_->world().kinematic_bodies())
+      if (k->name() == name) return k.get();
+    return nullptr;
+  }
+  [[noreturn]] void unknown(const std::string& name) const {
+    std::string known;
+    for (const SimObject& o : session_->world().objects()) known += (known.empty() ? "" : ", ") + o.name;
+    for (const auto& k : session_->world().kinematic_bodies()) known += (known.empty() ? "" : ", ") + k->name();
+    throw py::key_error("no object or body \"" + name + "\" (the scene has: " + known + ")");
+  }
+  // A kinematic body by name, nullptr when there is none; ValueError for one without a surface.
+  const KinematicBody* body_with_surface(const std::string& name) const {
+    const KinematicBody* k = find_body(name);
+    if (k && !k->surface())
+      throw py::value_error("\"" + name + "\" is a kinematic body with no surface (an infinite plane): it has no "
+                            "vertices, velocities or triangles");
+    return k;
+  }
+  const SimObject& object(const std::string& name) const {
+    if (const SimObject* o = find_object(name)) return *o;
+    if (find_body(name)) throw py::value_error("\"" + name + "\" is a kinematic body, not a simulated object");
+    unknown(name);
+  }
+
   BodySequence& sequence(const std::string& name) {
     KinematicBody* k = find_body(name);
     if (!k) {
@@ -239,6 +425,8 @@ class Simulation {
   std::unique_ptr<tbb::global_control> limit_;
   std::unique_ptr<Session> session_;
   std::map<std::string, std::map<int, Points>> pushed_;  // per body, the frames given by set_body_frame
+  mutable std::mutex mutex_;                              // held by CallLock
+  mutable std::atomic<std::thread::id> holder_;           // the thread holding mutex_, if any
 };
 
 py::dict check_surfaces(const py::list& surfaces, const py::object& welds, const py::object& count_self, int max_examples) {
@@ -296,8 +484,8 @@ py::dict check_surfaces(const py::list& surfaces, const py::object& welds, const
 
 }  // namespace
 
-PYBIND11_MODULE(invfem, m) {
-  m.doc() = "invfem: invertible finite elements for cloth, shells and solids (see README.md, \"Python\")";
+PYBIND11_MODULE(_invfem, m) {
+  m.doc() = "invfem's extension module (import invfem): invertible finite elements for cloth, shells and solids";
   m.attr("__version__") = INVFEM_VERSION;
   // Bad input is a ValueError naming the file and the JSON path, as the command line's exit 2.
   py::register_exception_translator([](std::exception_ptr p) {
@@ -307,39 +495,51 @@ PYBIND11_MODULE(invfem, m) {
       PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const MeshError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const OutputError& e) {  // a file that cannot be written: the command line's exit 2
+      PyErr_SetString(PyExc_OSError, e.what());
     }
   });
 
   py::class_<Simulation>(m, "Simulation",
                          "A scene built and stepped in this process (invfem run's world, checks and writers).")
       .def(py::init<const py::object&, const py::dict&, bool, const py::object&, const std::string&, bool, int,
-                    const py::object&>(),
+                    const py::object&, const std::string&, bool>(),
            py::arg("scene"), py::kw_only(), py::arg("set") = py::dict(), py::arg("quick") = false,
            py::arg("out") = py::none(), py::arg("formats") = "obj", py::arg("overwrite") = false,
-           py::arg("threads") = 0, py::arg("base_dir") = py::none(),
+           py::arg("threads") = 0, py::arg("base_dir") = py::none(), py::arg("memory_limit") = "",
+           py::arg("strict") = false,
            "scene: a scene file's path, or a dict with the same schema (relative paths against base_dir, default "
            "the working directory). set: {\"path.to.field\": value} overrides (invfem run --set); quick: the "
            "scene's quick overrides. out: a run folder written as invfem run --out writes it (scene.json, frame 0 "
            "now, each step_frame's frame after), in `formats` (\"obj,usd,...\"). threads: worker threads (0: "
-           "all cores). A bad field raises ValueError naming its JSON path.")
-      .def_property_readonly("time", [](Simulation& s) { return s.session().world().time(); }, "[s]")
-      .def_property_readonly("frame", [](Simulation& s) { return s.session().frame(); },
+           "all cores). memory_limit: a scene whose estimated memory exceeds it is refused (invfem run "
+           "--memory-limit: \"16G\", \"none\"; \"\": 80% of the machine's). strict: a warning at load (a cloth "
+           "starting through a body, ...) refuses the scene (invfem run --strict). A bad field raises ValueError "
+           "naming its JSON path; an output that cannot be written, OSError.")
+      .def_property_readonly("time", [](const Simulation& s) { return s.read([](const Session& x) { return x.world().time(); }); },
+                             "the simulated time [s]")
+      .def_property_readonly("frame", [](const Simulation& s) { return s.read([](const Session& x) { return x.frame(); }); },
                              "the last whole frame reached (frame k is at t = k / fps)")
-      .def_property_readonly("fps", [](Simulation& s) { return s.session().scene().fps; })
-      .def_property_readonly("frames", [](Simulation& s) { return s.session().scene().frames; },
+      .def_property_readonly("fps", [](const Simulation& s) { return s.read([](const Session& x) { return x.scene().fps; }); },
+                             "the scene's frames per second")
+      .def_property_readonly("frames", [](const Simulation& s) { return s.read([](const Session& x) { return x.scene().frames; }); },
                              "the scene's frames after frame 0")
       .def_property_readonly("objects",
-                             [](Simulation& s) {
-                               std::vector<std::string> names;
-                               for (const SimObject& o : s.session().world().objects()) names.push_back(o.name);
-                               return names;
+                             [](const Simulation& s) {
+                               return s.read([](const Session& x) {
+                                 std::vector<std::string> names;
+                                 for (const SimObject& o : x.world().objects()) names.push_back(o.name);
+                                 return names;
+                               });
                              },
                              "the simulated objects' names (solids and cloths)")
       .def_property_readonly("bodies",
-                             [](Simulation& s) {
-                               std::vector<std::string> names;
-                               for (const auto& k : s.session().world().kinematic_bodies()) names.push_back(k->name());
-                               return names;
+                             [](const Simulation& s) {
+                               return s.read([](const Session& x) {
+                                 std::vector<std::string> names;
+                                 for (const auto& k : x.world().kinematic_bodies()) names.push_back(k->name());
+                                 return names;
+                               });
                              },
                              "the kinematic bodies' names (colliders)")
       .def("step_frame", &Simulation::step_frame,
@@ -349,7 +549,8 @@ PYBIND11_MODULE(invfem, m) {
       .def("advance_to", &Simulation::advance_to, py::arg("t"),
            "Advances to time t [s] (>= time), writing nothing; returns the report of the steps taken.")
       .def("positions", &Simulation::positions, py::arg("name"),
-           "An object's node positions, or a body's surface vertices: (n, 3) float64 [m].")
+           "An object's node positions, or a body's surface vertices: (n, 3) float64 [m]. ValueError for a body "
+           "with no surface (an infinite plane).")
       .def("velocities", &Simulation::velocities, py::arg("name"), "As positions: (n, 3) float64 [m/s].")
       .def("surface", &Simulation::surface, py::arg("name"),
            "The written surface: vertices (V, 3) float64, triangles (F, 3) int32, uv (U, 2) float64 and "

@@ -36,6 +36,8 @@ const char* const kRunHelp =
     "  DIR/stats.jsonl              per frame: timings per phase, substeps, CG, collisions\n"
     "  DIR/checkpoints/NNNN.ckpt    the full state every K frames, for --resume\n"
     "  DIR/png/NNNN.png             preview images, with --render\n"
+    "  DIR/invfem-manifest.txt      every file the run wrote (what --overwrite removes)\n"
+    "(NNNN: the frame plus the scene's first_frame_number)\n"
     "Options:\n"
     "  --out DIR      output folder (created if missing). A run owns it: a folder holding another\n"
     "                 run is refused unless --resume or --frames continues that run (the same\n"

@@ -4,11 +4,11 @@
 // the field to change). Each object's elements are counted cheaply (a solid meshed from a surface:
 // its BCC lattice's cells and tets from the surface's bounds and volume, without meshing it; a
 // tet-mesh file's tets; a cloth's triangles, counted in an OBJ without parsing it), then priced at
-// the bytes an element takes in a run's first steps, as measured on this code (peak resident size
-// against element count over 0.3-1.4 M tets and 20-320 K triangles, rounded up):
-//   a tet under itf04 1 KB, under the implicit step 2.7 KB; a cloth triangle 4.1 KB (implicit,
-//   with the self-collision layer); a mesh body's triangle 1 KB; the BCC mesher 50 bytes a lattice
-//   cell while it meshes (its node positions and inside flags); the process itself 80 MB.
+// the bytes an element takes in a run's first steps (the slope of peak resident size against
+// element count, memory_estimate.cpp): a tet under itf04 1 KB, under the implicit step 2.7 KB; a
+// cloth triangle 4.1 KB (implicit, with the self-collision layer); a mesh body's triangle 1 KB;
+// the BCC mesher 50 bytes a lattice cell while it meshes (its node positions and inside flags);
+// the process itself 80 MB.
 // An estimate, not a bound: contact-heavy frames take more than a free fall's first steps.
 #include <cstdint>
 #include <string>

@@ -74,7 +74,7 @@ PreviewRenderer::PreviewRenderer(std::filesystem::path out_dir, const Scene& sce
   const CameraSpec cam = m.options.camera.value_or(scene.render.camera);
   if (cam.automatic) {
     // Framed once, on frame 0 (plus the ground beneath it), so the camera holds still.
-    const auto meshes = m.load(0);
+    const auto meshes = m.load(scene.first_frame_number);
     Eigen::AlignedBox3d box = renders::mesh_bounds(meshes);
     if (scene.render.ground && !box.isEmpty()) {
       Vec3 below = box.center();

@@ -31,6 +31,11 @@ pc2() { python3 -c "import struct, sys; h = open(sys.argv[1], 'rb').read(32); pr
 expect_output 0 "no intersecting triangle pairs" -- check "$out"
 expect_output 0 "rendered $out/png/0004.png  (4/4" -- render "$out" --width 32 --height 24
 expect 2 "--frames: frame 0 was not written (the run has frames 1-4, numbered as its files)" -- render "$out" --frames 0-2
+# A scene whose camera is framed on frame 0 (its files numbered 1): rendered as it runs.
+torus="$(dirname "$scene")/torus_puddle.json"
+timeout 120 "$invfem" run "$torus" --quick --quiet --set frames=1 --set first_frame_number=1 --render --out "$work/torus" ||
+  { echo "FAIL: a run with an automatic camera and numbered files"; fail=1; }
+[ "$(names "$work/torus/png" png)" = "0001.png 0002.png " ] || { echo "FAIL: the torus's previews $(names "$work/torus/png" png)"; fail=1; }
 # Extended by --resume: the numbering goes on, every format continues.
 run --set frames=5 --format obj,ply,vtu,usd,pc2 --render --out "$out" --resume > /dev/null || { echo "FAIL: the resume"; fail=1; }
 [ "$(names "$out/frames/cloth" obj)" = "0001.obj 0002.obj 0003.obj 0004.obj 0005.obj 0006.obj " ] ||

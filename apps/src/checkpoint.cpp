@@ -46,10 +46,9 @@ nlohmann::json state_defining(const Scene& scene) {
   return j;
 }
 
-// The run folder's scene.json: the scene its checkpoints were written by (RunOutput writes it at
-// every start, so it is read before this run's RunOutput replaces it). Null when missing or
-// unreadable.
-nlohmann::json run_scene(const std::filesystem::path& out_dir) {
+}  // namespace
+
+nlohmann::json read_run_scene(const std::filesystem::path& out_dir) {
   const auto file = out_dir / "scene.json";
   try {
     if (!input_file_problem(file).empty()) return nullptr;
@@ -59,7 +58,6 @@ nlohmann::json run_scene(const std::filesystem::path& out_dir) {
     return nullptr;
   }
 }
-}  // namespace
 
 std::uint64_t scene_hash(const Scene& scene) {
   // Over the scene as run but its length: stable across runs of the same build.
@@ -74,7 +72,7 @@ bool written_for(const Scene& scene, std::uint64_t stored, const std::filesystem
   if (stored == scene_hash(scene)) return true;
   nlohmann::json j = to_json(scene);
   if (stored == fnv1a64(j.dump())) return true;
-  const nlohmann::json old = run_scene(out_dir);
+  const nlohmann::json old = read_run_scene(out_dir);
   if (!old.is_object() || !old.contains("frames")) return false;
   j["frames"] = old["frames"];
   return stored == fnv1a64(j.dump());
@@ -82,7 +80,7 @@ bool written_for(const Scene& scene, std::uint64_t stored, const std::filesystem
 }  // namespace
 
 std::string describe_scene_difference(const Scene& scene, const std::filesystem::path& out_dir) {
-  nlohmann::json old = run_scene(out_dir);
+  nlohmann::json old = read_run_scene(out_dir);
   if (!old.is_object()) return "";
   old.erase("frames");
   const nlohmann::json now = state_defining(scene);

@@ -33,6 +33,11 @@ std::uint64_t fnv1a64(std::string_view bytes);
 
 std::uint64_t scene_hash(const Scene& scene);
 
+// The run folder's scene.json: the scene its checkpoints were written by (RunOutput writes it at
+// every start, so it is read before this run's RunOutput replaces it). Null when missing or
+// unreadable.
+nlohmann::json read_run_scene(const std::filesystem::path& out_dir);
+
 // What differs between `scene` and the scene of the run in `out_dir` (its scene.json), as up to
 // three changes "/json/pointer is NEW now, OLD in the checkpoints' run" (a value "absent" when
 // only one side has it; values cut to 60 characters), then "and N more"; "" when the file is

@@ -249,17 +249,24 @@ Facts character_facts(const SkinnedCharacter& c, const Transform& t) {
   return f;
 }
 
+// What a file without a rig tells alike: its kind, vertices (X, #V x 3) and triangles, its bounds
+// after the transform, and the up axis its extent suggests.
+Facts mesh_facts(const char* kind, const Points& X, long long triangles, const Transform& t, const std::string& path) {
+  Facts f;
+  f.kind = kind;
+  f.vertices = X.rows();
+  f.triangles = triangles;
+  f.bounds = box_of(placed(X, t, path));
+  f.up = extent_axis(f.bounds);
+  return f;
+}
+
 // A file without bones, as a mesh collider, a solid or a cloth reads it (welded); its clips (node
 // animation) are listed, though a skinned collider needs bones.
 Facts surface_facts(const std::string& path, const Transform& t, const SkinnedCharacter* read) {
   SurfaceLoadReport report;
   const TriangleSurface s = load_triangle_surface(path, &report);
-  Facts f;
-  f.kind = "mesh";
-  f.vertices = s.x.rows();
-  f.triangles = s.tris.rows();
-  f.bounds = box_of(placed(s.x, t, path));
-  f.up = extent_axis(f.bounds);
+  Facts f = mesh_facts("mesh", s.x, s.tris.rows(), t, path);
   f.panels = report.groups;
   if (read)
     for (int k = 0; k < static_cast<int>(read->clips.size()); ++k) f.clips.push_back(clip_facts(*read, k, t, false));
@@ -268,12 +275,7 @@ Facts surface_facts(const std::string& path, const Transform& t, const SkinnedCh
 
 Facts obj_facts(const std::string& path, const Transform& t) {
   const ObjFile obj = read_obj_file(path);
-  Facts f;
-  f.kind = "OBJ";
-  f.vertices = obj.v.rows();
-  f.triangles = obj.faces.rows();
-  f.bounds = box_of(placed(obj.v, t, path));
-  f.up = extent_axis(f.bounds);
+  Facts f = mesh_facts("OBJ", obj.v, obj.faces.rows(), t, path);
   f.panels = obj.groups;
   ObjExtras e;
   e.vt = obj.vt.rows();
@@ -288,13 +290,8 @@ Facts obj_facts(const std::string& path, const Transform& t) {
 
 Facts tet_mesh_facts(const std::string& path, const Transform& t) {
   const TetMesh mesh = read_tet_mesh(path);
-  Facts f;
-  f.kind = "tet mesh";
-  f.vertices = mesh.X.rows();
+  Facts f = mesh_facts("tet mesh", mesh.X, face_sharing(mesh.tets).boundary, t, path);
   f.tets = mesh.tets.rows();
-  f.triangles = face_sharing(mesh.tets).boundary;
-  f.bounds = box_of(placed(mesh.X, t, path));
-  f.up = extent_axis(f.bounds);
   return f;
 }
 

@@ -35,11 +35,6 @@ std::string figure(double v) {
   return text;
 }
 
-bool is_tet_mesh_file(const std::filesystem::path& p) {
-  const std::string e = p.extension().string();
-  return e == ".vtk" || e == ".mesh" || e == ".msh";
-}
-
 // Triangles of an OBJ by its face lines (a polygon of n corners makes n - 2), without parsing it;
 // -1 when it cannot be read.
 double obj_triangles(const std::filesystem::path& file) {

@@ -68,12 +68,12 @@ Points initial_positions(const SolidInitialShapeSpec& spec, const TetMesh& mesh,
   }
 }
 
+}  // namespace
+
 bool is_tet_mesh_file(const std::filesystem::path& p) {
   const std::string e = p.extension().string();
   return e == ".vtk" || e == ".mesh" || e == ".msh";
 }
-
-}  // namespace
 
 Mat3 rotation_of(const Transform& t) {
   constexpr double kDeg = 3.14159265358979323846 / 180;
@@ -119,9 +119,7 @@ void check_object_size(const Points& X, double scale, const std::string& what) {
   throw InputError(m.str());
 }
 
-SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh_out, LoadWarnings* warnings) {
-  LoadWarnings printed_only;
-  LoadWarnings& warn = warnings ? *warnings : printed_only;
+SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh_out, LoadWarnings& warnings) {
   TetMesh mesh;
   try {
     if (is_tet_mesh_file(spec.mesh)) {
@@ -135,7 +133,7 @@ SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh
       BccMeshOptions options;
       options.resolution = spec.mesh_resolution;
       CheckedBccMesh meshed = check_and_bcc_mesh(surface, spec.mesh.string(), options);
-      for (const auto& w : meshed.check.warnings) warn.add_printed(w);
+      for (const auto& w : meshed.check.warnings) warnings.add_printed(w);
       const BccMeshReport& r = meshed.result.report;
       std::cerr << "meshed " << spec.mesh.filename().string() << ": " << r.tets << " tets, volume ratio "
                 << meshed.volume_ratio_text();
@@ -143,7 +141,7 @@ SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh
       mesh = std::move(meshed.result.mesh);
     }
     const TetMeshReport report = validate_and_orient(mesh);
-    for (const auto& w : report.warnings) warn.add(spec.mesh.string() + ": " + w);
+    for (const auto& w : report.warnings) warnings.add(spec.mesh.string() + ": " + w);
     if (!report.unused_nodes.empty())
       throw MeshError(spec.mesh.string() + ": " + std::to_string(report.unused_nodes.size()) +
                       " nodes belong to no tetrahedron (first: node " + std::to_string(report.unused_nodes[0]) +
@@ -268,8 +266,7 @@ Garment load_cloth_geometry(const ClothSpec& spec) {
 
 }  // namespace
 
-SimObject build_cloth(const ClothSpec& spec, const Scene& scene, LoadWarnings* warnings) {
-  LoadWarnings printed_only;
+SimObject build_cloth(const ClothSpec& spec, const Scene& scene, LoadWarnings& warnings) {
   const std::string what = "cloth \"" + spec.name + "\"";
   const std::string where = scene.file.string() + ": " + what;
   Garment g;
@@ -289,7 +286,7 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene, LoadWarnings* w
     check_object_size(*g.initial, spec.initial_transform.value_or(spec.transform).scale, where + ": initial shape");
   const Points& x0 = g.initial ? *g.initial : g.surface.x;
   const int n = static_cast<int>(x0.rows());
-  warn_about_cloth_start(spec, g, x0, warnings ? *warnings : printed_only);
+  warn_about_cloth_start(spec, g, x0, warnings);
   const auto& m = spec.material;
   ClothObjectParams params;
   params.thickness = m.thickness;

@@ -10,10 +10,12 @@
 namespace invfem::app {
 
 // `mesh_out`, if given, receives the rest mesh the solid is built on (a fracturing solid's root).
-// The load's warnings (printed as found) are added to `warnings` when given.
-SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh_out = nullptr,
-                        LoadWarnings* warnings = nullptr);
-SimObject build_cloth(const ClothSpec& spec, const Scene& scene, LoadWarnings* warnings = nullptr);
+// The load's warnings are printed as found and added to `warnings`.
+SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh_out, LoadWarnings& warnings);
+SimObject build_cloth(const ClothSpec& spec, const Scene& scene, LoadWarnings& warnings);
+
+// A tet-mesh file by its extension (.vtk, .mesh, .msh); any other is a surface to BCC-mesh.
+bool is_tet_mesh_file(const std::filesystem::path& p);
 
 // The transform's rotation: about x, then y, then z, by rotate_degrees.
 Mat3 rotation_of(const Transform& t);

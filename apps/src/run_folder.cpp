@@ -21,13 +21,10 @@ EarlierRun find_earlier_run(const fs::path& dir) {
   if (!RunManifest::exists(dir)) return r;
   r.present = true;
   int first_number = 0;  // the run's first_frame_number: its files' numbers less it are its frames
-  try {
-    std::ifstream in(dir / "scene.json");
-    const nlohmann::json j = nlohmann::json::parse(in);
-    if (j.is_object() && j.contains("name") && j["name"].is_string()) r.name = j["name"].get<std::string>();
-    if (j.is_object() && j.contains("first_frame_number") && j["first_frame_number"].is_number_integer())
+  if (const nlohmann::json j = read_run_scene(dir); j.is_object()) {
+    if (j.contains("name") && j["name"].is_string()) r.name = j["name"].get<std::string>();
+    if (j.contains("first_frame_number") && j["first_frame_number"].is_number_integer())
       first_number = j["first_frame_number"].get<int>();
-  } catch (const std::exception&) {
   }
   const std::set<int> numbers = RunOutput::frames_on_disk(dir);
   if (!numbers.empty()) r.last_frame = std::max(-1, *numbers.rbegin() - first_number);

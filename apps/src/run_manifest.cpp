@@ -47,8 +47,6 @@ std::string RunManifest::relative(const fs::path& file) const {
   return s;
 }
 
-bool RunManifest::lists(const fs::path& file) const { return entries_.count(relative(file)) > 0; }
-
 void RunManifest::record(const fs::path& file) {
   const std::string entry = relative(file);
   if (entries_.count(entry)) return;

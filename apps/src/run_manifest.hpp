@@ -24,8 +24,6 @@ class RunManifest {
   // Adds `file` (inside dir, absolute or relative to it) unless listed; appended and flushed at
   // once. Throws OutputError when the manifest cannot be written.
   void record(const std::filesystem::path& file);
-  bool lists(const std::filesystem::path& file) const;
-  const std::set<std::string>& entries() const { return entries_; }
 
   // Removes every listed file and its leftover NAME.tmp (no symbolic link is followed out of dir),
   // then the folders under dir they leave empty, then the manifest. Returns the number of files

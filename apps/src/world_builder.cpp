@@ -107,7 +107,7 @@ World build_world(const Scene& scene, Colliders* typed, LoadWarnings* warnings) 
   std::vector<FracturingSolid> fracturing;
   for (const auto& spec : scene.solids) {
     TetMesh mesh;
-    SolidObject solid = build_solid(spec, scene, &mesh, &warn);
+    SolidObject solid = build_solid(spec, scene, &mesh, warn);
     objects.push_back(std::move(solid.object));
     if (!spec.fracture) continue;
     FracturingSolid f{spec.name, std::move(mesh), FractureCriterion{}, solid.tet_force};
@@ -125,7 +125,7 @@ World build_world(const Scene& scene, Colliders* typed, LoadWarnings* warnings) 
     }
     fracturing.push_back(std::move(f));
   }
-  for (const auto& spec : scene.cloths) objects.push_back(build_cloth(spec, scene, &warn));
+  for (const auto& spec : scene.cloths) objects.push_back(build_cloth(spec, scene, warn));
   // Attached cloth vertices: embedded in their solid at the start (scene.cpp checked the names).
   for (SimObject& cloth : objects)
     for (AttachmentGroup& group : cloth.attachments) {

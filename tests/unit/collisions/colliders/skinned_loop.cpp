@@ -9,21 +9,15 @@
 #include <stdexcept>
 
 #include "fd_check.hpp"
+#include "rig_helpers.hpp"
 #include "invfem/collisions/colliders/skinned_body.hpp"
 #include "invfem/collisions/colliders/skinning.hpp"
 
 namespace invfem {
 namespace {
 
-Mat4 translation(const Vec3& p) {
-  Mat4 m = Mat4::Identity();
-  m.block<3, 1>(0, 3) = p;
-  return m;
-}
-
-Eigen::Quaterniond about_z(double degrees) {
-  return Eigen::Quaterniond(Eigen::AngleAxisd(degrees * M_PI / 180, Vec3::UnitZ()));
-}
+using test::about_z;
+using test::translation;
 
 // One bone (node at (0, 1, 0)) carrying 4 vertices. Clip "walk" (2 s, keys at 0 and 2 s only, so
 // the clip is smooth inside) moves the bone from (0, 1, 0) to (1, 1.2, 0) and turns it 90 degrees
@@ -55,13 +49,6 @@ SkinnedCharacter walker() {
   return c;
 }
 
-// The clip itself at clip time t (no body, no transform): positions and velocities.
-Points clip_at(const SkinnedCharacter& c, double t, Points* v = nullptr) {
-  Points x;
-  skin_vertices(c, pose_skeleton(c, &c.clips[0], t), x, v);
-  return x;
-}
-
 // A scene's default contact search: a step motion limit of 5 cm - 1 mm.
 SkinnedBodySettings looped(double blend) {
   SkinnedBodySettings s;
@@ -75,7 +62,7 @@ SkinnedBodySettings looped(double blend) {
 TEST(SkinnedLoop, AWrapThatJumpsFurtherThanAStepCanFollowIsRefusedNamingTheJump) {
   const SkinnedCharacter c = walker();
   // Independently: the largest vertex distance between the clip's last and first poses.
-  const Points gap = clip_at(c, 2) - clip_at(c, 0);
+  const Points gap = test::skin_first_clip(c, 2) - test::skin_first_clip(c, 0);
   Eigen::Index vertex = 0;
   const double jump = gap.rowwise().norm().maxCoeff(&vertex);
   ASSERT_NEAR(jump, std::hypot(1.0, 0.2), 1e-12);
@@ -137,18 +124,18 @@ TEST(SkinnedLoop, TheBlendedWrapIsTheCrossFadeOfTheClipsEndIntoItsStart) {
     EXPECT_LT((body.velocities() - v).norm(), 1e-12) << what << ", t = " << t;
   };
   Points v0, v1, x1;
-  Points x0 = clip_at(c, 1.2, &v0);
+  Points x0 = test::skin_first_clip(c, 1.2, &v0);
   expect_at(1.2, x0, v0, "the first pass plays the clip");
   for (double start : {kPeriod, 2 * kPeriod, 5 * kPeriod}) {
-    x0 = clip_at(c, kPeriod, &v0);
+    x0 = test::skin_first_clip(c, kPeriod, &v0);
     expect_at(start, x0, v0, "a period starts where the clip's last blend seconds start");
-    x0 = clip_at(c, kBlend, &v0);
+    x0 = test::skin_first_clip(c, kBlend, &v0);
     expect_at(start + kBlend, x0, v0, "the blend ends on the clip at its blend time");
-    x0 = clip_at(c, 1.1, &v0);
+    x0 = test::skin_first_clip(c, 1.1, &v0);
     expect_at(start + 1.1, x0, v0, "after the blend, the clip plainly");
     // Half-way: s = 1/2, ds/dt = 1.5 / B.
-    x0 = clip_at(c, kPeriod + kBlend / 2, &v0);
-    x1 = clip_at(c, kBlend / 2, &v1);
+    x0 = test::skin_first_clip(c, kPeriod + kBlend / 2, &v0);
+    x1 = test::skin_first_clip(c, kBlend / 2, &v1);
     expect_at(start + kBlend / 2, 0.5 * (x0 + x1), 0.5 * (v0 + v1) + (1.5 / kBlend) * (x1 - x0), "half-way");
   }
 }

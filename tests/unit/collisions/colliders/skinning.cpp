@@ -8,20 +8,14 @@
 #include <cmath>
 
 #include "fd_check.hpp"
+#include "rig_helpers.hpp"
 #include "invfem/collisions/colliders/skinning.hpp"
 
 namespace invfem {
 namespace {
 
-Mat4 translation(const Vec3& p) {
-  Mat4 m = Mat4::Identity();
-  m.block<3, 1>(0, 3) = p;
-  return m;
-}
-
-Eigen::Quaterniond about_z(double degrees) {
-  return Eigen::Quaterniond(Eigen::AngleAxisd(degrees * M_PI / 180, Vec3::UnitZ()));
-}
+using test::about_z;
+using test::translation;
 
 // root -> hip (at (0, 1, 0)) -> knee (1 above the hip): a leg of 3 vertices, one per node's
 // height, and a fourth vertex without weights on the root's mesh. The clip moves the hip along x
@@ -60,12 +54,6 @@ SkinnedCharacter leg() {
   return c;
 }
 
-Points skinned(const SkinnedCharacter& c, double t, Points* v = nullptr) {
-  Points x;
-  skin_vertices(c, pose_skeleton(c, &c.clips[0], t), x, v);
-  return x;
-}
-
 TEST(Skinning, AtRestTheBindOffsetsGiveTheMeshAsModelled) {
   const SkinnedCharacter c = leg();
   Points x;
@@ -87,7 +75,7 @@ TEST(Skinning, KeysInterpolateLinearlyAndBySlerpAndComposeDownTheHierarchy) {
   auto knee = [&](const Vec3& X) {
     return Vec3(hip_r * (knee_r * knee_s.asDiagonal() * (X - Vec3(0, 2, 0)) + Vec3(0, 1, 0)) + hip_p);
   };
-  const Points x = skinned(c, t);
+  const Points x = test::skin_first_clip(c, t);
   const Vec3 X0 = c.bind.row(0).transpose(), X1 = c.bind.row(1).transpose(), X2 = c.bind.row(2).transpose();
   EXPECT_LT((x.row(0).transpose() - hip(X0)).norm(), 1e-14);
   EXPECT_LT((x.row(1).transpose() - 0.5 * (hip(X1) + knee(X1))).norm(), 1e-14);
@@ -97,18 +85,18 @@ TEST(Skinning, KeysInterpolateLinearlyAndBySlerpAndComposeDownTheHierarchy) {
 
 TEST(Skinning, RotationsTakeTheShorterArcWhateverTheKeysSign) {
   SkinnedCharacter c = leg();
-  const Points before = skinned(c, 0.7);
+  const Points before = test::skin_first_clip(c, 0.7);
   c.clips[0].tracks[0].rotations[1].coeffs() *= -1;  // the same rotation, the other sign
   c.clips[0].tracks[1].rotations[0].coeffs() *= -1;
-  EXPECT_LT((skinned(c, 0.7) - before).norm(), 1e-14);
+  EXPECT_LT((test::skin_first_clip(c, 0.7) - before).norm(), 1e-14);
 }
 
 TEST(Skinning, KeysAreHeldBeforeTheFirstAndAfterTheLast) {
   const SkinnedCharacter c = leg();
   Points v;
-  EXPECT_LT((skinned(c, 2.0) - skinned(c, 7.0, &v)).norm(), 1e-15);
+  EXPECT_LT((test::skin_first_clip(c, 2.0) - test::skin_first_clip(c, 7.0, &v)).norm(), 1e-15);
   EXPECT_EQ(v.norm(), 0.0);
-  EXPECT_LT((skinned(c, 0.0) - skinned(c, -3.0, &v)).norm(), 1e-15);
+  EXPECT_LT((test::skin_first_clip(c, 0.0) - test::skin_first_clip(c, -3.0, &v)).norm(), 1e-15);
   EXPECT_EQ(v.norm(), 0.0);
 }
 
@@ -119,12 +107,12 @@ TEST(Skinning, VelocitiesAreTheTimeDerivativeOfThePositions) {
   o.value_scale = 1e-3;
   for (double t : {0.2, 0.7, 1.3, 1.8}) {
     auto g = [&](const Eigen::VectorXd& s) -> Eigen::VectorXd {
-      const Points x = skinned(c, s[0]);
+      const Points x = test::skin_first_clip(c, s[0]);
       return Eigen::Map<const Eigen::VectorXd>(x.data(), x.size());
     };
     auto jac = [&](const Eigen::VectorXd& s) -> Eigen::MatrixXd {
       Points v;
-      skinned(c, s[0], &v);
+      test::skin_first_clip(c, s[0], &v);
       return Eigen::Map<const Eigen::VectorXd>(v.data(), v.size());
     };
     const fd::Result r = fd::check_jacobian(g, jac, Eigen::VectorXd::Constant(1, t), o);

@@ -23,7 +23,7 @@ if [ -n "$(ls -A "$work")" ]; then
   echo "FAIL: a rejected bench left files in $work: $(ls -A "$work")"
   fail=1
 fi
-# --list names every unit of the issue, the n/a ones with their reason.
+# --list names every bench unit, the n/a ones with their reason.
 list=$("$invfem" bench --list) || { echo "FAIL: invfem bench --list exited $?"; fail=1; }
 for unit in force_pass_1t force_pass_2t force_stiffness_1t svd torus_115k cloth_drape_50 cloth_drape_100 \
             dress_dance scaling_10k scaling_100k scaling_1m; do

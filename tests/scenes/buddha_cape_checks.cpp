@@ -99,8 +99,8 @@ TEST(BuddhaCape, SomeTetsInvertAndRecover) {
   EXPECT_GT(last.x.col(1).maxCoeff(), 0.85 * rest.x.col(1).maxCoeff());  // standing, not lying
 }
 
-// stats.jsonl splits each frame's simulation time per object (the issue's "share of time in
-// solid, cloth, collisions"): the Buddha and the cape both take time in every simulated frame, and
+// stats.jsonl splits each frame's simulation time per object (the share of time in solid, cloth
+// and collisions): the Buddha and the cape both take time in every simulated frame, and
 // the objects, the coupling and the self-collision layer fit inside the frame's simulate seconds.
 TEST(BuddhaCape, StatsSplitTheTimePerObject) {
   std::ifstream in(kOut / "stats.jsonl");

@@ -27,7 +27,7 @@ struct Image {
 // Throws std::invalid_argument naming `what` if the size is negative or rgb has the wrong length.
 void check_image(const Image& image, const std::string& what);
 
-// Writes an 8-bit RGB PNG at zlib compression level 3 (about 20 ms a 800x600 frame). Writes to
+// Writes an 8-bit RGB PNG at zlib compression level 3 (fast enough to write every frame). Writes to
 // a temporary name beside `path` and renames it, so readers never see a half-written file.
 // Throws std::runtime_error naming the file on any failure.
 void write_png(const std::string& path, const Image& image);

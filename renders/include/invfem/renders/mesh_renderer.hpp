@@ -2,7 +2,7 @@
 // Offscreen preview renderer: triangle surfaces (the core's one surface type) -> RGB image through
 // OSMesa (GL 4.5 core on llvmpipe), with MSAA, key + fill + ambient light, two-sided cloth, per-vertex scalar fields
 // or per-face colours, an optional y = 0 ground grid and a caption in a built-in bitmap font.
-// Knows nothing of the simulator. Cost is about 0.4 us a triangle on llvmpipe.
+// Knows nothing of the simulator. Draws on the CPU (llvmpipe): its cost grows with the triangles.
 #include <memory>
 #include <string>
 #include <vector>

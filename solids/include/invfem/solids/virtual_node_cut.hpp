@@ -17,7 +17,7 @@
 //  - element copies: pieces of one root tet whose 4 particles coincide are one copy (a crack
 //    that does not separate the material around a tet, e.g. its tip, leaves one copy).
 //
-// Mass (the issue asks that it be conserved; 2.3 step 3 leaves it open): each piece carries a
+// Mass (conserved across cuts; 2.3 step 3 leaves it open): each piece carries a
 // volume fraction w (its share of the root tet's volume, measured on the cut geometry in rest
 // space) and each element copy the sum w of its pieces. A copy's elastic energy and its lumped
 // mass are weighted by w: its rest volume is w V_root (TetRest::volume and Bm), so the fractions

@@ -1,7 +1,7 @@
 #pragma once
 // A kinematic rigid body (ITF04 section 9: bodies move by script and are not simulated): one
 // shape seen two ways, moved by one Motion. Collision processing queries its implicit surface
-// (phi, normal, velocity at time t); output, previews and the coming collision layer read its
+// (phi, normal, velocity at time t); output, previews and the self-collision layer read its
 // triangle surface, posed at the time of the last move_to. The pose is computed when the surface
 // is read, not at every move_to: the step moves bodies each substep, output reads them per frame.
 #include <memory>

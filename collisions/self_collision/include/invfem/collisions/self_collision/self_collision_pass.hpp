@@ -53,11 +53,9 @@ struct SelfCollisionSettings {
   int impulse_passes = 3;       // CCD impulse passes before the zones (PhysBAM's default)
   int max_zone_iterations = 100;
   // How long [s] a tangle (candidates/tangles.hpp) may last, released only by the pairs that can
-  // undo it, before it counts as stuck and its vertices leave the pairs among themselves. On
-  // buddha_gears (quick) 0.1 s (about 390 of its steps) gave the fewest crossings of those tried
-  // when the boundary vertices of folding tets were let through one another (an earlier rule that
-  // made tangles at every inversion): 2,042 crossing pairs over the run, against 2,180 at 150
-  // steps and 2,377 at 50. Without that rule the scene makes no tangle.
+  // undo it, before it counts as stuck and its vertices leave the pairs among themselves. Long
+  // enough for those pairs to undo an ordinary tangle over many steps, short enough that a stuck
+  // one does not hold the surfaces crossed for long.
   double tangle_patience = 0.1;
   std::vector<std::string> excluded;  // names of objects that do not take part
   bool kinematic_bodies = true;       // kinematic bodies' shape triangles take part

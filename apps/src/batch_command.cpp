@@ -21,7 +21,7 @@
 #include "invfem/renders/image_compare.hpp"
 #include "input_check.hpp"
 #include "memory_estimate.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "preview.hpp"
 #include "run_folder.hpp"
 #include "run_manifest.hpp"

@@ -19,7 +19,7 @@
 #include "cli_args.hpp"
 #include "input_check.hpp"
 #include "invfem/core/io/atomic_file.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 
 namespace invfem::app {
 

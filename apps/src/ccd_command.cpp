@@ -13,7 +13,7 @@
 #include "invfem/core/io/text_file.hpp"
 #include "invfem/collisions/self_collision/ccd/ccd.hpp"
 #include "input_check.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 
 namespace invfem::app {
 

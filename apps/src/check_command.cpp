@@ -27,7 +27,7 @@
 #include "invfem/core/io/surface_io.hpp"
 #include "invfem/core/io/text_file.hpp"
 #include "input_check.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "run_output.hpp"
 #include "welds_file.hpp"
 

@@ -9,7 +9,7 @@
 
 #include "invfem/core/io/atomic_file.hpp"
 #include "input_check.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "run_output.hpp"
 
 namespace invfem::app {

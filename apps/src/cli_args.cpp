@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 
 namespace invfem::app {
 

@@ -11,7 +11,7 @@
 #include "invfem/collisions/colliders/skinned_body.hpp"
 #include "invfem/core/io/skinned_file.hpp"
 #include "invfem/core/io/surface_io.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "object_builders.hpp"
 
 namespace invfem::app {
@@ -30,24 +30,6 @@ Motion collider_motion(const ColliderSpec& c) {
 
 }  // namespace
 
-Motion make_motion(const MotionSpec& m, const RigidTransform& pose, const Vec3& center) {
-  switch (m.kind) {
-    case MotionSpec::Kind::Fixed:
-      return Motion::fixed(pose);
-    case MotionSpec::Kind::ConstantVelocity:
-      return Motion::constant_velocity(pose, center, to_vec(m.velocity), to_vec(m.spin_axis).normalized(),
-                                       m.spin_rate);
-    case MotionSpec::Kind::Keyframed: {
-      std::vector<TranslationKey> tk;
-      for (const auto& [t, p] : m.translate_keys) tk.push_back({t, to_vec(p)});
-      std::vector<RotationKey> rk;
-      for (const auto& k : m.rotate_keys) rk.push_back({k.t, to_vec(k.axis).normalized(), k.degrees});
-      return Motion::keyframed(tk, rk);
-    }
-  }
-  return Motion::fixed(pose);
-}
-
 std::vector<std::string> collider_body_names(const ColliderSpec& c) {
   if (c.type == "plane") return {};
   if (c.type == "gears") return {c.name + "_1", c.name + "_2"};
@@ -62,33 +44,23 @@ Colliders build_colliders(const Scene& scene) {
     out.clear();
     try {
       if (c.type == "sequence") {
-        BodySequenceSettings s;
-        for (const auto& p : c.sequence.files) s.files.push_back(p.string());
-        s.fps = c.sequence.fps;
-        s.start_time = c.sequence.start_time;
+        BodySequenceSettings s = c.sequence;
         s.linear = c.transform.scale * rotation_of(c.transform);
         s.translation = to_vec(c.transform.translate);
-        s.after_end = c.sequence.after_end == "loop" ? AnimationEnd::Loop : AnimationEnd::Hold;
         s.friction = c.friction;
-        s.mesh.query_radius = c.query_radius;
-        s.mesh.offset = c.offset;
+        s.mesh = c.contact;
         auto body = std::make_shared<BodySequence>(c.name, std::move(s));
         colliders.collision.push_back({body->implicit(), body->friction()});
         colliders.sequences.push_back(body);
         colliders.bodies.push_back(std::move(body));
       } else if (c.type == "skinned") {
-        SkinnedCharacter character = read_skinned_character(c.skinned.file.string());
-        SkinnedBodySettings s;
-        s.clip = find_clip(character, c.skinned.clip);
-        s.start_time = c.skinned.start_time;
-        s.pre_roll = c.skinned.pre_roll;
-        s.after_end = c.skinned.after_end == "loop" ? AnimationEnd::Loop : AnimationEnd::Hold;
-        s.loop_blend = c.loop_blend;
+        SkinnedCharacter character = read_skinned_character(c.character.string());
+        SkinnedBodySettings s = c.skinned;
+        s.clip = find_clip(character, c.clip);
         s.linear = c.transform.scale * rotation_of(c.transform);
         s.translation = to_vec(c.transform.translate);
         s.friction = c.friction;
-        s.mesh.query_radius = c.query_radius;
-        s.mesh.offset = c.offset;
+        s.mesh = c.contact;
         auto body = std::make_shared<SkinnedBody>(c.name, std::move(character), std::move(s));
         colliders.collision.push_back({body->implicit(), body->friction()});
         colliders.bodies.push_back(std::move(body));
@@ -96,31 +68,23 @@ Colliders build_colliders(const Scene& scene) {
         out.push_back(std::make_shared<RigidBody>(c.name, std::make_shared<PlaneSurface>(to_vec(c.point), to_vec(c.normal)),
                                                   c.friction, TriangleSurface{}, Motion{}));
       } else if (c.type == "gears") {
-        if (c.motion.kind == MotionSpec::Kind::Keyframed ||
-            (c.motion.kind == MotionSpec::Kind::ConstantVelocity && to_vec(c.motion.velocity).norm() > 0))
+        if (c.motion.kind == MotionScript::Kind::Keyframed ||
+            (c.motion.kind == MotionScript::Kind::ConstantVelocity && c.motion.velocity.norm() > 0))
           throw InputError(what + "gears turn in place: give motion.spin_rate only");
-        GearPairParams p;
-        p.gear.teeth = c.teeth;
-        p.gear.outer_radius = c.outer_radius;
-        p.gear.root_radius = c.root_radius;
-        p.gear.thickness = c.thickness;
+        GearPairParams p = c.gears;
         p.center = to_vec(c.transform.translate);
         p.orientation = rotation_of(c.transform);
         p.spin_rate = c.motion.spin_rate;
-        p.clearance = c.clearance;
         const GearPair pair = make_gear_pair(p);
         int k = 1;
         for (const auto& [g, shape] : {std::pair{pair.first, pair.first_shape}, std::pair{pair.second, pair.second_shape}})
           out.push_back(std::make_shared<RigidBody>(c.name + "_" + std::to_string(k++), g, c.friction,
                                                     gear_triangles(*shape), g->motion()));
       } else if (c.type == "mesh") {
-        if (c.motion.kind != MotionSpec::Kind::Fixed) throw InputError(what + "a mesh collider is static (no motion yet)");
+        if (c.motion.kind != MotionScript::Kind::Fixed) throw InputError(what + "a mesh collider is static (no motion yet)");
         TriangleSurface mesh = load_triangle_surface(c.mesh.string());
         apply_transform(c.transform, mesh.x, what.substr(0, what.size() - 2));
-        MeshSurfaceOptions options;
-        options.query_radius = c.query_radius;
-        options.offset = c.offset;
-        auto surface = std::make_shared<MeshSurface>(mesh, options);
+        auto surface = std::make_shared<MeshSurface>(mesh, c.contact);
         out.push_back(std::make_shared<RigidBody>(c.name, surface, c.friction, std::move(mesh), Motion{}, true));
       } else {
         std::shared_ptr<const ImplicitSurface> shape;

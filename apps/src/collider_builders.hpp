@@ -26,10 +26,6 @@ struct Colliders {
 // InputError naming the scene, the collider and the problem.
 Colliders build_colliders(const Scene& scene);
 
-// The rigid motion a MotionSpec describes from `pose` at rest; a constant spin turns about
-// `center` (moving with the linear velocity).
-Motion make_motion(const MotionSpec& m, const RigidTransform& pose, const Vec3& center);
-
 // Output names of a collider's bodies (empty for a plane, two for gears).
 std::vector<std::string> collider_body_names(const ColliderSpec& spec);
 

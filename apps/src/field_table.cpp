@@ -1,4 +1,4 @@
-#include "scene_field.hpp"
+#include "field_table.hpp"
 
 #include <cmath>
 #include <cstdio>

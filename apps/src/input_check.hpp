@@ -7,7 +7,7 @@
 #include <string>
 
 #include "invfem/core/io/input_file.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 
 namespace invfem::app {
 

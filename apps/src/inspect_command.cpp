@@ -20,9 +20,9 @@
 #include "invfem/core/io/surface_io.hpp"
 #include "invfem/solids/boundary.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "object_builders.hpp"
-#include "scene_parts.hpp"
+#include "scene_parsing.hpp"
 
 namespace invfem::app {
 

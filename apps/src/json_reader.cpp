@@ -1,4 +1,4 @@
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 
 #include <algorithm>
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 
 namespace invfem::app {
 

@@ -11,13 +11,14 @@
 #include "bench_command.hpp"
 #include "ccd_command.hpp"
 #include "check_command.hpp"
+#include "check_scene_command.hpp"
 #include "inspect_command.hpp"
 #include "invfem/core/io/output_error.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
+#include "mesh_command.hpp"
 #include "render_command.hpp"
 #include "run_command.hpp"
 #include "sheet_command.hpp"
-#include "tool_commands.hpp"
 
 namespace {
 

@@ -1,5 +1,6 @@
 #pragma once
-// Scene material -> core model and TetMaterial.
+// A scene object's material as the modules take it: the FE material with its model, or the
+// mass-spring baseline.
 #include <optional>
 
 #include "invfem/core/integrate/edge_spring_force.hpp"
@@ -8,15 +9,11 @@
 
 namespace invfem::app {
 
-// Throws InputError for "mass_spring", which has no FE model (make_mass_spring).
-IsotropicModel make_model(const MaterialSpec& spec);
-// A cloth's in-plane model: the same choice of models, from its own fields.
-IsotropicModel make_model(const ClothMaterialSpec& spec);
-// The FE material; with "mass_spring" only density and damping matter (its model stays unset).
-TetMaterial make_tet_material(const MaterialSpec& spec, double cfl);
+// The solid's FE material with its model and cfl; with "mass_spring" only density and damping
+// matter (its model stays unset). Throws std::invalid_argument for a model's bad parameters.
+TetMaterial make_tet_material(const SolidSpec& spec, double cfl);
 // The mass-spring baseline (core/edge_spring_force.hpp) for model "mass_spring", else empty.
-std::optional<MassSpringMaterial> make_mass_spring(const MaterialSpec& spec, double cfl);
-std::optional<MassSpringMaterial> make_mass_spring(const ClothMaterialSpec& spec);
-PlasticParams make_plastic_params(const PlasticitySpec& spec);
+std::optional<MassSpringMaterial> make_mass_spring(const SolidSpec& spec, double cfl);
+std::optional<MassSpringMaterial> make_mass_spring(const ClothSpec& spec);
 
 }  // namespace invfem::app

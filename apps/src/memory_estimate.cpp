@@ -11,7 +11,7 @@
 #include "invfem/core/geometry/surface.hpp"
 #include "invfem/core/io/surface_io.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "object_builders.hpp"
 
 namespace invfem::app {
@@ -85,7 +85,7 @@ MemoryItem solid_item(const SolidSpec& s, std::size_t index, const Scene& scene)
   MemoryItem item;
   item.what = "solid \"" + s.name + "\"";
   item.unit = "tets";
-  const double per_tet = scene.solver.integrator == "implicit" ? kTetImplicitBytes : kTetItf04Bytes;
+  const double per_tet = scene.solver.integrator == Integrator::Implicit ? kTetImplicitBytes : kTetItf04Bytes;
   try {
     if (is_tet_mesh_file(s.mesh)) {
       item.field = "solids[" + std::to_string(index) + "].mesh";
@@ -96,7 +96,7 @@ MemoryItem solid_item(const SolidSpec& s, std::size_t index, const Scene& scene)
       TriangleSurface surface = load_triangle_surface(s.mesh.string());
       apply_transform(s.transform, surface.x, item.what);
       const Vec3 extent = surface.x.colwise().maxCoeff() - surface.x.colwise().minCoeff();
-      const double h = extent.maxCoeff() / s.mesh_resolution;  // bcc_mesher.cpp: cells along the longest side
+      const double h = extent.maxCoeff() / s.meshing.resolution;  // bcc_mesher.cpp: cells along the longest side
       if (!(h > 0)) return item;
       double cells = 1;
       for (int d = 0; d < 3; ++d) cells *= std::ceil(extent[d] / h) + 4;  // and 2 spare cells a side
@@ -105,7 +105,7 @@ MemoryItem solid_item(const SolidSpec& s, std::size_t index, const Scene& scene)
       if (!(volume > 0) || volume > extent.prod()) volume = extent.prod();
       item.elements = kTetsPerCellVolume * volume / (h * h * h);
       item.meshing_bytes = kLatticeCellBytes * cells;
-      item.resolution = s.mesh_resolution;
+      item.resolution = s.meshing.resolution;
       item.advice = resolution_advice;
     }
   } catch (const std::exception&) {  // the scene's own load names a file it cannot read

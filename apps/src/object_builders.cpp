@@ -22,7 +22,7 @@
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
 #include "collider_builders.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "material_factory.hpp"
 #include "solid_surface_check.hpp"
 #include "welds_file.hpp"
@@ -35,13 +35,13 @@ Vec3 to_vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
 // One pin group per box: every node whose rest position lies in it, held still.
 std::vector<PinGroup> pins_in_boxes(const Points& X, const std::vector<PinBox>& boxes, const std::string& what,
-                                    const std::vector<MotionSpec>* motions = nullptr) {
+                                    const std::vector<MotionScript>* motions = nullptr) {
   std::vector<PinGroup> pins;
   for (std::size_t b = 0; b < boxes.size(); ++b) {
     std::vector<int> nodes = nodes_in_box(X, to_vec(boxes[b].min), to_vec(boxes[b].max));
     if (nodes.empty()) throw InputError(what + ": pin_boxes[" + std::to_string(b) + "] contains no node");
     std::optional<Motion> motion;
-    if (motions && b < motions->size() && (*motions)[b].kind != MotionSpec::Kind::Fixed) {
+    if (motions && b < motions->size() && (*motions)[b].kind != MotionScript::Kind::Fixed) {
       Vec3 centre = Vec3::Zero();
       for (int i : nodes) centre += X.row(i).transpose();
       motion = make_motion((*motions)[b], RigidTransform{}, centre / double(nodes.size()));
@@ -53,18 +53,15 @@ std::vector<PinGroup> pins_in_boxes(const Points& X, const std::vector<PinBox>& 
 
 // The solid's starting positions (a file in the mesh's node order, or a scramble of the
 // transformed rest positions). Reading errors name the solid and the file.
-Points initial_positions(const SolidInitialShapeSpec& spec, const TetMesh& mesh, const Transform& transform,
-                         const std::string& solid) {
+Points initial_positions(const SolidSpec& spec, const TetMesh& mesh) {
   try {
-    if (spec.file.empty()) {
-      const Scramble s{*scramble_kind_from_name(spec.scramble), static_cast<std::uint64_t>(spec.seed), spec.size};
-      return scramble_positions(mesh.X, s);
-    }
-    Points x = read_initial_positions(spec.file.string(), mesh);
-    apply_transform(spec.transform.value_or(transform), x, "initial_shape file " + spec.file.string());
+    if (spec.scramble) return scramble_positions(mesh.X, *spec.scramble);
+    Points x = read_initial_positions(spec.initial_shape.string(), mesh);
+    apply_transform(spec.initial_transform.value_or(spec.transform), x,
+                    "initial_shape file " + spec.initial_shape.string());
     return x;
   } catch (const std::exception& e) {
-    throw InputError("solid \"" + solid + "\": initial_shape: " + e.what());
+    throw InputError("solid \"" + spec.name + "\": initial_shape: " + e.what());
   }
 }
 
@@ -130,9 +127,7 @@ SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh
       // resolution is in world units of the object's own size).
       TriangleSurface surface = load_triangle_surface(spec.mesh.string());
       apply_transform(spec.transform, surface.x, "solid \"" + spec.name + "\"");
-      BccMeshOptions options;
-      options.resolution = spec.mesh_resolution;
-      CheckedBccMesh meshed = check_and_bcc_mesh(surface, spec.mesh.string(), options);
+      CheckedBccMesh meshed = check_and_bcc_mesh(surface, spec.mesh.string(), spec.meshing);
       for (const auto& w : meshed.check.warnings) warnings.add_printed(w);
       const BccMeshReport& r = meshed.result.report;
       std::cerr << "meshed " << spec.mesh.filename().string() << ": " << r.tets << " tets, volume ratio "
@@ -156,24 +151,18 @@ SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh
   params.velocity = to_vec(spec.velocity);
   params.gravity = to_vec(scene.gravity);
   params.pins = pins_in_boxes(mesh.X, spec.pin_boxes, what, &spec.pin_box_motions);
-  if (spec.initial_shape) params.initial_positions = initial_positions(*spec.initial_shape, mesh, spec.transform, spec.name);
+  if (!spec.initial_shape.empty() || spec.scramble) params.initial_positions = initial_positions(spec, mesh);
   try {
-    TetMaterial material = make_tet_material(spec.material, scene.solver.cfl);
-    if (spec.material.damping_model == "spin_free") material.damping_model = DampingModel::SpinFree;
-    if (spec.plasticity) material.plasticity = make_plastic_params(*spec.plasticity);
+    TetMaterial material = make_tet_material(spec, scene.cfl);
     if (spec.plastic_goal) {
-      const Points goal = axis_scaled_goal(mesh.X, to_vec(spec.plastic_goal->center), to_vec(spec.plastic_goal->scale));
+      const Points goal = axis_scaled_goal(mesh.X, *spec.plastic_goal);
       material.plastic_goal_log = make_plastic_goal(mesh.X, mesh.tets, goal).log_Fp_goal;
     }
-    if (spec.fiber) {
-      material.fiber = FiberMaterial{spec.fiber->k_passive, spec.fiber->k_active, spec.fiber->max_contraction};
-      // Material space is the transformed rest mesh, so a direction in world axes at rest is
-      // already a material direction.
-      material.fiber_directions.assign(mesh.tets.rows(), to_vec(spec.fiber->direction).normalized());
-      material.activation = spec.fiber->activation;
-    }
+    // Material space is the transformed rest mesh, so a direction in world axes at rest is
+    // already a material direction.
+    if (material.fiber) material.fiber_directions.assign(mesh.tets.rows(), to_vec(spec.fiber_direction).normalized());
     params.material = std::move(material);
-    params.mass_spring = make_mass_spring(spec.material, scene.solver.cfl);
+    params.mass_spring = make_mass_spring(spec, scene.cfl);
     if (mesh_out) *mesh_out = mesh;
     return make_solid(spec.name, mesh, std::move(params));
   } catch (const std::invalid_argument& e) {
@@ -193,18 +182,14 @@ std::vector<int> checked_vertices(const std::vector<std::int64_t>& indices, Eige
   return out;
 }
 
-// Pinned vertices of one PinSpec over the garment's vertices (boxes select by position at the
-// start of the run).
-std::vector<int> pinned_vertices(const PinSpec& p, const Garment& g, const Points& x0, const std::string& what) {
-  if (p.box) return nodes_in_box(x0, to_vec(p.box->min), to_vec(p.box->max));
-  if (!p.group.empty()) {
-    try {
-      return group_vertices(g, p.group);
-    } catch (const std::invalid_argument& e) {
-      throw InputError(what + ": " + e.what());
-    }
+// The vertices a pin or attachment selects (boxes select by position at the start of the run);
+// `what` names it in errors.
+std::vector<int> pinned_vertices(const VertexSelection& s, const Garment& g, const Points& x0, const std::string& what) {
+  try {
+    return selected_vertices(s, g, x0, what);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(s.group.empty() ? e.what() : what + ": " + e.what());
   }
-  return checked_vertices(p.vertices, x0.rows(), what);
 }
 
 // Warnings a cloth earns at load, each with its count and first example (a solid's surface gets
@@ -255,13 +240,8 @@ Garment load_cloth_geometry(const ClothSpec& spec) {
     if (!spec.initial_shape.empty()) load_initial_shape(g, spec.initial_shape.string());
     return g;
   }
-  if (spec.half_torus)
-    return garment_from_surface(make_half_torus(spec.half_torus->major_radius, spec.half_torus->minor_radius,
-                                                spec.half_torus->around, spec.half_torus->across));
-  // A grid lies in the x-z plane (y up), centred on the origin, before the transform.
-  return garment_from_surface(make_grid(spec.grid.width, spec.grid.height, spec.grid.nx, spec.grid.ny,
-                                        Vec3(-spec.grid.width / 2, 0, -spec.grid.height / 2), Vec3::UnitX(),
-                                        Vec3::UnitZ()));
+  if (spec.half_torus) return garment_from_surface(make_half_torus(*spec.half_torus));
+  return garment_from_surface(make_grid(spec.grid));
 }
 
 }  // namespace
@@ -287,27 +267,15 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene, LoadWarnings& w
   const Points& x0 = g.initial ? *g.initial : g.surface.x;
   const int n = static_cast<int>(x0.rows());
   warn_about_cloth_start(spec, g, x0, warnings);
-  const auto& m = spec.material;
-  ClothObjectParams params;
-  params.thickness = m.thickness;
-  params.density = m.density;
-  params.damping = m.damping;
-  params.bending = BendingParams{m.bending_stiffness, m.bending_damping};
-  if (spec.bending_plasticity) {
-    constexpr double kDeg = 3.14159265358979323846 / 180;
-    params.bending.plasticity =
-        BendingPlasticity{spec.bending_plasticity->yield_degrees * kDeg, spec.bending_plasticity->max_change_degrees * kDeg};
-  }
-  if (spec.plasticity) params.plasticity = make_plastic_params(*spec.plasticity);
+  ClothObjectParams params = spec.params;
   if (spec.inversion_test == "rest") params.inversion = InversionReference::Rest;
   if (spec.inversion_test == "direction") {
     params.inversion = InversionReference::Direction;
     params.inversion_direction = to_vec(spec.inversion_direction).normalized();
   }
-  if (!spec.stitches.from_mesh) g.stitches.clear();
-  params.stitch = StitchParams{spec.stitches.stiffness, spec.stitches.damping, spec.stitches.closing_speed};
-  for (std::size_t k = 0; k < spec.stitches.list.size(); ++k) {
-    const auto& s = spec.stitches.list[k];
+  if (!spec.stitches_from_mesh) g.stitches.clear();
+  for (std::size_t k = 0; k < spec.extra_stitches.size(); ++k) {
+    const auto& s = spec.extra_stitches[k];
     const std::vector<int> v = checked_vertices({s.vertices.begin(), s.vertices.end()}, n,
                                                 where + ": stitches.list[" + std::to_string(k) + "]");
     params.extra_stitches.push_back(Stitch{v[0], v[1], v[2], s.r});
@@ -316,21 +284,21 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene, LoadWarnings& w
   params.gravity = to_vec(scene.gravity);
   const std::vector<int> pin_vertices = checked_vertices(spec.pin_vertices, n, where + ": pin_vertices");
   try {
-    params.mass_spring = make_mass_spring(m);
-    if (!params.mass_spring) params.model = make_model(m);
+    params.mass_spring = make_mass_spring(spec);
+    if (!params.mass_spring) params.model = make_isotropic_model(spec.model);
     if (!pin_vertices.empty())
       params.pins.push_back(make_pin_group(x0, pin_vertices, std::nullopt, what + ": pin_vertices"));
     for (auto& pin : pins_in_boxes(x0, spec.pin_boxes, where)) params.pins.push_back(std::move(pin));
     for (std::size_t k = 0; k < spec.pins.size(); ++k) {
-      const PinSpec& p = spec.pins[k];
+      const auto& [selection, script] = spec.pins[k];
       const std::string pin_what = where + ": pins[" + std::to_string(k) + "]";
-      std::vector<int> nodes = pinned_vertices(p, g, x0, pin_what);
+      std::vector<int> nodes = pinned_vertices(selection, g, x0, pin_what);
       if (nodes.empty()) throw InputError(pin_what + " selects no vertex");
       std::optional<Motion> motion;
-      if (p.motion.kind != MotionSpec::Kind::Fixed) {
+      if (script.kind != MotionScript::Kind::Fixed) {
         Vec3 centre = Vec3::Zero();
         for (int i : nodes) centre += x0.row(i).transpose();
-        motion = make_motion(p.motion, RigidTransform{}, centre / double(nodes.size()));
+        motion = make_motion(script, RigidTransform{}, centre / double(nodes.size()));
       }
       params.pins.push_back(make_pin_group(x0, std::move(nodes), std::move(motion), pin_what));
     }
@@ -340,15 +308,15 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene, LoadWarnings& w
     const auto index = std::find_if(scene.cloths.begin(), scene.cloths.end(),
                                     [&](const ClothSpec& c) { return &c == &spec; }) - scene.cloths.begin();
     for (std::size_t k = 0; k < spec.attachments.size(); ++k) {
-      const AttachmentSpec& a = spec.attachments[k];
+      const auto& [solid, selection] = spec.attachments[k];
       const std::string a_what =
           index < static_cast<std::ptrdiff_t>(scene.cloths.size())
               ? scene.file.string() + ": $.cloths[" + std::to_string(index) + "].attachments[" + std::to_string(k) +
                     "] (" + what + ")"
               : where + ": attachments[" + std::to_string(k) + "]";
-      const std::vector<int> nodes = pinned_vertices(a.selection, g, x0, a_what);
+      const std::vector<int> nodes = pinned_vertices(selection, g, x0, a_what);
       if (nodes.empty()) throw InputError(a_what + " selects no vertex");
-      AttachmentGroup group{a.solid, {}};
+      AttachmentGroup group{solid, {}};
       for (int i : nodes) group.vertices.push_back(Attachment{i});
       cloth.attachments.push_back(std::move(group));
     }

@@ -36,8 +36,6 @@ std::vector<ObjectView> object_views(const Scene& scene) {
 std::filesystem::path obj_path(const std::filesystem::path& dir, const std::string& name, int frame) {
   return dir / "frames" / name / (RunOutput::frame_name(frame) + ".obj");
 }
-
-Vec3 to_vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 }  // namespace
 
 struct PreviewRenderer::Impl {
@@ -71,8 +69,8 @@ PreviewRenderer::PreviewRenderer(std::filesystem::path out_dir, const Scene& sce
   m.settings.width = m.options.width > 0 ? m.options.width : scene.render.width;
   m.settings.height = m.options.height > 0 ? m.options.height : scene.render.height;
   m.settings.ground = scene.render.ground;
-  const CameraSpec cam = m.options.camera.value_or(scene.render.camera);
-  if (cam.automatic) {
+  const std::optional<renders::Camera> fixed = m.options.camera ? m.options.camera : scene.camera;
+  if (!fixed) {
     // Framed once, on frame 0 (plus the ground beneath it), so the camera holds still.
     const auto meshes = m.load(scene.first_frame_number);
     Eigen::AlignedBox3d box = renders::mesh_bounds(meshes);
@@ -83,7 +81,7 @@ PreviewRenderer::PreviewRenderer(std::filesystem::path out_dir, const Scene& sce
     }
     m.camera = renders::frame_camera(box, double(m.settings.width) / m.settings.height);
   } else {
-    m.camera = renders::Camera{to_vec(cam.position), to_vec(cam.target), Vec3::UnitY(), cam.fov_degrees};
+    m.camera = *fixed;
   }
   prepare_output_dir(m.dir / "png", "the previews' folder");  // a file in its place is bad output (exit 2)
   if (RunManifest::exists(m.dir)) m.manifest.emplace(m.dir);

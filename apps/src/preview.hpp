@@ -14,7 +14,7 @@ namespace invfem::app {
 
 struct PreviewOptions {
   int width = 0, height = 0;             // 0: the scene's render size
-  std::optional<CameraSpec> camera;      // unset: the scene's camera (or automatic framing)
+  std::optional<renders::Camera> camera;  // unset: the scene's camera (or automatic framing)
   bool caption = true;
 };
 

@@ -12,7 +12,7 @@
 #include "cli_args.hpp"
 #include "invfem/core/io/mesh_error.hpp"
 #include "input_check.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "preview.hpp"
 #include "run_manifest.hpp"
 #include "run_output.hpp"
@@ -32,7 +32,7 @@ const char* const kRenderHelp =
     "          (needs ffmpeg: checked before rendering)\n";
 
 namespace {
-CameraSpec parse_camera(const std::string& text) {
+renders::Camera parse_camera(const std::string& text) {
   std::vector<double> v;
   std::stringstream ss(text);
   for (std::string item; std::getline(ss, item, ',');) {
@@ -52,12 +52,11 @@ CameraSpec parse_camera(const std::string& text) {
       throw InputError("--camera: number " + std::to_string(k + 1) + " (\"" + text + "\") is not finite");
   if (v[0] == v[3] && v[1] == v[4] && v[2] == v[5])
     throw InputError("--camera: the position equals the target, so there is no view direction");
-  CameraSpec c;
-  c.automatic = false;
+  renders::Camera c;
   c.position = {v[0], v[1], v[2]};
   c.target = {v[3], v[4], v[5]};
-  if (v.size() == 7) c.fov_degrees = v[6];
-  if (!(c.fov_degrees > 1 && c.fov_degrees < 170)) throw InputError("--camera: field of view must be in (1, 170) degrees");
+  if (v.size() == 7) c.fov_y_degrees = v[6];
+  if (!(c.fov_y_degrees > 1 && c.fov_y_degrees < 170)) throw InputError("--camera: field of view must be in (1, 170) degrees");
   return c;
 }
 }  // namespace

@@ -15,7 +15,7 @@
 #include "cli_args.hpp"
 #include "input_check.hpp"
 #include "memory_estimate.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "preview.hpp"
 #include "run_folder.hpp"
 #include "run_output.hpp"

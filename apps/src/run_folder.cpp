@@ -8,7 +8,7 @@
 
 #include "checkpoint.hpp"
 #include "collider_builders.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "run_manifest.hpp"
 #include "run_output.hpp"
 

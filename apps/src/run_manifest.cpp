@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "invfem/core/io/output_error.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 
 namespace invfem::app {
 

@@ -14,7 +14,7 @@
 #include "invfem/core/io/usd_writer.hpp"
 #include "invfem/core/io/vtu_writer.hpp"
 #include "invfem/core/io/obj_file.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "welds_file.hpp"
 
 namespace invfem::app {

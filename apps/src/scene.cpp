@@ -7,8 +7,8 @@
 #include "invfem/collisions/colliders/body_sequence.hpp"
 #include "invfem/solids/scramble.hpp"
 #include "input_check.hpp"
-#include "json_fields.hpp"
-#include "scene_parts.hpp"
+#include "json_reader.hpp"
+#include "scene_parsing.hpp"
 
 namespace invfem::app {
 
@@ -36,12 +36,11 @@ ScalarTrack parse_track(const Fields& f, const std::string& key, double fallback
   return track;
 }
 
-MaterialSpec parse_material(const Fields& f) {
-  MaterialSpec::fields().reject_unknown(f);
-  MaterialSpec m;
-  MaterialSpec::fields().read(f, m);
-  m.strength = parse_track(f, "strength", 1.0);
-  return m;
+// $.solids[i].material into the solid.
+void parse_material(const Fields& f, SolidSpec& solid) {
+  material_fields().reject_unknown(f);
+  material_fields().read(f, solid);
+  solid.material.strength = parse_track(f, "strength", 1.0);
 }
 
 Transform parse_transform(const Fields& f) {
@@ -54,7 +53,7 @@ Transform parse_transform(const Fields& f) {
   return t;
 }
 
-std::vector<PinBox> parse_pin_boxes(const Fields& f, std::vector<MotionSpec>* motions) {
+std::vector<PinBox> parse_pin_boxes(const Fields& f, std::vector<MotionScript>* motions) {
   std::vector<PinBox> boxes;
   if (!f.has("pin_boxes")) return boxes;
   const auto& v = f.raw("pin_boxes");
@@ -87,110 +86,115 @@ std::filesystem::path parse_mesh_path(const Fields& f, const std::string& key, c
   return p;
 }
 
-PlasticitySpec parse_plasticity(const Fields& f) {
-  PlasticitySpec::fields().reject_unknown(f);
-  PlasticitySpec p;
-  PlasticitySpec::fields().read(f, p);
+PlasticParams parse_plasticity(const Fields& f) {
+  plasticity_fields().reject_unknown(f);
+  PlasticParams p;
+  plasticity_fields().read(f, p);
   return p;
 }
 
-FractureSpec parse_fracture(const Fields& f) {
-  FractureSpec::fields().reject_unknown(f);
-  FractureSpec s;
-  FractureSpec::fields().read(f, s);
-  if (!s.max_principal_stress && !s.max_plastic_strain)
+// A seed given without a factor is cut at half the thresholds.
+constexpr double kSeedFactor = 0.5;
+
+FractureCriterion parse_fracture(const Fields& f) {
+  fracture_fields().reject_unknown(f);
+  FractureCriterion s;
+  fracture_fields().read(f, s);
+  if (std::isinf(s.max_principal_stress) && std::isinf(s.max_plastic_strain))
     f.fail("max_principal_stress", "a threshold: max_principal_stress [Pa] and/or max_plastic_strain");
   if (f.has("seed")) {
     const Fields b = f.object("seed");
     b.reject_unknown({"point", "normal", "min", "max", "factor"});
     if (!b.has("point")) b.fail("point", "a point [x, y, z] (m) of the seed plane");
     if (!b.has("normal")) b.fail("normal", "the seed plane's normal [x, y, z]");
-    FractureSpec::Seed seed;
-    seed.point = b.vec3("point", seed.point, limits::kLength);
-    seed.normal = b.vec3("normal", seed.normal, limits::kDirection);
-    const double n = std::hypot(seed.normal[0], seed.normal[1], seed.normal[2]);
+    s.seed_point = to_vec3(b.vec3("point", {0, 0, 0}, limits::kLength));
+    auto normal = b.vec3("normal", {0, 1, 0}, limits::kDirection);
+    const double n = std::hypot(normal[0], normal[1], normal[2]);
     if (!(n > 1e-12)) b.fail("normal", "a non-zero vector");
-    for (double& x : seed.normal) x /= n;
+    for (double& x : normal) x /= n;
+    s.seed_normal = to_vec3(normal).normalized();
     if (b.has("min") != b.has("max")) b.fail(b.has("min") ? "max" : "min", "both corners of the seed's box, or neither");
     if (b.has("min")) {
-      seed.min = b.vec3("min", {0, 0, 0}, limits::kLength);
-      seed.max = b.vec3("max", {0, 0, 0}, limits::kLength);
+      s.seed_min = to_vec3(b.vec3("min", {0, 0, 0}, limits::kLength));
+      s.seed_max = to_vec3(b.vec3("max", {0, 0, 0}, limits::kLength));
       for (int k = 0; k < 3; ++k)
-        if ((*seed.min)[k] > (*seed.max)[k]) b.fail("max", "a box with min <= max in every coordinate");
+        if (s.seed_min[k] > s.seed_max[k]) b.fail("max", "a box with min <= max in every coordinate");
     }
-    seed.factor = b.number("factor", seed.factor);
-    if (!(seed.factor > 0 && seed.factor <= 1)) b.fail("factor", "a fraction of the thresholds in (0, 1]");
-    s.seed = seed;
+    s.seed_factor = b.number("factor", kSeedFactor);
+    if (!(s.seed_factor > 0 && s.seed_factor <= 1)) b.fail("factor", "a fraction of the thresholds in (0, 1]");
   }
   return s;
 }
 
-PlasticGoalSpec parse_plastic_goal(const Fields& f) {
-  PlasticGoalSpec::fields().reject_unknown(f);
-  PlasticGoalSpec g;
-  g.scale = f.vec3("scale", g.scale, limits::kScale);
-  for (double x : g.scale)
+AxisScaledGoal parse_plastic_goal(const Fields& f) {
+  plastic_goal_fields().reject_unknown(f);
+  const auto scale = f.vec3("scale", {1, 1, 1}, limits::kScale);
+  for (double x : scale)
     if (!(x > 0)) f.fail("scale", "per-axis scales > 0 (a goal must not be flat or inverted)");
-  g.center = f.vec3("center", g.center, limits::kLength);
-  return g;
+  return AxisScaledGoal{to_vec3(scale), to_vec3(f.vec3("center", {0, 0, 0}, limits::kLength))};
 }
 
-FiberSpec parse_fiber(const Fields& f) {
-  FiberSpec::fields().reject_unknown(f);
-  FiberSpec fb;
-  fb.direction = f.vec3("direction", fb.direction, limits::kDirection);
-  if (std::hypot(fb.direction[0], fb.direction[1], fb.direction[2]) < 1e-12) f.fail("direction", "a non-zero vector");
-  FiberSpec::fields().read(f, fb);  // k_passive, k_active, max_contraction
-  fb.activation = parse_track(f, "activation", 0.0);
-  for (const auto& [t, a] : fb.activation.keys)
+// $.solids[i].fiber into the solid.
+void parse_fiber(const Fields& f, SolidSpec& solid) {
+  fiber_fields().reject_unknown(f);
+  solid.fiber_direction = f.vec3("direction", solid.fiber_direction, limits::kDirection);
+  const auto& d = solid.fiber_direction;
+  if (std::hypot(d[0], d[1], d[2]) < 1e-12) f.fail("direction", "a non-zero vector");
+  FiberMaterial fiber;
+  fiber_fields().read(f, fiber);  // k_passive, k_active, max_contraction
+  solid.material.fiber = fiber;
+  solid.material.activation = parse_track(f, "activation", 0.0);
+  for (const auto& [t, a] : solid.material.activation.keys)
     if (a > 1) f.fail("activation", "activation levels in [0, 1]");
-  return fb;
 }
 
-SolidInitialShapeSpec parse_solid_initial_shape(const Fields& f, const std::filesystem::path& dir, bool check_files) {
-  SolidInitialShapeSpec::fields().reject_unknown(f);
-  SolidInitialShapeSpec s;
+// $.solids[i].initial_shape into the solid.
+void parse_solid_initial_shape(const Fields& f, const std::filesystem::path& dir, bool check_files, SolidSpec& solid) {
+  initial_shape_fields().reject_unknown(f);
   if (f.has("file") == f.has("scramble"))
     f.fail("file", "either a \"file\" or a \"scramble\"", f.has("file") ? "both" : "neither");
   if (f.has("file")) {
     for (const char* k : {"seed", "size"})
       if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" with a file (it belongs to a scramble)");
-    s.file = parse_mesh_path(f, "file", dir, check_files);
-    if (f.has("transform")) s.transform = parse_transform(f.object("transform"));
-    return s;
+    solid.initial_shape = parse_mesh_path(f, "file", dir, check_files);
+    if (f.has("transform")) solid.initial_transform = parse_transform(f.object("transform"));
+    return;
   }
   if (f.has("transform"))
     f.fail("transform", "no transform with a scramble (it scrambles the solid's transformed rest shape)");
-  s.scramble = f.string("scramble");
-  const auto kind = scramble_kind_from_name(s.scramble);
+  const std::string name = f.string("scramble");
+  const auto kind = scramble_kind_from_name(name);
   if (!kind) f.fail("scramble", "one of " + scramble_kind_names());
-  SolidInitialShapeSpec::fields().read(f, s);  // seed
+  Scramble s;
+  s.kind = *kind;
+  initial_shape_fields().read(f, s);  // seed
   if (*kind == ScrambleKind::Box) {
     if (!f.has("size")) f.fail("size", "the box's edge [m] (a box scramble needs a size)");
     s.size = f.number("size");
     if (!(s.size > 0 && s.size <= limits::kLength)) f.fail("size", "a box edge > 0 [m], at most 1e6");
   } else if (f.has("size")) {
-    f.fail("size", "no \"size\" on a " + s.scramble + " scramble (only a box has one)");
+    f.fail("size", "no \"size\" on a " + name + " scramble (only a box has one)");
   }
-  return s;
+  solid.scramble = s;
 }
 
-MotionSpec parse_motion(const Fields& f) {
+MotionScript parse_motion(const Fields& f) {
   f.reject_unknown({"velocity", "spin_axis", "spin_rate", "translate_keys", "rotate_keys"});
-  MotionSpec m;
+  MotionScript m;
   const bool keyed = f.has("translate_keys") || f.has("rotate_keys");
   const bool constant = f.has("velocity") || f.has("spin_rate") || f.has("spin_axis");
   if (keyed && constant)
     f.fail("translate_keys", "either keyframes or a constant velocity/spin, not both");
   if (constant) {
-    m.kind = MotionSpec::Kind::ConstantVelocity;
-    m.velocity = f.vec3("velocity", m.velocity, limits::kSpeed);
-    m.spin_axis = f.vec3("spin_axis", m.spin_axis, limits::kDirection);
-    if (std::hypot(m.spin_axis[0], m.spin_axis[1], m.spin_axis[2]) < 1e-12) f.fail("spin_axis", "a non-zero axis");
+    m.kind = MotionScript::Kind::ConstantVelocity;
+    m.velocity = to_vec3(f.vec3("velocity", vec3_json(m.velocity), limits::kSpeed));
+    const auto axis = f.vec3("spin_axis", vec3_json(m.spin_axis), limits::kDirection);
+    if (std::hypot(axis[0], axis[1], axis[2]) < 1e-12) f.fail("spin_axis", "a non-zero axis");
+    m.spin_axis = to_vec3(axis);
     m.spin_rate = f.number_in("spin_rate", m.spin_rate, -limits::kAngularSpeed, limits::kAngularSpeed);
   }
   if (keyed) {
-    m.kind = MotionSpec::Kind::Keyframed;
+    m.kind = MotionScript::Kind::Keyframed;
     double last = -INFINITY;
     if (f.has("translate_keys")) {
       const auto& v = f.raw("translate_keys");
@@ -207,7 +211,7 @@ MotionSpec parse_motion(const Fields& f) {
         if (!(std::abs(t) <= limits::kTime) || t < last)
           f.fail("translate_keys", "times in [-1e9, 1e9] s in increasing order", "element " + std::to_string(i));
         last = t;
-        m.translate_keys.emplace_back(t, *p);
+        m.translate_keys.push_back(TranslationKey{t, to_vec3(*p)});
       }
     }
     last = -INFINITY;
@@ -219,11 +223,11 @@ MotionSpec parse_motion(const Fields& f) {
         if (!k.is_array() || k.size() != 3 || !k[0].is_number() || !k[1].is_array() || k[1].size() != 3 ||
             !k[2].is_number())
           f.fail("rotate_keys", "[time, [ax, ay, az], degrees] keys", "element " + std::to_string(i) + ": " + describe(k));
-        MotionSpec::RotateKey key{k[0].get<double>(), {}, k[2].get<double>()};
+        RotationKey key{k[0].get<double>(), Vec3::Zero(), k[2].get<double>()};
         const auto axis = bounded_vec3(k[1], limits::kDirection);
         if (!axis)
           f.fail("rotate_keys", "axes: " + vec3_expected(limits::kDirection), "element " + std::to_string(i) + ": " + describe(k));
-        key.axis = *axis;
+        key.axis = to_vec3(*axis);
         if (!(std::abs(key.degrees) <= limits::kDegrees))
           f.fail("rotate_keys", "angles in [-1e6, 1e6] degrees", "element " + std::to_string(i) + ": " + describe(k));
         if (std::hypot(key.axis[0], key.axis[1], key.axis[2]) < 1e-12)
@@ -239,17 +243,18 @@ MotionSpec parse_motion(const Fields& f) {
 }
 
 // An animated body's `after_end` (a sequence's or a skinned body's): "hold" or "loop".
-std::string read_after_end(const Fields& f, const std::string& fallback) {
-  std::string v = f.string("after_end", fallback);
+AnimationEnd read_after_end(const Fields& f) {
+  const std::string v = f.string("after_end", "hold");
   if (v != "hold" && v != "loop") f.fail("after_end", "\"hold\" or \"loop\"");
-  return v;
+  return v == "loop" ? AnimationEnd::Loop : AnimationEnd::Hold;
 }
+const char* after_end_name(AnimationEnd e) { return e == AnimationEnd::Loop ? "loop" : "hold"; }
 
 // The frames of a "sequence" collider: `frames` {pattern, first, last} or `files` [...], paths
 // relative to the scene's folder. With check_files every frame file must exist (a stat each;
 // frame 0 is read and checked when the world is built, later frames when the run reaches them).
-SequenceSpec parse_sequence(const Fields& f, const std::filesystem::path& dir, bool check_files) {
-  SequenceSpec q;
+void parse_sequence(const Fields& f, const std::filesystem::path& dir, bool check_files, ColliderSpec& c) {
+  BodySequenceSettings& q = c.sequence;
   if (f.has("frames") == f.has("files"))
     f.fail("frames", "either \"frames\": {\"pattern\", \"first\", \"last\"} or a \"files\" list",
            f.has("frames") ? "both" : "neither");
@@ -257,13 +262,13 @@ SequenceSpec parse_sequence(const Fields& f, const std::filesystem::path& dir, b
     const Fields fr = f.object("frames");
     fr.reject_unknown({"pattern", "first", "last"});
     const std::string pattern = fr.string("pattern");
-    q.first = fr.integer("first", 0, 0, 100000000);
+    c.first_frame = fr.integer("first", 0, 0, 100000000);
     if (!fr.has("last")) fr.fail("last", "the number of the last frame");
-    q.last = fr.integer("last", 0, 0, 100000000);
-    if (q.last < q.first) fr.fail("last", "a last frame >= first (" + std::to_string(q.first) + ")");
-    q.pattern = (std::filesystem::absolute(dir / pattern)).lexically_normal().string();
+    c.last_frame = fr.integer("last", 0, 0, 100000000);
+    if (c.last_frame < c.first_frame) fr.fail("last", "a last frame >= first (" + std::to_string(c.first_frame) + ")");
+    c.frames_pattern = (std::filesystem::absolute(dir / pattern)).lexically_normal().string();
     try {
-      for (const auto& file : expand_frame_pattern(q.pattern, q.first, q.last)) q.files.emplace_back(file);
+      q.files = expand_frame_pattern(c.frames_pattern, c.first_frame, c.last_frame);
     } catch (const std::invalid_argument& e) {
       fr.fail("pattern", "a pattern with one {N} or {N:0W} placeholder", e.what());
     }
@@ -271,7 +276,7 @@ SequenceSpec parse_sequence(const Fields& f, const std::filesystem::path& dir, b
       for (std::size_t k = 0; k < q.files.size(); ++k)
         if (const std::string problem = input_file_problem(q.files[k]); !problem.empty())
           fr.fail("pattern", "existing frame files",
-                  "\"" + q.files[k].string() + "\" (frame " + std::to_string(q.first + static_cast<int>(k)) +
+                  "\"" + q.files[k] + "\" (frame " + std::to_string(c.first_frame + static_cast<int>(k)) +
                       "), which " + as_clause(problem));
   } else {
     const auto& v = f.raw("files");
@@ -283,7 +288,7 @@ SequenceSpec parse_sequence(const Fields& f, const std::filesystem::path& dir, b
         if (const std::string problem = input_file_problem(p); !problem.empty())
           f.fail("files", "existing frame files",
                  "\"" + p.string() + "\" (element " + std::to_string(k) + "), which " + as_clause(problem));
-      q.files.push_back(p);
+      q.files.push_back(p.string());
     }
   }
   if (!f.has("fps")) f.fail("fps", "the sequence's frame rate [frames/s]");
@@ -292,28 +297,26 @@ SequenceSpec parse_sequence(const Fields& f, const std::filesystem::path& dir, b
     f.fail("start_frame", "either start_time or start_frame, not both");
   q.start_time = f.number_in("start_time", q.start_time, -1e9, 1e9);
   if (f.has("start_frame")) {
-    q.start_frame = f.integer("start_frame", 0, 0, static_cast<int>(q.files.size()) - 1);
-    q.start_time = -*q.start_frame / q.fps;
+    c.start_frame = f.integer("start_frame", 0, 0, static_cast<int>(q.files.size()) - 1);
+    q.start_time = -*c.start_frame / q.fps;
   }
-  q.after_end = read_after_end(f, q.after_end);
-  return q;
+  q.after_end = read_after_end(f);
 }
 
 // A "skinned" collider's file and clip (its name, or its index as a number or a string) and timing.
-SkinnedSpec parse_skinned(const Fields& f, const std::filesystem::path& dir, bool check_files) {
-  SkinnedSpec k;
+void parse_skinned(const Fields& f, const std::filesystem::path& dir, bool check_files, ColliderSpec& c) {
+  SkinnedBodySettings& k = c.skinned;
   if (!f.has("file")) f.fail("file", "the character's file (glTF, FBX, Collada, .x: anything assimp reads with bones)");
-  k.file = parse_mesh_path(f, "file", dir, check_files);
+  c.character = parse_mesh_path(f, "file", dir, check_files);
   if (f.has("clip")) {
     const auto& v = f.raw("clip");
-    if (v.is_number_integer() && v.get<long long>() >= 0) k.clip = std::to_string(v.get<long long>());
-    else if (v.is_string() && !v.get<std::string>().empty()) k.clip = v.get<std::string>();
+    if (v.is_number_integer() && v.get<long long>() >= 0) c.clip = std::to_string(v.get<long long>());
+    else if (v.is_string() && !v.get<std::string>().empty()) c.clip = v.get<std::string>();
     else f.fail("clip", "the clip's name (a string) or its index (an integer >= 0)");
   }
   k.start_time = f.number_in("start_time", k.start_time, -1e9, 1e9);
   k.pre_roll = f.number_in("pre_roll", k.pre_roll, 0, 1e6);
-  k.after_end = read_after_end(f, k.after_end);
-  return k;
+  k.after_end = read_after_end(f);
 }
 
 // A mesh or sequence collider's or a cloth coupling's offset (read by its table, >= 0): below its
@@ -346,15 +349,16 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
                           "root_radius", "thickness", "clearance", "mesh", "motion"})
       if (f.has(k)) f.fail(k, std::string("no \"") + k + "\" on " + what + " give its shape and motion)");
     if (c.type == "skinned") {
-      c.skinned = parse_skinned(f, dir, check_files);
+      parse_skinned(f, dir, check_files, c);
       rows_of(table, {"loop_blend"}).read(f, c);
-      if (c.loop_blend > 0 && c.skinned.after_end != "loop")
-        f.fail("loop_blend", "0 with after_end \"" + c.skinned.after_end + "\" (a blend is for a loop)");
+      if (c.skinned.loop_blend > 0 && c.skinned.after_end != AnimationEnd::Loop)
+        f.fail("loop_blend", "0 with after_end \"" + std::string(after_end_name(c.skinned.after_end)) +
+                                 "\" (a blend is for a loop)");
     } else {
-      c.sequence = parse_sequence(f, dir, check_files);
+      parse_sequence(f, dir, check_files, c);
     }
     rows_of(table, {"query_radius", "offset"}).read(f, c);
-    check_offset(f, c.offset, c.query_radius);
+    check_offset(f, c.contact.offset, c.contact.query_radius);
     c.transform = parse_transform(f.object_or_empty("transform"));
     return c;
   }
@@ -373,37 +377,35 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
   c.half_extents = f.vec3("half_extents", c.half_extents, limits::kLength);
   for (double h : c.half_extents)
     if (!(h > 0)) f.fail("half_extents", "three half extents > 0");
-  if (c.type == "gears" && !(c.root_radius < c.outer_radius)) f.fail("root_radius", "a root radius below outer_radius");
+  if (c.type == "gears" && !(c.gears.gear.root_radius < c.gears.gear.outer_radius))
+    f.fail("root_radius", "a root radius below outer_radius");
   if (c.type == "mesh") {
     c.mesh = parse_mesh_path(f, "mesh", dir, check_files);
-    check_offset(f, c.offset, c.query_radius);
+    check_offset(f, c.contact.offset, c.contact.query_radius);
   }
   c.transform = parse_transform(f.object_or_empty("transform"));
   c.motion = parse_motion(f.object_or_empty("motion"));
-  if (c.motion.kind == MotionSpec::Kind::Keyframed && f.has("transform"))
+  if (c.motion.kind == MotionScript::Kind::Keyframed && f.has("transform"))
     f.fail("transform", "no transform with keyframed motion (the keys are absolute poses)");
   if (c.type != "mesh" && f.object_or_empty("transform").has("scale"))
     f.fail("transform", "no scale on an analytic collider (set its radius or extents)");
   return c;
 }
 
-RenderSpec parse_render(const Fields& f) {
-  RenderSpec::fields().reject_unknown(f);
-  RenderSpec r;
-  RenderSpec::fields().read(f, r);
+// $.render into the scene's render settings and camera.
+void parse_render(const Fields& f, Scene& scene) {
+  render_fields().reject_unknown(f);
+  render_fields().read(f, scene.render);
   if (f.has("camera")) {
     const Fields c = f.object("camera");
-    CameraSpec::fields().reject_unknown(c);
-    r.camera.automatic = false;
-    r.camera.position = c.vec3("position", r.camera.position, limits::kLength);
-    r.camera.target = c.vec3("target", r.camera.target, limits::kLength);
-    CameraSpec::fields().read(c, r.camera);
-    const auto& p = r.camera.position;
-    const auto& t = r.camera.target;
-    if (std::hypot(p[0] - t[0], p[1] - t[1], p[2] - t[2]) < 1e-9)
-      c.fail("target", "a target different from the camera position");
+    camera_fields().reject_unknown(c);
+    renders::Camera camera;
+    camera.position = to_vec3(c.vec3("position", vec3_json(camera.position), limits::kLength));
+    camera.target = to_vec3(c.vec3("target", vec3_json(camera.target), limits::kLength));
+    camera_fields().read(c, camera);
+    if ((camera.position - camera.target).norm() < 1e-9) c.fail("target", "a target different from the camera position");
+    scene.camera = camera;
   }
-  return r;
 }
 
 // Parse the value of a --set assignment: JSON if it parses (numbers, arrays, true, "text"),
@@ -473,19 +475,18 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   s.gravity = root.vec3("gravity", s.gravity, limits::kAcceleration);
 
   const Fields solver = root.object_or_empty("solver");
-  SolverSpec::fields().reject_unknown(solver);
-  s.solver.integrator = solver.string("integrator", "");
-  if (!s.solver.integrator.empty() && s.solver.integrator != "itf04" && s.solver.integrator != "implicit")
-    solver.fail("integrator", "\"itf04\" or \"implicit\"");
-  const bool max_dt_given = j.contains("solver") && j["solver"].is_object() && j["solver"].contains("max_dt");
-  SolverSpec::fields().read(solver, s.solver);
+  solver_fields().reject_unknown(solver);
+  solver_fields().read(solver, s);
 
   const Fields sc = root.object_or_empty("self_collision");
-  SelfCollisionSpec::fields().reject_unknown(sc);
-  SelfCollisionSpec::fields().read(sc, s.self_collision);
-  if (!(s.self_collision.ccd_distance < s.self_collision.thickness))
+  self_collision_fields().reject_unknown(sc);
+  self_collision_fields().read(sc, s);
+  try {
+    collisions::validate(s.self_collision);  // the module's rule: ccd_distance below the thickness
+  } catch (const std::invalid_argument&) {
     sc.fail("ccd_distance", "a distance below the thickness (" + format_number(s.self_collision.thickness) + " m)",
             format_number(s.self_collision.ccd_distance) + (sc.has("ccd_distance") ? "" : " (its default)"));
+  }
 
   const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
   std::set<std::string> names;
@@ -502,10 +503,10 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
       SolidSpec solid;
       if (f.has("cloth_coupling")) {
         const Fields c = f.object("cloth_coupling");
-        ClothCouplingSpec::fields().reject_unknown(c);
+        cloth_coupling_fields().reject_unknown(c);
+        cloth_coupling_fields().read(c, solid);
         auto& cc = solid.cloth_coupling;
-        ClothCouplingSpec::fields().read(c, cc);
-        check_offset(c, cc.offset, cc.query_radius);
+        check_offset(c, cc.surface.offset, cc.surface.query_radius);
         if (c.has("cloths")) {
           const auto& v = c.raw("cloths");
           if (!v.is_array()) c.fail("cloths", "an array of cloth names");
@@ -521,26 +522,26 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
       solid.mesh = parse_mesh_path(f, "mesh", dir, check_files);
       solid.transform = parse_transform(f.object_or_empty("transform"));
       solid.velocity = f.vec3("velocity", solid.velocity, limits::kSpeed);
-      solid.material = parse_material(f.object_or_empty("material"));
+      parse_material(f.object_or_empty("material"), solid);
       solid.pin_boxes = parse_pin_boxes(f, &solid.pin_box_motions);
-      if (f.has("plasticity")) solid.plasticity = parse_plasticity(f.object("plasticity"));
+      auto& plasticity = solid.material.plasticity;
+      if (f.has("plasticity")) plasticity = parse_plasticity(f.object("plasticity"));
       if (f.has("plastic_goal")) {
-        if (!solid.plasticity) f.fail("plastic_goal", "a \"plasticity\" block as well (control steers plastic flow)");
-        if (solid.plasticity->preserve_volume)
+        if (!plasticity) f.fail("plastic_goal", "a \"plasticity\" block as well (control steers plastic flow)");
+        if (plasticity->preserve_volume)
           f.fail("plastic_goal", "plasticity.preserve_volume false (ITF04 7: a goal rarely preserves volume)");
         solid.plastic_goal = parse_plastic_goal(f.object("plastic_goal"));
       }
-      if (f.has("fiber")) solid.fiber = parse_fiber(f.object("fiber"));
-      if (solid.material.model == "mass_spring")  // springs replace the FE elasticity these act on
+      if (f.has("fiber")) parse_fiber(f.object("fiber"), solid);
+      if (solid.model.model == ModelKind::MassSpring)  // springs replace the FE elasticity these act on
         for (const char* key : {"plasticity", "plastic_goal", "fiber"})
           if (f.has(key)) f.fail(key, "no \"" + std::string(key) + "\" block with material.model \"mass_spring\" (springs have no F)");
-      if (f.has("initial_shape"))
-        solid.initial_shape = parse_solid_initial_shape(f.object("initial_shape"), dir, check_files);
+      if (f.has("initial_shape")) parse_solid_initial_shape(f.object("initial_shape"), dir, check_files, solid);
       if (f.has("fracture")) {
         solid.fracture = parse_fracture(f.object("fracture"));
-        if (solid.fracture->max_plastic_strain && !solid.plasticity)
+        if (std::isfinite(solid.fracture->max_plastic_strain) && !plasticity)
           f.fail("fracture", "a \"plasticity\" block as well for max_plastic_strain (without it Fp stays the identity)");
-        if (solid.material.model == "mass_spring")
+        if (solid.model.model == ModelKind::MassSpring)
           f.fail("fracture", "a finite-element material.model (the virtual node algorithm cuts tets; springs have "
                              "no stress to cut by)");
       }
@@ -566,7 +567,7 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
     }
   for (std::size_t i = 0; i < s.cloths.size(); ++i)
     for (std::size_t k = 0; k < s.cloths[i].attachments.size(); ++k) {
-      const std::string& name = s.cloths[i].attachments[k].solid;
+      const std::string& name = s.cloths[i].attachments[k].first;
       if (std::none_of(s.solids.begin(), s.solids.end(), [&](const SolidSpec& o) { return o.name == name; }))
         Fields(j["cloths"][i]["attachments"][k], fname,
                "$.cloths[" + std::to_string(i) + "].attachments[" + std::to_string(k) + "]")
@@ -574,9 +575,9 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
     }
   // Cloth and garment scenes take large implicit steps unless they say otherwise (a cloth's
   // in-plane stiffness would cost hundreds of explicit substeps a frame).
-  if (s.solver.integrator.empty()) s.solver.integrator = s.cloths.empty() ? "itf04" : "implicit";
-  if (s.solver.integrator == "implicit" && !max_dt_given) s.solver.max_dt = 0.5 / s.fps;
-  s.render = parse_render(root.object_or_empty("render"));
+  if (!solver.has("integrator")) s.solver.integrator = s.cloths.empty() ? Integrator::ITF04 : Integrator::Implicit;
+  if (s.solver.integrator == Integrator::Implicit && !solver.has("max_dt")) s.solver.max_dt = 0.5 / s.fps;
+  parse_render(root.object_or_empty("render"), s);
   if (j.contains("quick")) {
     if (!j["quick"].is_object()) root.fail("quick", "an object of field overrides, e.g. {\"frames\": 30}");
     s.quick = j["quick"];
@@ -623,77 +624,79 @@ nlohmann::json transform_json(const Transform& t) {
   return {{"scale", t.scale}, {"rotate_degrees", t.rotate_degrees}, {"translate", t.translate}};
 }
 
-nlohmann::json pin_boxes_json(const std::vector<PinBox>& boxes, const std::vector<MotionSpec>* motions) {
+nlohmann::json pin_boxes_json(const std::vector<PinBox>& boxes, const std::vector<MotionScript>* motions) {
   nlohmann::json a = nlohmann::json::array();
   for (std::size_t k = 0; k < boxes.size(); ++k) {
     nlohmann::json b{{"min", boxes[k].min}, {"max", boxes[k].max}};
     // Only a moving box says so: the scene as run (and its hash) is unchanged for held boxes.
-    if (motions && k < motions->size() && (*motions)[k].kind != MotionSpec::Kind::Fixed)
+    if (motions && k < motions->size() && (*motions)[k].kind != MotionScript::Kind::Fixed)
       b["motion"] = motion_json((*motions)[k]);
     a.push_back(std::move(b));
   }
   return a;
 }
 
-nlohmann::json motion_json(const MotionSpec& m) {
+nlohmann::json motion_json(const MotionScript& m) {
   nlohmann::json j = nlohmann::json::object();
-  if (m.kind == MotionSpec::Kind::ConstantVelocity) {
-    j = {{"velocity", m.velocity}, {"spin_axis", m.spin_axis}, {"spin_rate", m.spin_rate}};
-  } else if (m.kind == MotionSpec::Kind::Keyframed) {
+  if (m.kind == MotionScript::Kind::ConstantVelocity) {
+    j = {{"velocity", vec3_json(m.velocity)}, {"spin_axis", vec3_json(m.spin_axis)}, {"spin_rate", m.spin_rate}};
+  } else if (m.kind == MotionScript::Kind::Keyframed) {
     if (!m.translate_keys.empty()) {
       j["translate_keys"] = nlohmann::json::array();
-      for (const auto& [t, p] : m.translate_keys) j["translate_keys"].push_back({t, p});
+      for (const auto& k : m.translate_keys) j["translate_keys"].push_back({k.t, vec3_json(k.translation)});
     }
     if (!m.rotate_keys.empty()) {
       j["rotate_keys"] = nlohmann::json::array();
-      for (const auto& k : m.rotate_keys) j["rotate_keys"].push_back({k.t, k.axis, k.degrees});
+      for (const auto& k : m.rotate_keys) j["rotate_keys"].push_back({k.t, vec3_json(k.axis), k.degrees});
     }
   }
   return j;
 }
 
-nlohmann::json plasticity_json(const PlasticitySpec& p) { return fields_json(p); }
+nlohmann::json plasticity_json(const PlasticParams& p) { return fields_json(plasticity_fields(), p); }
 
-nlohmann::json solid_initial_shape_json(const SolidInitialShapeSpec& s) {
-  if (!s.file.empty()) {
-    nlohmann::json j{{"file", s.file.string()}};
-    if (s.transform) j["transform"] = transform_json(*s.transform);
+nlohmann::json solid_initial_shape_json(const SolidSpec& o) {
+  if (!o.initial_shape.empty()) {
+    nlohmann::json j{{"file", o.initial_shape.string()}};
+    if (o.initial_transform) j["transform"] = transform_json(*o.initial_transform);
     return j;
   }
-  nlohmann::json j = fields_json(s);  // seed
-  j["scramble"] = s.scramble;
-  if (s.scramble == "box") j["size"] = s.size;
+  nlohmann::json j = fields_json(initial_shape_fields(), *o.scramble);  // seed
+  j["scramble"] = std::string(scramble_kind_name(o.scramble->kind));
+  if (o.scramble->kind == ScrambleKind::Box) j["size"] = o.scramble->size;
   return j;
 }
 
 nlohmann::json solid_json(const SolidSpec& o) {
   nlohmann::json j = fields_json(o);  // mesh_resolution, self_collision
   j["name"] = o.name;
-  j["cloth_coupling"] = fields_json(o.cloth_coupling);
+  j["cloth_coupling"] = fields_json(cloth_coupling_fields(), o);
   j["cloth_coupling"]["cloths"] = o.cloth_coupling.cloths;
   j["mesh"] = o.mesh.string();
   j["transform"] = transform_json(o.transform);
   j["velocity"] = o.velocity;
-  j["material"] = fields_json(o.material);
+  j["material"] = fields_json(material_fields(), o);
   j["material"]["strength"] = track_json(o.material.strength);
   j["pin_boxes"] = pin_boxes_json(o.pin_boxes, &o.pin_box_motions);
-  if (o.plasticity) j["plasticity"] = plasticity_json(*o.plasticity);
-  if (o.fracture) {
-    nlohmann::json f = fields_json(*o.fracture);
-    if (const auto& seed = o.fracture->seed) {
-      nlohmann::json sj{{"point", seed->point}, {"normal", seed->normal}, {"factor", seed->factor}};
-      if (seed->min) sj["min"] = *seed->min, sj["max"] = *seed->max;
+  if (o.material.plasticity) j["plasticity"] = plasticity_json(*o.material.plasticity);
+  if (const auto& c = o.fracture) {
+    nlohmann::json f = fields_json(fracture_fields(), *c);
+    if (c->seed_factor < 1) {
+      nlohmann::json sj{{"point", vec3_json(c->seed_point)}, {"normal", vec3_json(c->seed_normal)},
+                        {"factor", c->seed_factor}};
+      if (c->seed_min.allFinite()) sj["min"] = vec3_json(c->seed_min), sj["max"] = vec3_json(c->seed_max);
       f["seed"] = sj;
     }
     j["fracture"] = f;
   }
-  if (o.plastic_goal) j["plastic_goal"] = {{"scale", o.plastic_goal->scale}, {"center", o.plastic_goal->center}};
-  if (o.fiber) {
-    j["fiber"] = fields_json(*o.fiber);  // k_passive, k_active, max_contraction
-    j["fiber"]["direction"] = o.fiber->direction;
-    j["fiber"]["activation"] = track_json(o.fiber->activation);
+  if (o.plastic_goal)
+    j["plastic_goal"] = {{"scale", vec3_json(o.plastic_goal->scale)}, {"center", vec3_json(o.plastic_goal->center)}};
+  if (o.material.fiber) {
+    j["fiber"] = fields_json(fiber_fields(), *o.material.fiber);  // k_passive, k_active, max_contraction
+    j["fiber"]["direction"] = o.fiber_direction;
+    j["fiber"]["activation"] = track_json(o.material.activation);
   }
-  if (o.initial_shape) j["initial_shape"] = solid_initial_shape_json(*o.initial_shape);
+  if (!o.initial_shape.empty() || o.scramble) j["initial_shape"] = solid_initial_shape_json(o);
   return j;
 }
 
@@ -716,33 +719,31 @@ nlohmann::json collider_json(const ColliderSpec& c) {
     rows_of(table, {"query_radius", "offset"}).write(j, c);
   }
   if (c.type == "skinned") {
-    const SkinnedSpec& k = c.skinned;
-    j["file"] = k.file.string();
-    j["clip"] = k.clip;
+    const SkinnedBodySettings& k = c.skinned;
+    j["file"] = c.character.string();
+    j["clip"] = c.clip;
     j["start_time"] = k.start_time;
     j["pre_roll"] = k.pre_roll;
-    j["after_end"] = k.after_end;
+    j["after_end"] = after_end_name(k.after_end);
     rows_of(table, {"loop_blend", "query_radius", "offset"}).write(j, c);
     j["transform"] = transform_json(c.transform);
     return j;
   }
   if (c.type == "sequence") {
-    const SequenceSpec& q = c.sequence;
-    if (!q.pattern.empty()) {
-      j["frames"] = {{"pattern", q.pattern}, {"first", q.first}, {"last", q.last}};
-    } else {
-      j["files"] = nlohmann::json::array();
-      for (const auto& p : q.files) j["files"].push_back(p.string());
-    }
+    const BodySequenceSettings& q = c.sequence;
+    if (!c.frames_pattern.empty())
+      j["frames"] = {{"pattern", c.frames_pattern}, {"first", c.first_frame}, {"last", c.last_frame}};
+    else
+      j["files"] = q.files;
     j["fps"] = q.fps;
-    if (q.start_frame) j["start_frame"] = *q.start_frame;
+    if (c.start_frame) j["start_frame"] = *c.start_frame;
     else j["start_time"] = q.start_time;
-    j["after_end"] = q.after_end;
+    j["after_end"] = after_end_name(q.after_end);
     rows_of(table, {"query_radius", "offset"}).write(j, c);
     j["transform"] = transform_json(c.transform);
     return j;
   }
-  if (c.motion.kind != MotionSpec::Kind::Keyframed) {
+  if (c.motion.kind != MotionScript::Kind::Keyframed) {
     j["transform"] = transform_json(c.transform);
     if (c.type != "mesh") j["transform"].erase("scale");  // analytic shapes are sized, not scaled
   }
@@ -756,21 +757,19 @@ nlohmann::json to_json(const Scene& s) {
   j["name"] = s.name;
   Scene::fields().write(j, s);  // fps, frames
   j["gravity"] = s.gravity;
-  j["solver"] = {{"integrator", s.solver.integrator}};
-  SolverSpec::fields().write(j["solver"], s.solver);
-  j["self_collision"] = nlohmann::json::object();
-  SelfCollisionSpec::fields().write(j["self_collision"], s.self_collision);
+  j["solver"] = fields_json(solver_fields(), s);
+  j["self_collision"] = fields_json(self_collision_fields(), s);
   j["solids"] = nlohmann::json::array();
   for (const auto& o : s.solids) j["solids"].push_back(solid_json(o));
   j["cloths"] = nlohmann::json::array();
   for (const auto& c : s.cloths) j["cloths"].push_back(cloth_json(c));
   j["colliders"] = nlohmann::json::array();
   for (const auto& c : s.colliders) j["colliders"].push_back(collider_json(c));
-  j["render"] = fields_json(s.render);  // width, height, ground
-  if (!s.render.camera.automatic) {
-    j["render"]["camera"] = fields_json(s.render.camera);  // fov_degrees
-    j["render"]["camera"]["position"] = s.render.camera.position;
-    j["render"]["camera"]["target"] = s.render.camera.target;
+  j["render"] = fields_json(render_fields(), s.render);  // width, height, ground
+  if (s.camera) {
+    j["render"]["camera"] = fields_json(camera_fields(), *s.camera);  // fov_degrees
+    j["render"]["camera"]["position"] = vec3_json(s.camera->position);
+    j["render"]["camera"]["target"] = vec3_json(s.camera->target);
   }
   return j;
 }

@@ -1,26 +1,22 @@
 // Scene fields of a cloth, garment or shell object ($.cloths[i]); schema in apps/scenes/README.md.
 #include <cmath>
 
-#include "scene_parts.hpp"
+#include "scene_parsing.hpp"
 
 namespace invfem::app::scene_detail {
 
 namespace {
 
-ClothMaterialSpec parse_cloth_material(const Fields& f) {
-  ClothMaterialSpec::fields().reject_unknown(f);
-  ClothMaterialSpec m;
-  ClothMaterialSpec::fields().read(f, m);
-  return m;
-}
-
 // The vertices a pin or an attachment selects: exactly one of "vertices", "box" or "group".
-PinSpec parse_selection(const Fields& f) {
-  PinSpec p;
+VertexSelection parse_selection(const Fields& f) {
+  VertexSelection p;
   const int ways = int(f.has("vertices")) + int(f.has("box")) + int(f.has("group"));
   if (ways != 1) f.fail("vertices", "exactly one of \"vertices\", \"box\" or \"group\"");
-  if (f.has("vertices")) p.vertices = f.index_list("vertices");
-  if (f.has("box")) p.box = parse_pin_box(f.object("box"));
+  if (f.has("vertices")) p.indices = f.index_list("vertices");
+  if (f.has("box")) {
+    const PinBox box = parse_pin_box(f.object("box"));
+    p.box = {to_vec3(box.min), to_vec3(box.max)};
+  }
   if (f.has("group")) {
     p.group = f.string("group");
     if (p.group.empty()) f.fail("group", "a group name");
@@ -28,41 +24,38 @@ PinSpec parse_selection(const Fields& f) {
   return p;
 }
 
-nlohmann::json stitch_list_json(const StitchSpec& s) {
+nlohmann::json stitch_list_json(const std::vector<ExtraStitch>& list) {
   nlohmann::json a = nlohmann::json::array();
-  for (const auto& e : s.list) a.push_back({e.vertices[0], e.vertices[1], e.vertices[2], e.r});
+  for (const auto& e : list) a.push_back({e.vertices[0], e.vertices[1], e.vertices[2], e.r});
   return a;
 }
 
-nlohmann::json selection_json(const PinSpec& p) {
+nlohmann::json selection_json(const VertexSelection& p) {
   nlohmann::json j;
-  if (p.box) j["box"] = {{"min", p.box->min}, {"max", p.box->max}};
+  if (p.box) j["box"] = {{"min", vec3_json(p.box->first)}, {"max", vec3_json(p.box->second)}};
   else if (!p.group.empty()) j["group"] = p.group;
-  else j["vertices"] = p.vertices;
+  else j["vertices"] = p.indices;
   return j;
 }
 
-PinSpec parse_pin(const Fields& f) {
+std::pair<VertexSelection, MotionScript> parse_pin(const Fields& f) {
   f.reject_unknown({"vertices", "box", "group", "motion"});
-  PinSpec p = parse_selection(f);
-  p.motion = parse_motion(f.object_or_empty("motion"));
-  return p;
+  return {parse_selection(f), parse_motion(f.object_or_empty("motion"))};
 }
 
-AttachmentSpec parse_attachment(const Fields& f) {
+std::pair<std::string, VertexSelection> parse_attachment(const Fields& f) {
   f.reject_unknown({"solid", "vertices", "box", "group"});
-  AttachmentSpec a;
-  a.solid = f.string("solid");
-  if (a.solid.empty()) f.fail("solid", "the name of a solid");
-  a.selection = parse_selection(f);
-  if (f.has("vertices") && a.selection.vertices.empty()) f.fail("vertices", "at least one vertex index");
-  return a;
+  const std::string solid = f.string("solid");
+  if (solid.empty()) f.fail("solid", "the name of a solid");
+  VertexSelection selection = parse_selection(f);
+  if (f.has("vertices") && selection.indices.empty()) f.fail("vertices", "at least one vertex index");
+  return {solid, std::move(selection)};
 }
 
-StitchSpec parse_stitches(const Fields& f) {
-  StitchSpec::fields().reject_unknown(f);
-  StitchSpec s;
-  StitchSpec::fields().read(f, s);  // from_mesh, stiffness, damping, closing_speed
+// $.cloths[i].stitches into c.
+void parse_stitches(const Fields& f, ClothSpec& c) {
+  stitch_fields().reject_unknown(f);
+  stitch_fields().read(f, c);  // from_mesh, stiffness, damping, closing_speed
   if (f.has("list")) {
     const auto& v = f.raw("list");
     if (!v.is_array()) f.fail("list", "an array of [i, j, k, r] stitches");
@@ -71,7 +64,7 @@ StitchSpec parse_stitches(const Fields& f) {
       const bool ok = e.is_array() && e.size() == 4 && e[0].is_number_integer() && e[1].is_number_integer() &&
                       e[2].is_number_integer() && e[3].is_number();
       if (!ok) f.fail("list", "[i, j, k, r] with integer vertices and a number r", "element " + std::to_string(i) + ": " + describe(e));
-      StitchSpec::Extra st;
+      ExtraStitch st;
       for (std::size_t a = 0; a < 3; ++a) {
         const auto idx = json_int64(e[a]);
         if (!idx || *idx < 0) f.fail("list", "vertex indices >= 0", "element " + std::to_string(i) + ": " + describe(e));
@@ -79,10 +72,9 @@ StitchSpec parse_stitches(const Fields& f) {
       }
       st.r = e[3].get<double>();
       if (!(st.r >= 0 && st.r <= 1)) f.fail("list", "r in [0, 1]", "element " + std::to_string(i) + ": " + describe(e));
-      s.list.push_back(st);
+      c.extra_stitches.push_back(st);
     }
   }
-  return s;
 }
 
 }  // namespace
@@ -98,15 +90,15 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
     c.mesh = parse_mesh_path(f, "mesh", dir, check_files);
   } else if (f.has("half_torus")) {
     const Fields h = f.object("half_torus");
-    HalfTorusSpec::fields().reject_unknown(h);
-    HalfTorusSpec t;
-    HalfTorusSpec::fields().read(h, t);
+    half_torus_fields().reject_unknown(h);
+    HalfTorusParams t;
+    half_torus_fields().read(h, t);
     if (!(t.minor_radius < t.major_radius)) h.fail("minor_radius", "a tube radius below major_radius");
     c.half_torus = t;
   } else {
     const Fields g = f.object_or_empty("grid");
-    GridSpec::fields().reject_unknown(g);
-    GridSpec::fields().read(g, c.grid);
+    grid_fields().reject_unknown(g);
+    grid_fields().read(g, c.grid);
   }
   if (c.rest_shape == "pattern" && c.mesh.empty())
     f.fail("rest_shape", "\"mesh\" for a grid or shape (a pattern comes from a mesh file's vt lines)");
@@ -119,14 +111,16 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
   }
   c.transform = parse_transform(f.object_or_empty("transform"));
   c.velocity = f.vec3("velocity", c.velocity, limits::kSpeed);
-  c.material = parse_cloth_material(f.object_or_empty("material"));
-  if (f.has("plasticity")) c.plasticity = parse_plasticity(f.object("plasticity"));
+  const Fields material = f.object_or_empty("material");
+  cloth_material_fields().reject_unknown(material);
+  cloth_material_fields().read(material, c);
+  if (f.has("plasticity")) c.params.plasticity = parse_plasticity(f.object("plasticity"));
   if (f.has("bending_plasticity")) {
     const Fields b = f.object("bending_plasticity");
-    BendingPlasticitySpec::fields().reject_unknown(b);
-    BendingPlasticitySpec bp;
-    BendingPlasticitySpec::fields().read(b, bp);
-    c.bending_plasticity = bp;
+    bending_plasticity_fields().reject_unknown(b);
+    BendingPlasticity bp;
+    bending_plasticity_fields().read(b, bp);
+    c.params.bending.plasticity = bp;
   }
   if (f.has("inversion_test")) {
     const auto& v = f.raw("inversion_test");
@@ -141,12 +135,13 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
       f.fail("inversion_test", "\"none\", \"rest\" or a direction [x, y, z]");
     }
   }
-  if (c.material.model == "mass_spring" && c.plasticity)
+  const ModelKind model = c.model.model;
+  if (model == ModelKind::MassSpring && c.params.plasticity)
     f.fail("plasticity", "no in-plane plasticity with material.model \"mass_spring\" (springs have no F)");
-  if ((c.material.model == "mass_spring" || c.material.model == "corotated") && c.inversion_test != "none")
-    f.fail("inversion_test", "\"none\" with the baseline material.model \"" + c.material.model +
+  if ((model == ModelKind::MassSpring || model == ModelKind::Corotated) && c.inversion_test != "none")
+    f.fail("inversion_test", "\"none\" with the baseline material.model \"" + std::string(model_kind_name(model)) +
                                  "\" (the inversion test is ITF04's inversion handling)");
-  c.stitches = parse_stitches(f.object_or_empty("stitches"));
+  parse_stitches(f.object_or_empty("stitches"), c);
   if (f.has("pin_vertices")) c.pin_vertices = f.index_list("pin_vertices");
   c.pin_boxes = parse_pin_boxes(f);
   if (f.has("pins")) {
@@ -170,40 +165,40 @@ nlohmann::json cloth_json(const ClothSpec& c) {
   j["name"] = c.name;
   j["transform"] = transform_json(c.transform);
   j["velocity"] = c.velocity;
-  j["material"] = fields_json(c.material);
-  j["stitches"] = fields_json(c.stitches);
-  j["stitches"]["list"] = stitch_list_json(c.stitches);
+  j["material"] = fields_json(cloth_material_fields(), c);
+  j["stitches"] = fields_json(stitch_fields(), c);
+  j["stitches"]["list"] = stitch_list_json(c.extra_stitches);
   j["pin_vertices"] = c.pin_vertices;
   j["pin_boxes"] = pin_boxes_json(c.pin_boxes);
   if (!c.mesh.empty())
     j["mesh"] = c.mesh.string();
   else if (c.half_torus)
-    j["half_torus"] = fields_json(*c.half_torus);
+    j["half_torus"] = fields_json(half_torus_fields(), *c.half_torus);
   else
-    j["grid"] = fields_json(c.grid);
+    j["grid"] = fields_json(grid_fields(), c.grid);
   if (!c.initial_shape.empty()) {
     j["initial_shape"] = {{"mesh", c.initial_shape.string()}};
     if (c.initial_transform) j["initial_shape"]["transform"] = transform_json(*c.initial_transform);
   }
-  if (c.plasticity) j["plasticity"] = plasticity_json(*c.plasticity);
-  if (c.bending_plasticity) j["bending_plasticity"] = fields_json(*c.bending_plasticity);
+  if (const auto& p = c.params.plasticity) j["plasticity"] = plasticity_json(*p);
+  if (const auto& b = c.params.bending.plasticity) j["bending_plasticity"] = fields_json(bending_plasticity_fields(), *b);
   if (c.inversion_test == "direction")
     j["inversion_test"] = c.inversion_direction;
   else
     j["inversion_test"] = c.inversion_test;
   if (!c.attachments.empty()) {
     j["attachments"] = nlohmann::json::array();
-    for (const auto& a : c.attachments) {
-      nlohmann::json aj = selection_json(a.selection);
-      aj["solid"] = a.solid;
+    for (const auto& [solid, selection] : c.attachments) {
+      nlohmann::json aj = selection_json(selection);
+      aj["solid"] = solid;
       j["attachments"].push_back(aj);
     }
   }
   if (!c.pins.empty()) {
     j["pins"] = nlohmann::json::array();
-    for (const auto& p : c.pins) {
-      nlohmann::json pj = selection_json(p);
-      pj["motion"] = motion_json(p.motion);
+    for (const auto& [selection, motion] : c.pins) {
+      nlohmann::json pj = selection_json(selection);
+      pj["motion"] = motion_json(motion);
       j["pins"].push_back(pj);
     }
   }

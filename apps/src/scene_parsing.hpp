@@ -7,7 +7,7 @@
 #include <initializer_list>
 #include <vector>
 
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "scene.hpp"
 
 namespace invfem::app::scene_detail {
@@ -26,28 +26,36 @@ FieldTable<S> rows_of(const FieldTable<S>& table, std::initializer_list<const ch
 // The fields of `spec`'s table that have a member, as a JSON object (the rows without one are the
 // caller's to add).
 template <class S>
-nlohmann::json fields_json(const S& spec) {
+nlohmann::json fields_json(const FieldTable<S>& table, const S& spec) {
   nlohmann::json j = nlohmann::json::object();
-  S::fields().write(j, spec);
+  table.write(j, spec);
   return j;
 }
+template <class S>
+nlohmann::json fields_json(const S& spec) {
+  return fields_json(S::fields(), spec);
+}
+
+// A scene's [x, y, z] as a module's Vec3, and back (exact both ways).
+inline Vec3 to_vec3(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
+inline std::array<double, 3> vec3_json(const Vec3& v) { return {v[0], v[1], v[2]}; }
 
 ScalarTrack parse_track(const Fields& f, const std::string& key, double fallback);
 Transform parse_transform(const Fields& f);
 // With `motions`, each box may also hold a "motion" (parse_motion), appended there (solids).
-std::vector<PinBox> parse_pin_boxes(const Fields& f, std::vector<MotionSpec>* motions = nullptr);
+std::vector<PinBox> parse_pin_boxes(const Fields& f, std::vector<MotionScript>* motions = nullptr);
 PinBox parse_pin_box(const Fields& b, bool with_motion = false);
-PlasticitySpec parse_plasticity(const Fields& f);
-MotionSpec parse_motion(const Fields& f);
+PlasticParams parse_plasticity(const Fields& f);
+MotionScript parse_motion(const Fields& f);
 // A mesh path relative to the scene file's folder, made absolute; checked to exist if asked.
 std::filesystem::path parse_mesh_path(const Fields& f, const std::string& key, const std::filesystem::path& dir,
                                       bool check_files);
 
 nlohmann::json track_json(const ScalarTrack& t);
 nlohmann::json transform_json(const Transform& t);
-nlohmann::json pin_boxes_json(const std::vector<PinBox>& boxes, const std::vector<MotionSpec>* motions = nullptr);
-nlohmann::json motion_json(const MotionSpec& m);
-nlohmann::json plasticity_json(const PlasticitySpec& p);
+nlohmann::json pin_boxes_json(const std::vector<PinBox>& boxes, const std::vector<MotionScript>* motions = nullptr);
+nlohmann::json motion_json(const MotionScript& m);
+nlohmann::json plasticity_json(const PlasticParams& p);
 
 ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool check_files);
 nlohmann::json cloth_json(const ClothSpec& c);

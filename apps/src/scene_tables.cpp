@@ -1,13 +1,29 @@
-// The scene's field tables (scene_field.hpp), one per spec of scene.hpp: each field's key, unit,
-// range and one-line meaning, once. The defaults are the specs' member initializers. The
-// document's tables (apps/scenes/README.md) are generated from these (test_scene_fields).
+// The scene's field tables (field_table.hpp), one per section of a scene file: each field's key,
+// unit, range and one-line meaning, once, and the slot it fills in a module's settings or an
+// object's description, whose member initializer is the default. The document's tables
+// (apps/scenes/README.md) are generated from these (test_scene_fields).
 #include "scene.hpp"
 
-// A row documented here and read by hand names no member; Field::member (a variant of member
-// pointers) cannot take a default initializer under GCC 12 (it crashes the compiler).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+// A row documented here and read by hand names no slot; Field::member (a variant) cannot take a
+// default initializer under GCC 12 (it crashes the compiler).
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 
 namespace invfem::app {
+
+namespace {
+// A material's `model`: the kinds by their names (model_kind_name), in ModelKind's order.
+template <class S, class Ref> Slot<S, std::string> model_kind(Ref ref) {
+  std::vector<std::pair<std::string, ModelKind>> names;
+  for (ModelKind k : {ModelKind::RotatedLinear, ModelKind::NeoHookean, ModelKind::StVK, ModelKind::Spline,
+                      ModelKind::Corotated, ModelKind::MassSpring})
+    names.emplace_back(model_kind_name(k), k);
+  return named<S, ModelKind>(ref, std::move(names));
+}
+}  // namespace
 
 const FieldTable<Scene>& Scene::fields() {
   using S = Scene;
@@ -34,66 +50,90 @@ const FieldTable<Scene>& Scene::fields() {
   return table;
 }
 
-const FieldTable<SolverSpec>& SolverSpec::fields() {
-  using S = SolverSpec;
+// The solver's fields fill the World's settings (WorldSettings, ImplicitSettings, CGSettings).
+const FieldTable<Scene>& solver_fields() {
+  using S = Scene;
   static const FieldTable<S> table({
       {.key = "integrator",
+       .member = named<S, Integrator>([](auto& s) -> auto& { return s.solver.integrator; },
+                                      {{"itf04", Integrator::ITF04}, {"implicit", Integrator::Implicit}}),
        .description = "`itf04`: the ITF04 section 9 step (explicit elasticity, implicit damping, CFL-limited), the "
                       "reference; `implicit`: backward Euler by Newton's method with a line search, steps of "
                       "`max_dt` with no stability limit",
        .default_text = "`implicit` with a cloth, else `itf04`"},
-      {.key = "linear", .member = &S::linear, .choices = {"cg", "direct"},
+      {.key = "linear", .member = named<S, LinearSolver>([](auto& s) -> auto& { return s.solver.implicit.linear; },
+                                       {{"cg", LinearSolver::CG}, {"direct", LinearSolver::Direct}}),
        .description = "`implicit`: each Newton system solved by preconditioned CG (`cg`) or factorized by sparse "
                       "Cholesky (`direct`)"},
-      {.key = "preconditioner", .member = &S::preconditioner, .choices = {"auto", "block_jacobi", "amg"},
+      {.key = "preconditioner", .member = named<S, Preconditioner>([](auto& s) -> auto& { return s.solver.implicit.preconditioner; },
+                                         {{"auto", Preconditioner::Auto},
+                                          {"block_jacobi", Preconditioner::BlockJacobi},
+                                          {"amg", Preconditioner::Amg}}),
        .description = "`implicit` with `cg`: CG's preconditioner (see below)"},
       {.key = "cfl", .member = &S::cfl, .range = {1e-3, 1},
        .description = "`itf04`: fraction of the explicit stability bound taken as the time step"},
-      {.key = "max_dt", .member = &S::max_dt, .unit = "s", .range = {1e-9, 1},
+      {.key = "max_dt", .member = at<S>([](auto& s) -> auto& { return s.solver.max_dt; }), .unit = "s", .range = {1e-9, 1},
        .description = "upper bound on the time step (`implicit`: half a frame when not given)"},
-      {.key = "cg_tolerance", .member = &S::cg_tolerance, .range = {1e-14, 1e-1},
+      // One tolerance for both: the itf04 damping solves', and the implicit forcing term's floor,
+      // at least the ImplicitSettings default.
+      {.key = "cg_tolerance",
+       .member = Slot<S, double>([](const S& s) { return s.solver.cg.relative_tolerance; },
+                                 [](S& s, const double& v) {
+                                   s.solver.cg.relative_tolerance = v;
+                                   s.solver.implicit.cg.relative_tolerance =
+                                       std::max(v, ImplicitSettings{}.cg.relative_tolerance);
+                                 }), .range = {1e-14, 1e-1},
        .description = "`itf04`: relative residual of the damping solves; `implicit`: floor (at least 1e-6) of each "
                       "Newton step's CG tolerance"},
-      {.key = "cg_max_iterations", .member = &S::cg_max_iterations, .unit = "count", .range = {1, 100000},
+      {.key = "cg_max_iterations",
+       .member = Slot<S, int>([](const S& s) { return s.solver.cg.max_iterations; },
+                              [](S& s, const int& v) { s.solver.cg.max_iterations = s.solver.implicit.cg.max_iterations = v; }), .unit = "count", .range = {1, 100000},
        .description = "per CG solve; a solve that hits it is reported (`cg_converged` in `stats.jsonl`)"},
-      {.key = "newton_tolerance", .member = &S::newton_tolerance, .range = {1e-12, 1},
+      {.key = "newton_tolerance", .member = at<S>([](auto& s) -> auto& { return s.solver.implicit.tolerance; }), .range = {1e-12, 1},
        .description = "`implicit`: a step stops when the residual force is below this fraction of the forces at "
                       "play (gravity, the elastic forces at the step's start, the momentum per step)"},
-      {.key = "newton_max_iterations", .member = &S::newton_max_iterations, .unit = "count", .range = {1, 1000},
+      {.key = "newton_max_iterations", .member = at<S>([](auto& s) -> auto& { return s.solver.implicit.max_newton_iterations; }), .unit = "count", .range = {1, 1000},
        .description = "`implicit`: Newton iterations of a step; a step that reaches it is reported "
                       "(`newton_capped`, `newton_worst_residual`)"},
-      {.key = "max_substeps_per_frame", .member = &S::max_substeps_per_frame, .unit = "count",
+      {.key = "max_substeps_per_frame",
+       .member = Slot<S, int>([](const S& s) { return static_cast<int>(s.solver.max_substeps); },
+                              [](S& s, const int& v) { s.solver.max_substeps = v; }), .unit = "count",
        .range = {1, 2147483647},
        .description = "a frame that would take more steps stops the run with exit 1, at its start when the "
                       "first frame would (see below); the default stops a run that would take hours a frame"},
-      {.key = "max_step_motion", .member = &S::max_step_motion, .unit = "m", .range = {0, 1e3},
+      // 0 in the scene is the World's infinity (no bound of its own).
+      {.key = "max_step_motion",
+       .member = Slot<S, double>(
+           [](const S& s) { return std::isinf(s.solver.max_step_motion) ? 0.0 : s.solver.max_step_motion; },
+           [](S& s, const double& v) { s.solver.max_step_motion = v > 0 ? v : std::numeric_limits<double>::infinity(); }), .unit = "m", .range = {0, 1e3},
        .description = "motion-bounded steps: the longest a node or a collider's surface may move in one step "
                       "(see below); 0: the colliders' and the layer's own limits only"},
-      {.key = "max_step_retries", .member = &S::max_step_retries, .unit = "count", .range = {0, 10},
+      {.key = "max_step_retries", .member = at<S>([](auto& s) -> auto& { return s.solver.max_step_retries; }), .unit = "count", .range = {0, 10},
        .description = "halvings of a frame's steps after a step the self-collision layer left unresolved (see "
                       "below); 0: never retried"},
   });
   return table;
 }
 
-const FieldTable<SelfCollisionSpec>& SelfCollisionSpec::fields() {
-  using S = SelfCollisionSpec;
+// The self-collision layer's fields fill collisions::SelfCollisionSettings.
+const FieldTable<Scene>& self_collision_fields() {
+  using S = Scene;
   static const FieldTable<S> table({
-      {.key = "enabled", .member = &S::enabled, .description = "false: no self-collision pass at all"},
-      {.key = "thickness", .member = &S::thickness, .unit = "m", .range = {1e-9, 1},
+      {.key = "enabled", .member = &S::self_collision_enabled, .description = "false: no self-collision pass at all"},
+      {.key = "thickness", .member = at<S>([](auto& s) -> auto& { return s.self_collision.thickness; }), .unit = "m", .range = {1e-9, 1},
        .description = "repulsion thickness: pairs closer than it at a step's start are pushed apart; below the "
                       "rest distance of non-neighbouring parts, and below every surface's median edge length "
                       "(checked at load)"},
-      {.key = "ccd_distance", .member = &S::ccd_distance, .unit = "m", .range = {0, 1},
+      {.key = "ccd_distance", .member = at<S>([](auto& s) -> auto& { return s.self_collision.ccd_distance; }), .unit = "m", .range = {0, 1},
        .description = "the separation the CCD impulses and the impact zones keep, below `thickness`"},
-      {.key = "friction", .member = &S::friction, .range = {0, 10},
+      {.key = "friction", .member = at<S>([](auto& s) -> auto& { return s.self_collision.friction; }), .range = {0, 10},
        .description = "Coulomb coefficient between surfaces"},
-      {.key = "impulse_passes", .member = &S::impulse_passes, .unit = "count", .range = {0, 1000},
+      {.key = "impulse_passes", .member = at<S>([](auto& s) -> auto& { return s.self_collision.impulse_passes; }), .unit = "count", .range = {0, 1000},
        .description = "CCD impulse passes before the rigid impact zones take over"},
-      {.key = "max_zone_iterations", .member = &S::max_zone_iterations, .unit = "count", .range = {1, 100000},
+      {.key = "max_zone_iterations", .member = at<S>([](auto& s) -> auto& { return s.self_collision.max_zone_iterations; }), .unit = "count", .range = {1, 100000},
        .description = "detect-merge-move rounds of the impact zones; a step that needs more is counted "
                       "(`unresolved_steps`) and flagged in the progress line"},
-      {.key = "colliders", .member = &S::colliders,
+      {.key = "colliders", .member = at<S>([](auto& s) -> auto& { return s.self_collision.kinematic_bodies; }),
        .description = "mesh colliders' triangles take part (analytic colliders act on their exact shape through "
                       "the collision processing)"},
   });
@@ -107,7 +147,7 @@ const FieldTable<SolidSpec>& SolidSpec::fields() {
       {.key = "mesh", .unit = "path",
        .description = "a tet mesh, or a closed triangle surface that is checked and tet-meshed (see below)",
        .default_text = "required"},
-      {.key = "mesh_resolution", .member = &S::mesh_resolution, .unit = "cells", .range = {2, 1000},
+      {.key = "mesh_resolution", .member = at<S>([](auto& s) -> auto& { return s.meshing.resolution; }), .unit = "cells", .range = {2, 1000},
        .description = "BCC cells along the longest side, for a surface `mesh`"},
       {.key = "transform",
        .description = "`scale` (factor), `rotate_degrees` `[x, y, z]` (applied x, then y, then z), `translate` "
@@ -138,31 +178,32 @@ const FieldTable<SolidSpec>& SolidSpec::fields() {
   return table;
 }
 
-// The solids' material; the cloths' is ClothMaterialSpec.
-const FieldTable<MaterialSpec>& MaterialSpec::fields() {
-  using S = MaterialSpec;
+// The solids' material: the model chosen (MaterialChoice) and the TetMaterial.
+const FieldTable<SolidSpec>& material_fields() {
+  using S = SolidSpec;
   static const FieldTable<S> table({
-      {.key = "model", .member = &S::model,
-       .choices = {"rotated_linear", "neo_hookean", "stvk", "spline", "corotated", "mass_spring"},
+      {.key = "model", .member = model_kind<S>([](auto& s) -> auto& { return s.model.model; }),
        .expected = "one of rotated_linear, neo_hookean, stvk, spline (ITF04) or the baselines corotated, mass_spring",
        .description = "the constitutive model: ITF04's four, extended through flat and inverted states, or a "
                       "baseline with no inversion handling (see below)"},
-      {.key = "young", .member = &S::young, .unit = "Pa", .range = {0, 1e13}, .description = "Young's modulus"},
-      {.key = "poisson", .member = &S::poisson, .range = {-1, 0.5, true, true},
+      {.key = "young", .member = at<S>([](auto& s) -> auto& { return s.model.young; }), .unit = "Pa", .range = {0, 1e13}, .description = "Young's modulus"},
+      {.key = "poisson", .member = at<S>([](auto& s) -> auto& { return s.model.poisson; }), .range = {-1, 0.5, true, true},
        .expected = "a Poisson's ratio in (-1, 0.5) (0.5 is incompressible: use 0.49 or less)",
        .description = "Poisson's ratio; 0.5 (incompressible) is rejected"},
-      {.key = "density", .member = &S::density, .unit = "kg/m³", .range = {0, 1e6, true, false},
+      {.key = "density", .member = at<S>([](auto& s) -> auto& { return s.material.density; }), .unit = "kg/m³", .range = {0, 1e6, true, false},
        .expected = "a density > 0 and <= 1e6 [kg/m^3]", .description = "mass density at rest"},
-      {.key = "damping", .member = &S::damping, .unit = "s", .range = {0, 10},
+      {.key = "damping", .member = at<S>([](auto& s) -> auto& { return s.material.damping; }), .unit = "s", .range = {0, 10},
        .description = "ITF04 6.2 damping in the rotated frame: alpha = k lambda, beta = k mu"},
-      {.key = "damping_model", .member = &S::damping_model, .choices = {"rotated", "spin_free"},
+      {.key = "damping_model",
+       .member = named<S, DampingModel>([](auto& s) -> auto& { return s.material.damping_model; },
+                                        {{"rotated", DampingModel::Rotated}, {"spin_free", DampingModel::SpinFree}}),
        .description = "`rotated`: ITF04 6.2; `spin_free`: the same, but conserving angular momentum in every "
                       "state (see below)"},
-      {.key = "compression_limit", .member = &S::compression_limit, .range = {0, 1, true, true},
+      {.key = "compression_limit", .member = at<S>([](auto& s) -> auto& { return s.model.compression_limit; }), .range = {0, 1, true, true},
        .description = "`neo_hookean`, `stvk`: singular value below which the model is extended"},
-      {.key = "hardening_deformation", .member = &S::hardening_deformation, .range = {0, 1, true, true},
+      {.key = "hardening_deformation", .member = at<S>([](auto& s) -> auto& { return s.model.hardening_deformation; }), .range = {0, 1, true, true},
        .description = "`spline`: strain where stiffening ends"},
-      {.key = "hardening_strength", .member = &S::hardening_strength, .range = {1, 1e3},
+      {.key = "hardening_strength", .member = at<S>([](auto& s) -> auto& { return s.model.hardening_strength; }), .range = {1, 1e3},
        .description = "`spline`: stiffness ratio beyond it"},
       {.key = "strength",
        .description = "a factor on the moduli: a number, or keys `[[t, factor], ...]` (piecewise linear in time)",
@@ -171,8 +212,8 @@ const FieldTable<MaterialSpec>& MaterialSpec::fields() {
   return table;
 }
 
-const FieldTable<PlasticitySpec>& PlasticitySpec::fields() {
-  using S = PlasticitySpec;
+const FieldTable<PlasticParams>& plasticity_fields() {
+  using S = PlasticParams;
   static const FieldTable<S> table({
       {.key = "yield", .member = &S::yield, .unit = "log strain", .range = {0, 10, true, true},
        .expected = "a yield log-strain in (0, 10)", .description = "yield when ‖ln F^e‖ exceeds it"},
@@ -186,8 +227,8 @@ const FieldTable<PlasticitySpec>& PlasticitySpec::fields() {
   return table;
 }
 
-const FieldTable<PlasticGoalSpec>& PlasticGoalSpec::fields() {
-  static const FieldTable<PlasticGoalSpec> table({
+const FieldTable<AxisScaledGoal>& plastic_goal_fields() {
+  static const FieldTable<AxisScaledGoal> table({
       {.key = "scale",
        .description = "the goal shape is the rest shape scaled per world axis about `center`, each factor > 0",
        .default_text = "`[1, 1, 1]`"},
@@ -197,8 +238,8 @@ const FieldTable<PlasticGoalSpec>& PlasticGoalSpec::fields() {
   return table;
 }
 
-const FieldTable<FiberSpec>& FiberSpec::fields() {
-  using S = FiberSpec;
+const FieldTable<FiberMaterial>& fiber_fields() {
+  using S = FiberMaterial;
   static const FieldTable<S> table({
       {.key = "direction", .description = "fiber direction at rest (world axes), the same in every element",
        .default_text = "`[1, 0, 0]`"},
@@ -214,13 +255,22 @@ const FieldTable<FiberSpec>& FiberSpec::fields() {
   return table;
 }
 
-const FieldTable<FractureSpec>& FractureSpec::fields() {
-  using S = FractureSpec;
+// A threshold not given is the criterion's infinity (not used).
+template <class Ref> Slot<FractureCriterion, std::optional<double>> threshold(Ref ref) {
+  return Slot<FractureCriterion, std::optional<double>>(
+      [ref](const FractureCriterion& c) { return std::isinf(ref(c)) ? std::nullopt : std::optional<double>(ref(c)); },
+      [ref](FractureCriterion& c, const std::optional<double>& v) {
+        ref(c) = v ? *v : std::numeric_limits<double>::infinity();
+      });
+}
+
+const FieldTable<FractureCriterion>& fracture_fields() {
+  using S = FractureCriterion;
   static const FieldTable<S> table({
-      {.key = "max_principal_stress", .member = &S::max_principal_stress, .unit = "Pa", .range = {1e-6, 1e12},
+      {.key = "max_principal_stress", .member = threshold([](auto& c) -> auto& { return c.max_principal_stress; }), .unit = "Pa", .range = {1e-6, 1e12},
        .description = "cut where the largest principal stress (first Piola-Kirchhoff, in the element's diagonal "
                       "frame; tension only) exceeds this"},
-      {.key = "max_plastic_strain", .member = &S::max_plastic_strain, .range = {1e-6, 10},
+      {.key = "max_plastic_strain", .member = threshold([](auto& c) -> auto& { return c.max_plastic_strain; }), .range = {1e-6, 10},
        .description = "or where the accumulated plastic strain max‖log λ(Fp)‖ exceeds this; needs `plasticity`"},
       {.key = "front_fraction", .member = &S::front_fraction, .range = {0, 1, true, false},
        .expected = "a fraction in (0, 1]",
@@ -236,8 +286,8 @@ const FieldTable<FractureSpec>& FractureSpec::fields() {
   return table;
 }
 
-const FieldTable<SolidInitialShapeSpec>& SolidInitialShapeSpec::fields() {
-  using S = SolidInitialShapeSpec;
+const FieldTable<Scramble>& initial_shape_fields() {
+  using S = Scramble;
   static const FieldTable<S> table({
       {.key = "file", .unit = "path",
        .description = "a tet mesh or an OBJ with the solid's nodes in the same order, read as positions only (see "
@@ -247,7 +297,10 @@ const FieldTable<SolidInitialShapeSpec>& SolidInitialShapeSpec::fields() {
       {.key = "scramble",
        .description = "instead of `file`: the (transformed) rest nodes scrambled about their centroid (see below)",
        .default_text = "–"},
-      {.key = "seed", .member = &S::seed, .range = {0, 2147483647},
+      {.key = "seed",
+       .member = Slot<S, int>([](const S& s) { return static_cast<int>(s.seed); },
+                              [](S& s, const int& v) { s.seed = static_cast<std::uint64_t>(v); }),
+       .range = {0, 2147483647},
        .description = "the random line, plane, mirror or positions; a seed gives the same positions on every "
                       "machine"},
       {.key = "size", .unit = "m", .description = "`box` only: the cube's edge, in (0, 1e6]",
@@ -256,17 +309,18 @@ const FieldTable<SolidInitialShapeSpec>& SolidInitialShapeSpec::fields() {
   return table;
 }
 
-const FieldTable<ClothCouplingSpec>& ClothCouplingSpec::fields() {
-  using S = ClothCouplingSpec;
+// The coupling's fields fill the solid's SolidCoupling.
+const FieldTable<SolidSpec>& cloth_coupling_fields() {
+  using S = SolidSpec;
   static const FieldTable<S> table({
-      {.key = "enabled", .member = &S::enabled, .description = "false: no coupling"},
+      {.key = "enabled", .member = &S::cloth_coupling_enabled, .description = "false: no coupling"},
       {.key = "cloths", .description = "the names of the cloths it acts on; empty: every cloth of the scene",
        .default_text = "`[]`"},
-      {.key = "friction", .member = &S::friction, .range = {0, 10},
+      {.key = "friction", .member = at<S>([](auto& s) -> auto& { return s.cloth_coupling.friction; }), .range = {0, 10},
        .description = "Coulomb coefficient between the cloth and the solid"},
-      {.key = "query_radius", .member = &S::query_radius, .unit = "m", .range = {1e-6, 1e3},
+      {.key = "query_radius", .member = at<S>([](auto& s) -> auto& { return s.cloth_coupling.surface.query_radius; }), .unit = "m", .range = {1e-6, 1e3},
        .description = "contact search distance: a cloth vertex deeper inside than it is not found"},
-      {.key = "offset", .member = &S::offset, .unit = "m", .range = {0, 1},
+      {.key = "offset", .member = at<S>([](auto& s) -> auto& { return s.cloth_coupling.surface.offset; }), .unit = "m", .range = {0, 1},
        .description = "the collision surface lies this far outside the boundary, below `query_radius`"},
   });
   return table;
@@ -318,8 +372,8 @@ const FieldTable<ClothSpec>& ClothSpec::fields() {
   return table;
 }
 
-const FieldTable<GridSpec>& GridSpec::fields() {
-  using S = GridSpec;
+const FieldTable<GridParams>& grid_fields() {
+  using S = GridParams;
   static const FieldTable<S> table({
       {.key = "width", .member = &S::width, .unit = "m", .range = {1e-4, 1e4}, .description = "extent along x"},
       {.key = "height", .member = &S::height, .unit = "m", .range = {1e-4, 1e4}, .description = "extent along z"},
@@ -329,8 +383,8 @@ const FieldTable<GridSpec>& GridSpec::fields() {
   return table;
 }
 
-const FieldTable<HalfTorusSpec>& HalfTorusSpec::fields() {
-  using S = HalfTorusSpec;
+const FieldTable<HalfTorusParams>& half_torus_fields() {
+  using S = HalfTorusParams;
   static const FieldTable<S> table({
       {.key = "major_radius", .member = &S::major_radius, .unit = "m", .range = {1e-4, 1e4},
        .description = "R, from the axis to the tube's centre"},
@@ -345,41 +399,41 @@ const FieldTable<HalfTorusSpec>& HalfTorusSpec::fields() {
 }
 
 // The cloths' material: in-plane (plane stress) and bending.
-const FieldTable<ClothMaterialSpec>& ClothMaterialSpec::fields() {
-  using S = ClothMaterialSpec;
+// The model chosen (MaterialChoice) and the ClothObjectParams.
+const FieldTable<ClothSpec>& cloth_material_fields() {
+  using S = ClothSpec;
   static const FieldTable<S> table({
-      {.key = "model", .member = &S::model,
-       .choices = {"rotated_linear", "neo_hookean", "stvk", "spline", "corotated", "mass_spring"},
+      {.key = "model", .member = model_kind<S>([](auto& s) -> auto& { return s.model.model; }),
        .expected = "one of rotated_linear, neo_hookean, stvk, spline (ITF04) or the baselines corotated, mass_spring",
        .description = "any model of the solids' `material`, in plane stress (see below)"},
-      {.key = "young", .member = &S::young, .unit = "Pa", .range = {0, 1e13},
+      {.key = "young", .member = at<S>([](auto& s) -> auto& { return s.model.young; }), .unit = "Pa", .range = {0, 1e13},
        .description = "in-plane Young's modulus"},
-      {.key = "poisson", .member = &S::poisson, .range = {-1, 0.5, true, true},
+      {.key = "poisson", .member = at<S>([](auto& s) -> auto& { return s.model.poisson; }), .range = {-1, 0.5, true, true},
        .expected = "a Poisson's ratio in (-1, 0.5)", .description = "in-plane Poisson's ratio"},
-      {.key = "compression_limit", .member = &S::compression_limit, .range = {0, 1, true, true},
+      {.key = "compression_limit", .member = at<S>([](auto& s) -> auto& { return s.model.compression_limit; }), .range = {0, 1, true, true},
        .description = "`neo_hookean`, `stvk`: as for solids"},
-      {.key = "hardening_deformation", .member = &S::hardening_deformation, .range = {0, 1, true, true},
+      {.key = "hardening_deformation", .member = at<S>([](auto& s) -> auto& { return s.model.hardening_deformation; }), .range = {0, 1, true, true},
        .description = "`spline`: as for solids"},
-      {.key = "hardening_strength", .member = &S::hardening_strength, .range = {1, 1e3},
+      {.key = "hardening_strength", .member = at<S>([](auto& s) -> auto& { return s.model.hardening_strength; }), .range = {1, 1e3},
        .description = "`spline`: as for solids"},
-      {.key = "density", .member = &S::density, .unit = "kg/m³", .range = {0, 1e5, true, true},
+      {.key = "density", .member = at<S>([](auto& s) -> auto& { return s.params.density; }), .unit = "kg/m³", .range = {0, 1e5, true, true},
        .expected = "a density in (0, 1e5) [kg/m^3]",
        .description = "areal density = density x `thickness`; masses come from the rest (pattern) areas"},
-      {.key = "thickness", .member = &S::thickness, .unit = "m", .range = {0, 1, true, true},
+      {.key = "thickness", .member = at<S>([](auto& s) -> auto& { return s.params.thickness; }), .unit = "m", .range = {0, 1, true, true},
        .expected = "a thickness in (0, 1) [m]",
        .description = "shell thickness: the membrane's energy and the areal density scale with it"},
-      {.key = "damping", .member = &S::damping, .unit = "s", .range = {0, 10},
+      {.key = "damping", .member = at<S>([](auto& s) -> auto& { return s.params.damping; }), .unit = "s", .range = {0, 10},
        .description = "in-plane rotated damping"},
-      {.key = "bending_stiffness", .member = &S::bending_stiffness, .unit = "N m", .range = {0, 1e6},
+      {.key = "bending_stiffness", .member = at<S>([](auto& s) -> auto& { return s.params.bending.stiffness; }), .unit = "N m", .range = {0, 1e6},
        .description = "BMF03 hinge bending stiffness"},
-      {.key = "bending_damping", .member = &S::bending_damping, .unit = "N m s", .range = {0, 1e6},
+      {.key = "bending_damping", .member = at<S>([](auto& s) -> auto& { return s.params.bending.damping; }), .unit = "N m s", .range = {0, 1e6},
        .description = "BMF03 hinge bending damping"},
   });
   return table;
 }
 
-const FieldTable<BendingPlasticitySpec>& BendingPlasticitySpec::fields() {
-  using S = BendingPlasticitySpec;
+const FieldTable<BendingPlasticity>& bending_plasticity_fields() {
+  using S = BendingPlasticity;
   static const FieldTable<S> table({
       {.key = "yield_degrees", .member = &S::yield_degrees, .unit = "degrees", .range = {0, 180},
        .description = "a hinge bent more than this past its rest angle drags the rest angle along"},
@@ -389,25 +443,26 @@ const FieldTable<BendingPlasticitySpec>& BendingPlasticitySpec::fields() {
   return table;
 }
 
-const FieldTable<StitchSpec>& StitchSpec::fields() {
-  using S = StitchSpec;
+// The stitches' fields fill the cloth's StitchParams.
+const FieldTable<ClothSpec>& stitch_fields() {
+  using S = ClothSpec;
   static const FieldTable<S> table({
-      {.key = "from_mesh", .member = &S::from_mesh,
+      {.key = "from_mesh", .member = &S::stitches_from_mesh,
        .description = "use the mesh file's `stitch` lines (0-based vertex indices, as C-IPC writes them)"},
       {.key = "list", .description = "more stitches `[[i, j, k, r], ...]`, r in [0, 1]", .default_text = "`[]`"},
-      {.key = "stiffness", .member = &S::stiffness, .unit = "N/m²", .range = {1e-6, 1e9},
+      {.key = "stiffness", .member = at<S>([](auto& s) -> auto& { return s.params.stitch.stiffness; }), .unit = "N/m²", .range = {1e-6, 1e9},
        .description = "per metre of seam; a gap g pulls with stiffness x length x g"},
-      {.key = "damping", .member = &S::damping, .unit = "N s/m²", .range = {0, 1e6},
+      {.key = "damping", .member = at<S>([](auto& s) -> auto& { return s.params.stitch.damping; }), .unit = "N s/m²", .range = {0, 1e6},
        .description = "per metre of seam, on the gap's rate"},
-      {.key = "closing_speed", .member = &S::closing_speed, .unit = "m/s", .range = {0, 100},
+      {.key = "closing_speed", .member = at<S>([](auto& s) -> auto& { return s.params.stitch.closing_speed; }), .unit = "m/s", .range = {0, 100},
        .description = "sewing: each stitch's rest length starts at its initial gap and shrinks at this speed (see "
                       "below); 0: every stitch pulls closed from the start"},
   });
   return table;
 }
 
-// A collider's fields: each type reads its own (parse_collider); the sequence's (frames to
-// after_end) are the collider's keys but fill its SequenceSpec, by hand.
+// A collider's fields: each type reads its own (parse_collider); the sequence's and the skinned
+// body's (frames to pre_roll) are read by hand.
 const FieldTable<ColliderSpec>& ColliderSpec::fields() {
   using S = ColliderSpec;
   static const FieldTable<S> table({
@@ -427,21 +482,21 @@ const FieldTable<ColliderSpec>& ColliderSpec::fields() {
        .default_text = "`[0.5, 0.5, 0.5]`"},
       {.key = "half_height", .member = &S::half_height, .unit = "m", .range = {1e-6, 1e4},
        .description = "`cylinder` (capped, axis y in its frame)"},
-      {.key = "teeth", .member = &S::teeth, .unit = "count", .range = {3, 1000},
+      {.key = "teeth", .member = at<S>([](auto& s) -> auto& { return s.gears.gear.teeth; }), .unit = "count", .range = {3, 1000},
        .description = "`gears`: teeth of each gear of the pair (see below)"},
-      {.key = "outer_radius", .member = &S::outer_radius, .unit = "m", .range = {1e-6, 1e4},
+      {.key = "outer_radius", .member = at<S>([](auto& s) -> auto& { return s.gears.gear.outer_radius; }), .unit = "m", .range = {1e-6, 1e4},
        .description = "`gears`: radius of the tooth tips"},
-      {.key = "root_radius", .member = &S::root_radius, .unit = "m", .range = {1e-6, 1e4},
+      {.key = "root_radius", .member = at<S>([](auto& s) -> auto& { return s.gears.gear.root_radius; }), .unit = "m", .range = {1e-6, 1e4},
        .description = "`gears`: radius of the gaps' bottoms, below `outer_radius`"},
-      {.key = "thickness", .member = &S::thickness, .unit = "m", .range = {1e-6, 1e4},
+      {.key = "thickness", .member = at<S>([](auto& s) -> auto& { return s.gears.gear.thickness; }), .unit = "m", .range = {1e-6, 1e4},
        .description = "`gears`: extent along their axes"},
-      {.key = "clearance", .member = &S::clearance, .unit = "m", .range = {0, 1e4},
+      {.key = "clearance", .member = at<S>([](auto& s) -> auto& { return s.gears.clearance; }), .unit = "m", .range = {0, 1e4},
        .description = "`gears`: the axes are `outer_radius` + `root_radius` + this apart"},
       {.key = "mesh", .unit = "path", .description = "`mesh`: any triangle surface assimp reads, static",
        .default_text = "–"},
-      {.key = "query_radius", .member = &S::query_radius, .unit = "m", .range = {1e-9, 1e4},
+      {.key = "query_radius", .member = at<S>([](auto& s) -> auto& { return s.contact.query_radius; }), .unit = "m", .range = {1e-9, 1e4},
        .description = "`mesh`, `sequence`, `skinned`: contact searched within it"},
-      {.key = "offset", .member = &S::offset, .unit = "m", .range = {0, 1},
+      {.key = "offset", .member = at<S>([](auto& s) -> auto& { return s.contact.offset; }), .unit = "m", .range = {0, 1},
        .description = "`mesh`, `sequence`, `skinned`: the collision surface lies this far outside the mesh, below "
                       "`query_radius` (see below)"},
       {.key = "transform", .description = "pose of the body frame (no `scale` except for `mesh`, `sequence` and `skinned`)",
@@ -480,7 +535,7 @@ const FieldTable<ColliderSpec>& ColliderSpec::fields() {
        .description = "`skinned`: before `start_time`, the body goes from its bind pose (its skeleton at rest) into "
                       "the clip's first pose over this long, in [0, 1e6]; 0: no bind pose, the first pose holds",
        .default_text = "0"},
-      {.key = "loop_blend", .member = &S::loop_blend, .unit = "s", .range = {0, 1e6},
+      {.key = "loop_blend", .member = at<S>([](auto& s) -> auto& { return s.skinned.loop_blend; }), .unit = "s", .range = {0, 1e6},
        .description = "`skinned` with `after_end` `loop`: the wrap is cross-faded over this long, the clip's last "
                       "`loop_blend` seconds into its first (the loop's period is then the clip's duration minus it; "
                       "at most half the duration); 0: none, and a clip whose last pose lies further than "
@@ -489,8 +544,8 @@ const FieldTable<ColliderSpec>& ColliderSpec::fields() {
   return table;
 }
 
-const FieldTable<RenderSpec>& RenderSpec::fields() {
-  using S = RenderSpec;
+const FieldTable<renders::RenderSettings>& render_fields() {
+  using S = renders::RenderSettings;
   static const FieldTable<S> table({
       {.key = "width", .member = &S::width, .unit = "px", .range = {16, 8192},
        .description = "preview width (`invfem render --width` overrides it)"},
@@ -504,13 +559,13 @@ const FieldTable<RenderSpec>& RenderSpec::fields() {
 }
 
 // A fixed camera (`render.camera` given); without it the camera frames the objects.
-const FieldTable<CameraSpec>& CameraSpec::fields() {
-  using S = CameraSpec;
+const FieldTable<renders::Camera>& camera_fields() {
+  using S = renders::Camera;
   static const FieldTable<S> table({
       {.key = "position", .unit = "m", .description = "the eye", .default_text = "`[0, 1, 4]`"},
       {.key = "target", .unit = "m", .description = "the point looked at, away from `position`",
        .default_text = "`[0, 0.5, 0]`"},
-      {.key = "fov_degrees", .member = &S::fov_degrees, .unit = "degrees", .range = {1, 170},
+      {.key = "fov_degrees", .member = &S::fov_y_degrees, .unit = "degrees", .range = {1, 170},
        .description = "vertical field of view"},
   });
   return table;
@@ -520,25 +575,25 @@ const FieldTable<CameraSpec>& CameraSpec::fields() {
 std::vector<std::pair<std::string, std::string>> scene_field_tables() {
   return {
       {"scene", Scene::fields().markdown()},
-      {"solver", SolverSpec::fields().markdown()},
-      {"self_collision", SelfCollisionSpec::fields().markdown()},
+      {"solver", solver_fields().markdown()},
+      {"self_collision", self_collision_fields().markdown()},
       {"solids", SolidSpec::fields().markdown()},
-      {"material", MaterialSpec::fields().markdown()},
-      {"plasticity", PlasticitySpec::fields().markdown()},
-      {"plastic_goal", PlasticGoalSpec::fields().markdown()},
-      {"fiber", FiberSpec::fields().markdown()},
-      {"fracture", FractureSpec::fields().markdown()},
-      {"initial_shape", SolidInitialShapeSpec::fields().markdown()},
-      {"cloth_coupling", ClothCouplingSpec::fields().markdown()},
+      {"material", material_fields().markdown()},
+      {"plasticity", plasticity_fields().markdown()},
+      {"plastic_goal", plastic_goal_fields().markdown()},
+      {"fiber", fiber_fields().markdown()},
+      {"fracture", fracture_fields().markdown()},
+      {"initial_shape", initial_shape_fields().markdown()},
+      {"cloth_coupling", cloth_coupling_fields().markdown()},
       {"cloths", ClothSpec::fields().markdown()},
-      {"grid", GridSpec::fields().markdown()},
-      {"half_torus", HalfTorusSpec::fields().markdown()},
-      {"cloth_material", ClothMaterialSpec::fields().markdown()},
-      {"bending_plasticity", BendingPlasticitySpec::fields().markdown()},
-      {"stitches", StitchSpec::fields().markdown()},
+      {"grid", grid_fields().markdown()},
+      {"half_torus", half_torus_fields().markdown()},
+      {"cloth_material", cloth_material_fields().markdown()},
+      {"bending_plasticity", bending_plasticity_fields().markdown()},
+      {"stitches", stitch_fields().markdown()},
       {"colliders", ColliderSpec::fields().markdown()},
-      {"render", RenderSpec::fields().markdown()},
-      {"camera", CameraSpec::fields().markdown()},
+      {"render", render_fields().markdown()},
+      {"camera", camera_fields().markdown()},
   };
 }
 

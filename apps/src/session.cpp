@@ -6,7 +6,7 @@
 
 #include "checkpoint.hpp"
 #include "input_check.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "memory_estimate.hpp"
 #include "run_folder.hpp"
 #include "world_builder.hpp"

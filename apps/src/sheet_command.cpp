@@ -6,7 +6,7 @@
 #include "cli_args.hpp"
 #include "invfem/renders/image.hpp"
 #include "invfem/renders/image_compare.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 
 namespace invfem::app {
 

@@ -10,7 +10,7 @@
 #include "invfem/core/io/text_file.hpp"
 #include "invfem/core/io/obj_file.hpp"
 #include "input_check.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 
 namespace invfem::app {
 

@@ -12,9 +12,9 @@
 #include "invfem/core/world/attachment_embedding.hpp"
 #include "invfem/collisions/self_collision/self_collision_pass.hpp"
 #include "invfem/solids/fracture_pass.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "object_builders.hpp"
-#include "scene_field.hpp"
+#include "field_table.hpp"
 
 namespace invfem::app {
 
@@ -51,7 +51,7 @@ namespace {
 
 // The self-collision layer keeps surfaces `thickness` apart: at or above a surface's typical edge
 // length it would hold the neighbouring vertices of one surface apart, pushing the mesh off itself
-// (a 1 m thickness on a cloth of 3 cm edges takes its energy from 6 J to 16,000 J in 3 frames).
+// and pumping energy into it, so a thickness that large is refused.
 void check_thickness(const Scene& scene, const World& world) {
   std::set<std::string> excluded;
   for (const auto& o : scene.solids)
@@ -110,19 +110,7 @@ World build_world(const Scene& scene, Colliders* typed, LoadWarnings* warnings) 
     SolidObject solid = build_solid(spec, scene, &mesh, warn);
     objects.push_back(std::move(solid.object));
     if (!spec.fracture) continue;
-    FracturingSolid f{spec.name, std::move(mesh), FractureCriterion{}, solid.tet_force};
-    if (spec.fracture->max_principal_stress) f.criterion.max_principal_stress = *spec.fracture->max_principal_stress;
-    if (spec.fracture->max_plastic_strain) f.criterion.max_plastic_strain = *spec.fracture->max_plastic_strain;
-    f.criterion.front_fraction = spec.fracture->front_fraction;
-    f.criterion.max_cuts_per_step = spec.fracture->max_cuts_per_step;
-    f.criterion.max_elements = spec.fracture->max_elements;
-    if (const auto& seed = spec.fracture->seed) {
-      auto v = [](const std::array<double, 3>& a) { return Vec3(a[0], a[1], a[2]); };
-      f.criterion.seed_factor = seed->factor;
-      f.criterion.seed_point = v(seed->point);
-      f.criterion.seed_normal = v(seed->normal).normalized();
-      if (seed->min) f.criterion.seed_min = v(*seed->min), f.criterion.seed_max = v(*seed->max);
-    }
+    FracturingSolid f{spec.name, std::move(mesh), *spec.fracture, solid.tet_force};
     fracturing.push_back(std::move(f));
   }
   for (const auto& spec : scene.cloths) objects.push_back(build_cloth(spec, scene, warn));
@@ -141,40 +129,20 @@ World build_world(const Scene& scene, Colliders* typed, LoadWarnings* warnings) 
     }
   std::vector<SolidCoupling> couplings;
   for (const auto& spec : scene.solids)
-    if (spec.cloth_coupling.enabled && !scene.cloths.empty())
-      couplings.push_back(SolidCoupling{spec.name, spec.cloth_coupling.cloths, spec.cloth_coupling.friction,
-                                        spec.cloth_coupling.query_radius, spec.cloth_coupling.offset});
+    if (spec.cloth_coupling_enabled && !scene.cloths.empty()) {
+      couplings.push_back(spec.cloth_coupling);
+      couplings.back().solid = spec.name;
+    }
   Colliders colliders = build_colliders(scene);
   check_not_inside_colliders(scene, objects, colliders);
   if (typed) typed->rigid = colliders.rigid, typed->sequences = colliders.sequences;
-  WorldSettings settings;
-  settings.max_dt = scene.solver.max_dt;
-  settings.max_substeps = scene.solver.max_substeps_per_frame;
-  if (scene.solver.max_step_motion > 0) settings.max_step_motion = scene.solver.max_step_motion;
-  settings.max_step_retries = scene.solver.max_step_retries;
-  settings.cg = CGSettings{scene.solver.cg_tolerance, scene.solver.cg_max_iterations};
-  settings.integrator = scene.solver.integrator == "implicit" ? Integrator::Implicit : Integrator::ITF04;
-  settings.implicit.linear = scene.solver.linear == "direct" ? LinearSolver::Direct : LinearSolver::CG;
-  settings.implicit.preconditioner = scene.solver.preconditioner == "amg"            ? Preconditioner::Amg
-                                     : scene.solver.preconditioner == "block_jacobi" ? Preconditioner::BlockJacobi
-                                                                                     : Preconditioner::Auto;
-  settings.implicit.tolerance = scene.solver.newton_tolerance;
-  settings.implicit.max_newton_iterations = scene.solver.newton_max_iterations;
-  settings.implicit.cg = CGSettings{std::max(scene.solver.cg_tolerance, 1e-6), scene.solver.cg_max_iterations};
   try {
-    World world(settings, std::move(objects), std::move(colliders.bodies),
+    World world(scene.solver, std::move(objects), std::move(colliders.bodies),
                 std::make_unique<RigidCollisions>(std::move(colliders.collision), std::move(couplings)));
     warn_about_starts_through_bodies(scene, world, warn);
-    const SelfCollisionSpec& sc = scene.self_collision;
-    if (sc.enabled) check_thickness(scene, world);
-    if (sc.enabled) {
-      collisions::SelfCollisionSettings s;
-      s.thickness = sc.thickness;
-      s.ccd_distance = sc.ccd_distance;
-      s.friction = sc.friction;
-      s.impulse_passes = sc.impulse_passes;
-      s.max_zone_iterations = sc.max_zone_iterations;
-      s.kinematic_bodies = sc.colliders;
+    if (scene.self_collision_enabled) {
+      check_thickness(scene, world);
+      collisions::SelfCollisionSettings s = scene.self_collision;
       for (const auto& o : scene.solids)
         if (!o.self_collision) s.excluded.push_back(o.name);
       for (const auto& c : scene.cloths)
@@ -199,16 +167,16 @@ StepPlan plan_steps(const World& world, const Scene& scene) {
   StepPlan p;
   p.dt = world.step_size();
   p.substeps = world.substeps_for(1 / scene.fps);
-  p.limit = scene.solver.max_substeps_per_frame;
+  p.limit = scene.solver.max_substeps;
   return p;
 }
 
 std::string substep_advice(const Scene& scene) {
-  std::string a = scene.solver.integrator == "itf04"
+  std::string a = scene.solver.integrator == Integrator::ITF04
                       ? "the itf04 step is limited by the stiffest, lightest element (young, strength, density, "
                         "poisson near 0.5): solver.integrator \"implicit\" takes steps of max_dt instead"
                       : "solver.max_dt sets the implicit step: raise it";
-  return a + "; solver.max_substeps_per_frame (now " + std::to_string(scene.solver.max_substeps_per_frame) +
+  return a + "; solver.max_substeps_per_frame (now " + std::to_string(scene.solver.max_substeps) +
          ") is the limit";
 }
 

@@ -62,12 +62,12 @@ void BendingForce::set_params(const BendingParams& p) {
     throw std::invalid_argument(what_ + ": bending damping must be finite and >= 0, got " +
                                 std::to_string(p.damping));
   if (p.plasticity) {
-    if (!(std::isfinite(p.plasticity->yield_angle) && p.plasticity->yield_angle >= 0))
-      throw std::invalid_argument(what_ + ": bending plasticity yield_angle must be finite and >= 0, got " +
-                                  std::to_string(p.plasticity->yield_angle));
-    if (!(p.plasticity->max_change > 0))
-      throw std::invalid_argument(what_ + ": bending plasticity max_change must be > 0, got " +
-                                  std::to_string(p.plasticity->max_change));
+    if (!(std::isfinite(p.plasticity->yield_degrees) && p.plasticity->yield_degrees >= 0))
+      throw std::invalid_argument(what_ + ": bending plasticity yield_degrees must be finite and >= 0, got " +
+                                  std::to_string(p.plasticity->yield_degrees));
+    if (!(p.plasticity->max_change_degrees > 0))
+      throw std::invalid_argument(what_ + ": bending plasticity max_change_degrees must be > 0, got " +
+                                  std::to_string(p.plasticity->max_change_degrees));
   }
   params_ = p;
 }
@@ -84,6 +84,9 @@ void BendingForce::update(const Points& x, bool allow_flow) {
   const bool flow = allow_flow && params_.plasticity && !skip_next_flow_;  // a restored state already holds this flow
   if (allow_flow) skip_next_flow_ = false;
   const BendingPlasticity plastic = params_.plasticity.value_or(BendingPlasticity{});
+  constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180;
+  const double yield = plastic.yield_degrees * kRadiansPerDegree;
+  const double max_change = plastic.max_change_degrees * kRadiansPerDegree;
   parallel_for_each(hinges_.size(), kGrain, [&](std::size_t h) {
     geom_[h] = hinge_geometry(x, hinges_[h]);
     if (!flow) return;
@@ -91,10 +94,9 @@ void BendingForce::update(const Points& x, bool allow_flow) {
     if (!geom_[h].valid) return;
     // ITF04 section 8: the return mapping of section 6.3 on the rest angle.
     const double theta = hinge_angle(geom_[h]), d = theta - rest_angles_[h];
-    if (std::abs(d) <= plastic.yield_angle) return;
+    if (std::abs(d) <= yield) return;
     const double theta0 = original_rest_angles_[h];
-    rest_angles_[h] = std::clamp(theta - std::copysign(plastic.yield_angle, d), theta0 - plastic.max_change,
-                                 theta0 + plastic.max_change);
+    rest_angles_[h] = std::clamp(theta - std::copysign(yield, d), theta0 - max_change, theta0 + max_change);
     yielded_[h] = 1;
   });
   if (!params_.plasticity) std::fill(yielded_.begin(), yielded_.end(), 0);

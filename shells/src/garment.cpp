@@ -7,10 +7,12 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <stdexcept>
 
 #include "invfem/core/io/mesh_error.hpp"
 #include "invfem/core/io/obj_file.hpp"
 #include "invfem/core/io/surface_io.hpp"
+#include "invfem/core/world/pins.hpp"
 
 namespace invfem {
 
@@ -219,6 +221,21 @@ std::vector<int> group_vertices(const Garment& g, const std::string& name) {
   std::vector<int> out;
   for (std::size_t v = 0; v < in.size(); ++v)
     if (in[v]) out.push_back(static_cast<int>(v));
+  return out;
+}
+
+std::vector<int> selected_vertices(const VertexSelection& s, const Garment& garment, const Points& x,
+                                   const std::string& what) {
+  if (s.box) return nodes_in_box(x, s.box->first, s.box->second);
+  if (!s.group.empty()) return group_vertices(garment, s.group);
+  std::vector<int> out;
+  out.reserve(s.indices.size());
+  for (const std::int64_t i : s.indices) {
+    if (i < 0 || i >= x.rows())
+      throw std::invalid_argument(what + ": vertex " + std::to_string(i) + " but the mesh has " +
+                                  std::to_string(x.rows()) + " vertices");
+    out.push_back(static_cast<int>(i));
+  }
   return out;
 }
 

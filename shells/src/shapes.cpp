@@ -76,4 +76,12 @@ TriangleSurface make_half_torus(double R, double r, int around, int across) {
   return s;
 }
 
+TriangleSurface make_grid(const GridParams& p) {
+  return make_grid(p.width, p.height, p.nx, p.ny, Vec3(-p.width / 2, 0, -p.height / 2), Vec3::UnitX(), Vec3::UnitZ());
+}
+
+TriangleSurface make_half_torus(const HalfTorusParams& p) {
+  return make_half_torus(p.major_radius, p.minor_radius, p.around, p.across);
+}
+
 }  // namespace invfem

@@ -1,7 +1,7 @@
 // The scene document (apps/scenes/README.md) against the parser: every field table between
 // `<!-- fields: SECTION -->` and `<!-- /fields -->` must be the one the specs' field tables
 // generate (scene_field_tables: keys, units, defaults, ranges, choices and meanings defined once,
-// in apps/src/scene_fields.cpp), and every generated table must appear. With
+// in apps/src/scene_tables.cpp), and every generated table must appear. With
 // INVFEM_UPDATE_GOLDEN=1 the document's tables are rewritten instead.
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <sstream>
 #include <variant>
 
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "scene.hpp"
 
 namespace invfem::app {
@@ -48,7 +48,7 @@ TEST(SceneFields, TheDocumentsTablesAreTheParsersFields) {
       continue;
     }
     EXPECT_EQ(doc.substr(a, b - a), table)
-        << kDocument << ": the `" << section << "` table differs from the parser's fields (apps/src/scene_fields.cpp); "
+        << kDocument << ": the `" << section << "` table differs from the parser's fields (apps/src/scene_tables.cpp); "
         << "regenerate it with INVFEM_UPDATE_GOLDEN=1";
   }
   if (update) std::ofstream(kDocument) << doc;
@@ -67,8 +67,8 @@ TEST(SceneFields, EveryMarkedTableIsGenerated) {
 
 // A field a table reads is checked by it: a value outside its range is refused, naming the field.
 TEST(SceneFields, ARangeOfTheTableIsWhatTheParserAccepts) {
-  for (const auto& d : SolverSpec::fields().fields()) {
-    if (!std::holds_alternative<double SolverSpec::*>(d.member)) continue;
+  for (const auto& d : solver_fields().fields()) {
+    if (!std::holds_alternative<Slot<Scene, double>>(d.member)) continue;
     nlohmann::json j = {{"solids", nlohmann::json::array()}, {"cloths", nlohmann::json::array()}};
     j["solver"][d.key] = d.range.hi * 2 + 1;
     try {

@@ -56,7 +56,7 @@ expect 2 '$.frames: expected an integer in [0, 1000000], found number 1844674407
   check-scene "$drape" --set frames=18446744073709551615
 expect_output 0 "valid (1 objects, 289 nodes" -- check-scene "$drape" --quick --set 'cloths.0.pin_vertices=[288]'
 
-# 2. Every vector and scalar has a physical range (json_fields.hpp `limits`): what once wrote inf
+# 2. Every vector and scalar has a physical range (json_reader.hpp `limits`): what once wrote inf
 #    with exit 0 (a velocity of 1e300 m/s) or froze the scene (gravity 1e300) is refused. The
 #    state check after each frame (World::non_finite_state, unit test World.NonFiniteState...)
 #    names the object when a run goes non-finite anyway.

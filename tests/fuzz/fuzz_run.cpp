@@ -33,7 +33,7 @@
 #include "invfem/core/io/obj_file.hpp"
 #include "invfem/solids/tet_mesh_checks.hpp"
 #include "invfem/solids/tet_mesh_io.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "scene.hpp"
 #include "forked_child.hpp"
 

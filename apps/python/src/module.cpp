@@ -33,7 +33,7 @@
 #include "invfem/collisions/colliders/body_sequence.hpp"
 #include "invfem/core/io/mesh_error.hpp"
 #include "invfem/core/io/output_error.hpp"
-#include "json_fields.hpp"
+#include "json_reader.hpp"
 #include "run_output.hpp"
 #include "session.hpp"
 

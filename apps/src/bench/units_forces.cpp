@@ -9,19 +9,19 @@
 #include "bench/bench_unit.hpp"
 #include "bench/tet_cube.hpp"
 #include "invfem/core/solve/block_sparse.hpp"
+#include "invfem/core/integrate/material_choice.hpp"
 #include "invfem/core/math/diagonalize.hpp"
 #include "invfem/core/math/diagonalize_batch.hpp"
 #include "invfem/core/math/tet_kernel.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
-#include "material_factory.hpp"
 
 namespace invfem::app::bench {
 
 namespace {
 
-// The cube: 27^3 cells of 6 tets (118,098 tets) over a 1 m cube, twisted by 90 degrees
+// The force units' cube: 27^3 cells of 6 tets (118,098 tets) over a 1 m cube, twisted by 90 degrees
 // top to bottom, squashed to 60% of its height and jittered by up to 0.4 grid spacings per
-// coordinate, which inverts about 9% of the tets (the count is in the note).
+// coordinate, so that some of its tets are inverted (the note gives the count).
 constexpr int kCubeCells = 27;
 constexpr double kCubeSize = 1.0;
 constexpr double kTwist = 1.5707963267948966, kSquash = 0.6, kJitter = 0.4;
@@ -29,12 +29,11 @@ constexpr std::uint64_t kCubeSeed = 20040101;
 
 // Neo-Hookean, E = 1e6 Pa, nu = 0.45, inversion threshold (compression_limit) 0.1; no damping, as
 // the pass times elastic forces only.
-MaterialSpec cube_material() {
-  MaterialSpec m;
-  m.model = "neo_hookean";
-  m.young = 1e6;
-  m.poisson = 0.45;
-  m.compression_limit = 0.1;
+TetMaterial cube_material() {
+  TetMaterial m;
+  m.model = make_isotropic_model(MaterialChoice{.model = ModelKind::NeoHookean, .young = 1e6, .poisson = 0.45,
+                                                .compression_limit = 0.1});
+  m.cfl = 0.5;
   return m;
 }
 
@@ -48,7 +47,7 @@ DeformedCube make_deformed_cube() {
   const TetMesh cube = make_tet_cube(kCubeCells, kCubeSize);
   Points x = deform_cube(cube, kCubeCells, kCubeSize, kTwist, kSquash, kJitter, kCubeSeed);
   const long long tets = cube.tets.rows();
-  return {TetSolidForce(make_tet_rest(cube.X, cube.tets), make_tet_material(cube_material(), 0.5)), std::move(x),
+  return {TetSolidForce(make_tet_rest(cube.X, cube.tets), cube_material()), std::move(x),
           tets};
 }
 

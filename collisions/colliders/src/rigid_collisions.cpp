@@ -69,7 +69,7 @@ void RigidCollisions::earlier_stages_stepped(const std::vector<SimObject>& objec
     }
     // Built at the first step and again after each change of the solid's topology (fracture).
     if (!solid_surfaces_[c] || surface_versions_[c] != it->topology_version) {
-      solid_surfaces_[c] = std::make_shared<MeshSurface>(surface, MeshSurfaceOptions{couplings_[c].query_radius, couplings_[c].offset});
+      solid_surfaces_[c] = std::make_shared<MeshSurface>(surface, couplings_[c].surface);
       surface_versions_[c] = it->topology_version;
     }
     solid_surfaces_[c]->update(surface.x, vel);

@@ -184,4 +184,19 @@ Vec3 Motion::velocity(const Vec3& x_world, double t) const {
   return reference_velocity(t) + angular_velocity(t).cross(x_world - reference_point(t));
 }
 
+Motion make_motion(const MotionScript& m, const RigidTransform& pose, const Vec3& center) {
+  switch (m.kind) {
+    case MotionScript::Kind::Fixed:
+      return Motion::fixed(pose);
+    case MotionScript::Kind::ConstantVelocity:
+      return Motion::constant_velocity(pose, center, m.velocity, m.spin_axis.normalized(), m.spin_rate);
+    case MotionScript::Kind::Keyframed: {
+      std::vector<RotationKey> rk = m.rotate_keys;
+      for (RotationKey& k : rk) k.axis.normalize();
+      return Motion::keyframed(m.translate_keys, rk);
+    }
+  }
+  return Motion::fixed(pose);
+}
+
 }  // namespace invfem

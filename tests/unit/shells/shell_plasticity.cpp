@@ -121,7 +121,8 @@ TEST(BendingPlasticity, BeyondYieldTheRestAngleFollowsBelowItStaysAndTheLimitHol
   X << 0, 0, -1, 0, 0, 1, -0.5, 0, 0, 0.5, 0, 0;
   Tris T(2, 3);
   T << 0, 2, 3, 1, 3, 2;
-  BendingPlasticity plastic{0.1, 0.5};
+  constexpr double kDegreesPerRadian = 180 / 3.14159265358979323846;
+  BendingPlasticity plastic{0.1 * kDegreesPerRadian, 0.5 * kDegreesPerRadian};  // 0.1 and 0.5 rad
   BendingForce b(X, T, BendingParams{1.0, 0.0, plastic});
   ASSERT_EQ(b.hinges().size(), 1u);
   EXPECT_EQ(b.rest_angles()[0], 0.0);
@@ -326,7 +327,7 @@ World plastic_shell_world() {
   p.thickness = 0.005;
   p.density = 1000;
   p.damping = 1e-3;
-  p.bending = BendingParams{2e-3, 1e-4, BendingPlasticity{0.02, 1.0}};
+  p.bending = BendingParams{2e-3, 1e-4, BendingPlasticity{0.02 * 180 / 3.14159265358979323846, 1.0 * 180 / 3.14159265358979323846}};
   PlasticParams plastic;
   plastic.yield = 0.01;
   p.plasticity = plastic;

@@ -10,8 +10,8 @@
 namespace invfem::renders {
 
 struct Camera {
-  Vec3 position{0.0, 0.0, 5.0};
-  Vec3 target{0.0, 0.0, 0.0};
+  Vec3 position{0.0, 1.0, 4.0};  // a scene's camera: looking at a body standing at the origin
+  Vec3 target{0.0, 0.5, 0.0};
   Vec3 up{0.0, 1.0, 0.0};
   double fov_y_degrees = 35.0;  // full vertical field of view
 };

@@ -20,12 +20,14 @@ namespace invfem {
 
 // Plastic bending (ITF04 section 8, bending-BMF03.md section 7 (a)): the rest angle theta_p of a
 // hinge flows toward the current angle theta when the bend exceeds the yield angle,
-//   |theta - theta_p| > yield_angle  =>  theta_p <- theta - yield_angle sign(theta - theta_p),
+//   |theta - theta_p| > gamma_b  =>  theta_p <- theta - gamma_b sign(theta - theta_p),
 // once per update_positions, and never moves more than max_change from its original value theta_0
 // (the total plastic change is limited, as Fp is for solids). The rest angles are plain data.
+// Both angles are given in degrees, as scenes write them (a degree's radian is not exact: kept in
+// degrees, a scene's values are written back as given).
 struct BendingPlasticity {
-  double yield_angle = 0.1;  // gamma_b [rad] >= 0
-  double max_change = 1.0;   // [rad] > 0
+  double yield_degrees = 5;        // gamma_b >= 0
+  double max_change_degrees = 90;  // > 0
 };
 
 struct BendingParams {

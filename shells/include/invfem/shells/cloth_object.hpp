@@ -32,8 +32,8 @@ struct ClothObjectParams {
   IsotropicModel model = RotatedLinear{};  // 3D Lame parameters (plane stress is taken inside)
   double thickness = 0.001;                // h [m]
   double density = 300;                    // [kg/m^3]; areal density = density * thickness
-  double damping = 0;                      // in-plane Rayleigh coefficient k [s]
-  BendingParams bending;                   // k_e [N m], k_d [N m s], optional plastic rest angles
+  double damping = 0.01;                   // in-plane Rayleigh coefficient k [s]
+  BendingParams bending{1e-4, 1e-5};       // k_e [N m], k_d [N m s], optional plastic rest angles
   std::optional<PlasticParams> plasticity; // in-plane plasticity (ITF04 section 8), off when empty
   InversionReference inversion = InversionReference::None;
   Vec3 inversion_direction = Vec3::UnitY();  // for InversionReference::Direction

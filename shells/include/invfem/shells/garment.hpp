@@ -7,9 +7,11 @@
 // order, groups, vt, extra lines), so stitches, pinned vertices and a draped file all refer to
 // the same vertices and every output frame keeps that numbering. Other formats go through
 // assimp (welded; each of its meshes is a panel; no pattern).
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "invfem/core/geometry/surface.hpp"
@@ -56,5 +58,18 @@ void load_initial_shape(Garment& garment, const std::string& path);
 // Vertices of the triangles of group `name`, ascending. Throws std::invalid_argument naming the
 // known groups when there is no such group.
 std::vector<int> group_vertices(const Garment& garment, const std::string& name);
+
+// Vertices of a garment as a user chooses them (pins, attachments): by index, by a box about
+// their positions, or by the garment's group; the first of the three given.
+struct VertexSelection {
+  std::vector<std::int64_t> indices;  // kept in 64 bits until checked against the garment
+  std::optional<std::pair<Vec3, Vec3>> box;  // (min, max) [m]
+  std::string group;
+};
+
+// The vertices `s` selects at positions x (#V x 3). Throws std::invalid_argument "WHAT: vertex I
+// but the mesh has N vertices" for an index outside the garment, or naming the known groups.
+std::vector<int> selected_vertices(const VertexSelection& s, const Garment& garment, const Points& x,
+                                   const std::string& what);
 
 }  // namespace invfem

@@ -19,4 +19,19 @@ TriangleSurface make_grid(double width, double height, int nx, int ny, const Vec
 // or across < 1.
 TriangleSurface make_half_torus(double major_radius, double minor_radius, int around, int across);
 
+// A sheet as a scene places it: width along x, height along z, centred on the origin (y up).
+struct GridParams {
+  double width = 1, height = 1;  // [m]
+  int nx = 20, ny = 20;          // cells along x and z
+};
+TriangleSurface make_grid(const GridParams& p);
+
+struct HalfTorusParams {
+  double major_radius = 0.5;  // R [m], axis to tube centre
+  double minor_radius = 0.2;  // r [m], tube
+  int around = 70;            // cells around the axis
+  int across = 25;            // cells across the tube
+};
+TriangleSurface make_half_torus(const HalfTorusParams& p);
+
 }  // namespace invfem

@@ -54,7 +54,7 @@ inline Weld stitch_weld(const Stitch& s) {
 }
 
 struct StitchParams {
-  double stiffness = 5e3;    // per metre of seam [N/m^2] > 0
+  double stiffness = 1e3;    // per metre of seam [N/m^2] > 0
   double damping = 0;        // per metre of seam [N s/m^2] >= 0
   double closing_speed = 0;  // [m/s] >= 0: sewing (see above); 0: every stitch closed from the start
 };

@@ -95,7 +95,7 @@ TEST(OneWayCoupling, ASolidsBoundaryCollidesWithClothsOnly) {
   std::vector<SimObject> objects;
   objects.push_back(soft_cube("solid", 0, Vec3::Zero()));
   objects.push_back(make_cloth_object("cloth", make_grid(0.1, 0.1, 1, 1), ClothObjectParams{}));
-  RigidCollisions c({}, {SolidCoupling{"solid", {}, 0.0, 0.05}});
+  RigidCollisions c({}, {SolidCoupling{"solid", {}, 0.0, {0.05, 0.0}}});
   c.earlier_stages_stepped(objects, kClothStage, 0.01, 0.01);
   Points x_old(1, 3), x_new(1, 3), v = Points::Zero(1, 3);
   x_old << 0.1, 0.21, 0.1;
@@ -109,12 +109,12 @@ TEST(OneWayCoupling, ASolidsBoundaryCollidesWithClothsOnly) {
   ASSERT_EQ(found.size(), 1u);
   EXPECT_NEAR(found[0].normal.dot(Vec3::UnitY()), 1.0, 1e-12);
   // A coupling limited to another cloth leaves this one alone.
-  RigidCollisions other({}, {SolidCoupling{"solid", {"cape"}, 0.0, 0.05}});
+  RigidCollisions other({}, {SolidCoupling{"solid", {"cape"}, 0.0, {0.05, 0.0}}});
   other.earlier_stages_stepped(objects, kClothStage, 0.01, 0.01);
   other.begin_object(objects[1]);
   x_new << 0.1, 0.19, 0.1;
   EXPECT_EQ(other.process(x_old, x_new, v, 0.01, 0.01, found), 0);
-  RigidCollisions unknown({}, {SolidCoupling{"nobody", {}, 0.0, 0.05}});
+  RigidCollisions unknown({}, {SolidCoupling{"nobody", {}, 0.0, {0.05, 0.0}}});
   EXPECT_THROW(unknown.earlier_stages_stepped(objects, kClothStage, 0.01, 0.01), std::invalid_argument);
 }
 
@@ -176,7 +176,7 @@ TEST(OneWayCoupling, AFracturedSolidCollidesWithItsEmbeddedSurface) {
   std::vector<SimObject> objects;
   objects.push_back(soft_cube("solid", 0, Vec3::Zero()));
   objects.push_back(make_cloth_object("cloth", make_grid(0.1, 0.1, 1, 1), ClothObjectParams{}));
-  RigidCollisions c({}, {SolidCoupling{"solid", {}, 0.0, 0.05}});
+  RigidCollisions c({}, {SolidCoupling{"solid", {}, 0.0, {0.05, 0.0}}});
   c.earlier_stages_stepped(objects, kClothStage, 0.01, 0.01);
   c.begin_object(objects[1]);
   Points x_old(1, 3), x_new(1, 3), v = Points::Zero(1, 3);

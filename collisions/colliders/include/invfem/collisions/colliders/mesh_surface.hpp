@@ -33,6 +33,11 @@ struct MeshSurfaceOptions {
   double offset = 0;
 };
 
+// The contact a scene gives a body's mesh (a mesh collider, an animated body, a solid coupled to
+// cloth): searched within 5 cm, the collision surface 1 mm outside, a gap the self-collision
+// layer can keep.
+inline constexpr MeshSurfaceOptions kBodyContact{0.05, 1e-3};
+
 struct MeshClosestPoint {
   bool found = false;              // false: nothing within the query radius
   int triangle = -1;

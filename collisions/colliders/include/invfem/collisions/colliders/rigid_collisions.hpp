@@ -31,8 +31,7 @@ struct SolidCoupling {
   std::string solid;
   std::vector<std::string> cloths;  // empty: every cloth of the world
   double friction = 0.3;            // Coulomb coefficient mu
-  double query_radius = 0.05;       // [m] contact search distance (MeshSurfaceOptions)
-  double offset = 0;                // [m] collision surface outside the boundary (MeshSurfaceOptions)
+  MeshSurfaceOptions surface = kBodyContact;  // the boundary's contact search and offset
 };
 
 class RigidCollisions final : public CollisionProcessor {

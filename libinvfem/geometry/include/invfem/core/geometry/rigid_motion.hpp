@@ -86,4 +86,19 @@ class Motion {
   void keyed_rotation(double t, Mat3& R, Vec3& w) const;
 };
 
+// A motion as plain data, before it has a pose (a scene's `motion`): held still, a constant
+// velocity and spin, or keyframes. make_motion gives the Motion.
+struct MotionScript {
+  enum class Kind { Fixed, ConstantVelocity, Keyframed } kind = Kind::Fixed;
+  Vec3 velocity = Vec3::Zero();   // [m/s]
+  Vec3 spin_axis = Vec3::UnitZ(); // any length > 0
+  double spin_rate = 0;           // [rad/s], about the centre
+  std::vector<TranslationKey> translate_keys;
+  std::vector<RotationKey> rotate_keys;
+};
+
+// The Motion `script` describes from `pose` at rest; a constant spin turns about `center` (keys
+// are absolute poses). Throws std::invalid_argument as Motion's constructors do.
+Motion make_motion(const MotionScript& script, const RigidTransform& pose, const Vec3& center);
+
 }  // namespace invfem

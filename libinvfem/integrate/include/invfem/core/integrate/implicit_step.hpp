@@ -84,7 +84,7 @@ enum class Preconditioner { BlockJacobi, Amg, Auto };
 
 struct ImplicitSettings {
   LinearSolver linear = LinearSolver::CG;
-  Preconditioner preconditioner = Preconditioner::BlockJacobi;  // scenes: Auto (solver.preconditioner)
+  Preconditioner preconditioner = Preconditioner::Auto;
   int max_newton_iterations = 12;
   double tolerance = 1e-4;   // relative residual of the stopping rule above
   int max_line_search = 12;  // halvings of the Newton step before giving up on descent

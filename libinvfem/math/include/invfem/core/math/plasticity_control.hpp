@@ -35,6 +35,12 @@ PlasticGoal make_plastic_goal(const Points& X, const Tets& tets, const Points& X
 // Example: flatten a sphere to a disk with scale (1.4, 0.35, 1.4) about its center (the ITF04
 // Figure 7 goal). Throws std::invalid_argument unless every scale is finite and > 0.
 Points axis_scaled_goal(const Points& X, const Vec3& center, const Vec3& scale);
+// The same goal as plain data (a scene's `plastic_goal`).
+struct AxisScaledGoal {
+  Vec3 scale = Vec3::Ones();
+  Vec3 center = Vec3::Zero();
+};
+inline Points axis_scaled_goal(const Points& X, const AxisScaledGoal& g) { return axis_scaled_goal(X, g.center, g.scale); }
 
 // One controlled flow for one element (steps 1-5 above), in place on Fp_inv. `yielded` reports
 // step 1, `Fp_changed` whether the flow was accepted, `elastic` diagonalizes F Fp^-1 afterwards.

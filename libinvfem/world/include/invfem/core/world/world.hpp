@@ -186,13 +186,14 @@ enum class Integrator { ITF04, Implicit };
 
 struct WorldSettings {
   double max_dt = 0.005;  // [s]
-  CGSettings cg;          // the ITF04 step's damping solves
+  CGSettings cg{1e-8, 1000};  // the ITF04 step's damping solves
   Integrator integrator = Integrator::ITF04;
   ImplicitSettings implicit;
   // advance_to throws SubstepLimitError rather than take more steps than this in one call (a
   // frame); 0: no limit. A stiff or light ITF04 scene (young 1e12, density 1e-12, poisson near
-  // 0.5) can otherwise need millions of CFL-limited steps a frame and run for days.
-  long long max_substeps = 0;
+  // 0.5) can otherwise need millions of CFL-limited steps a frame and run for days; the default
+  // stops a run that would take hours a frame.
+  long long max_substeps = 20000;
   // Motion-bounded steps [m]: a step in which a node would travel (|v| dt + |g| dt^2 / 2 from its
   // velocity at the step's start) further than the smallest of this, the passes' and the
   // collision processor's step_motion_limit(), or a kinematic body's surface would move further

@@ -51,8 +51,8 @@ template <class S, class Ref> auto at(Ref ref) {
   return Slot<S, T>([ref](const S& s) -> T { return ref(s); }, [ref](S& s, const T& v) { ref(s) = v; });
 }
 
-// A string field that names the enum member `ref` returns: (name, value) pairs, the first the
-// document lists first.
+// A string field that names the enum member `ref` returns: (name, value) pairs, in the order the
+// document lists them.
 template <class S, class E, class Ref> Slot<S, std::string> named(Ref ref, std::vector<std::pair<std::string, E>> names) {
   std::vector<std::string> keys;
   for (const auto& n : names) keys.push_back(n.first);
@@ -80,7 +80,7 @@ template <class S> struct Field {
   std::vector<std::string> choices;  // string members: the accepted values (empty: any, or the slot's names)
   std::string expected;              // the error's "expected ..." when not accepted ("": from range or choices)
   std::string description;           // one line
-  std::string default_text;          // rows without a member: the default as documented
+  std::string default_text;          // rows without a slot, or whose default depends on the scene
 
   const std::vector<std::string>& accepted() const {
     if (const auto* s = std::get_if<Slot<S, std::string>>(&member); s && choices.empty()) return s->names;

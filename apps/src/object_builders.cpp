@@ -268,11 +268,6 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene, LoadWarnings& w
   const int n = static_cast<int>(x0.rows());
   warn_about_cloth_start(spec, g, x0, warnings);
   ClothObjectParams params = spec.params;
-  if (spec.inversion_test == "rest") params.inversion = InversionReference::Rest;
-  if (spec.inversion_test == "direction") {
-    params.inversion = InversionReference::Direction;
-    params.inversion_direction = to_vec(spec.inversion_direction).normalized();
-  }
   if (!spec.stitches_from_mesh) g.stitches.clear();
   for (std::size_t k = 0; k < spec.extra_stitches.size(); ++k) {
     const auto& s = spec.extra_stitches[k];
@@ -280,7 +275,6 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene, LoadWarnings& w
                                                 where + ": stitches.list[" + std::to_string(k) + "]");
     params.extra_stitches.push_back(Stitch{v[0], v[1], v[2], s.r});
   }
-  params.velocity = to_vec(spec.velocity);
   params.gravity = to_vec(scene.gravity);
   const std::vector<int> pin_vertices = checked_vertices(spec.pin_vertices, n, where + ": pin_vertices");
   try {

@@ -319,10 +319,14 @@ void parse_skinned(const Fields& f, const std::filesystem::path& dir, bool check
   k.after_end = read_after_end(f);
 }
 
-// A mesh or sequence collider's or a cloth coupling's offset (read by its table, >= 0): below its
-// query radius.
-void check_offset(const Fields& f, double offset, double query_radius) {
-  if (!(offset < query_radius)) f.fail("offset", "an offset below query_radius (" + std::to_string(query_radius) + " m)");
+// A mesh, sequence or skinned collider's or a cloth coupling's contact (read by its table): the
+// offset below its query radius.
+void check_contact(const Fields& f, const MeshSurfaceOptions& contact) {
+  try {
+    validate(contact);  // the module's rule: offset below query_radius
+  } catch (const std::invalid_argument&) {
+    f.fail("offset", "an offset below query_radius (" + std::to_string(contact.query_radius) + " m)");
+  }
 }
 
 ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, bool check_files) {
@@ -358,7 +362,7 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
       parse_sequence(f, dir, check_files, c);
     }
     rows_of(table, {"query_radius", "offset"}).read(f, c);
-    check_offset(f, c.contact.offset, c.contact.query_radius);
+    check_contact(f, c.contact);
     c.transform = parse_transform(f.object_or_empty("transform"));
     return c;
   }
@@ -377,11 +381,16 @@ ColliderSpec parse_collider(const Fields& f, const std::filesystem::path& dir, b
   c.half_extents = f.vec3("half_extents", c.half_extents, limits::kLength);
   for (double h : c.half_extents)
     if (!(h > 0)) f.fail("half_extents", "three half extents > 0");
-  if (c.type == "gears" && !(c.gears.gear.root_radius < c.gears.gear.outer_radius))
-    f.fail("root_radius", "a root radius below outer_radius");
+  if (c.type == "gears") {
+    try {
+      validate(c.gears.gear);  // the module's rule: root below outer (the table checked the rest)
+    } catch (const std::invalid_argument&) {
+      f.fail("root_radius", "a root radius below outer_radius");
+    }
+  }
   if (c.type == "mesh") {
     c.mesh = parse_mesh_path(f, "mesh", dir, check_files);
-    check_offset(f, c.contact.offset, c.contact.query_radius);
+    check_contact(f, c.contact);
   }
   c.transform = parse_transform(f.object_or_empty("transform"));
   c.motion = parse_motion(f.object_or_empty("motion"));
@@ -506,7 +515,7 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
         cloth_coupling_fields().reject_unknown(c);
         cloth_coupling_fields().read(c, solid);
         auto& cc = solid.cloth_coupling;
-        check_offset(c, cc.surface.offset, cc.surface.query_radius);
+        check_contact(c, cc.surface);
         if (c.has("cloths")) {
           const auto& v = c.raw("cloths");
           if (!v.is_array()) c.fail("cloths", "an array of cloth names");

@@ -104,14 +104,11 @@ struct ClothSpec {
   std::filesystem::path initial_shape; // optional: the same vertices, another shape (a drape)
   std::optional<Transform> initial_transform;  // for initial_shape; default: `transform`
   Transform transform;
-  std::array<double, 3> velocity{0, 0, 0};
   // `material`: the in-plane model chosen; the cloth's own parameters (thickness, density,
-  // damping, bending and its plasticity, in-plane plasticity, stitches), whose model, pins and
-  // motion are filled when built.
+  // damping, bending and its plasticity, in-plane plasticity, stitches, the inversion test, the
+  // initial velocity), whose model, gravity and pins are filled when built.
   MaterialChoice model{.young = 1e6};
   ClothObjectParams params;
-  std::string inversion_test = "none";                     // none | rest | direction
-  std::array<double, 3> inversion_direction{0, 1, 0};
   bool stitches_from_mesh = true;        // stitches.from_mesh: use the mesh file's `stitch` lines
   std::vector<ExtraStitch> extra_stitches;  // stitches.list
   std::vector<std::int64_t> pin_vertices;  // vertex indices of the mesh, held in place (checked when built)

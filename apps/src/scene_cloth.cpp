@@ -93,7 +93,11 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
     half_torus_fields().reject_unknown(h);
     HalfTorusParams t;
     half_torus_fields().read(h, t);
-    if (!(t.minor_radius < t.major_radius)) h.fail("minor_radius", "a tube radius below major_radius");
+    try {
+      validate(t);  // the module's rule: the tube below major_radius (the table checked the rest)
+    } catch (const std::invalid_argument&) {
+      h.fail("minor_radius", "a tube radius below major_radius");
+    }
     c.half_torus = t;
   } else {
     const Fields g = f.object_or_empty("grid");
@@ -110,7 +114,7 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
     if (i.has("transform")) c.initial_transform = parse_transform(i.object("transform"));
   }
   c.transform = parse_transform(f.object_or_empty("transform"));
-  c.velocity = f.vec3("velocity", c.velocity, limits::kSpeed);
+  c.params.velocity = to_vec3(f.vec3("velocity", vec3_json(c.params.velocity), limits::kSpeed));
   const Fields material = f.object_or_empty("material");
   cloth_material_fields().reject_unknown(material);
   cloth_material_fields().read(material, c);
@@ -125,12 +129,12 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
   if (f.has("inversion_test")) {
     const auto& v = f.raw("inversion_test");
     if (v.is_string() && (v.get<std::string>() == "none" || v.get<std::string>() == "rest")) {
-      c.inversion_test = v.get<std::string>();
+      c.params.inversion = v.get<std::string>() == "rest" ? InversionReference::Rest : InversionReference::None;
     } else if (v.is_array()) {
-      c.inversion_test = "direction";
-      c.inversion_direction = f.vec3("inversion_test", c.inversion_direction, limits::kDirection);
-      if (std::hypot(c.inversion_direction[0], c.inversion_direction[1], c.inversion_direction[2]) < 1e-12)
-        f.fail("inversion_test", "a non-zero direction");
+      c.params.inversion = InversionReference::Direction;
+      const auto d = f.vec3("inversion_test", {0, 1, 0}, limits::kDirection);
+      if (std::hypot(d[0], d[1], d[2]) < 1e-12) f.fail("inversion_test", "a non-zero direction");
+      c.params.inversion_direction = to_vec3(d).normalized();
     } else {
       f.fail("inversion_test", "\"none\", \"rest\" or a direction [x, y, z]");
     }
@@ -138,7 +142,7 @@ ClothSpec parse_cloth(const Fields& f, const std::filesystem::path& dir, bool ch
   const ModelKind model = c.model.model;
   if (model == ModelKind::MassSpring && c.params.plasticity)
     f.fail("plasticity", "no in-plane plasticity with material.model \"mass_spring\" (springs have no F)");
-  if ((model == ModelKind::MassSpring || model == ModelKind::Corotated) && c.inversion_test != "none")
+  if ((model == ModelKind::MassSpring || model == ModelKind::Corotated) && c.params.inversion != InversionReference::None)
     f.fail("inversion_test", "\"none\" with the baseline material.model \"" + std::string(model_kind_name(model)) +
                                  "\" (the inversion test is ITF04's inversion handling)");
   parse_stitches(f.object_or_empty("stitches"), c);
@@ -164,7 +168,7 @@ nlohmann::json cloth_json(const ClothSpec& c) {
   nlohmann::json j = fields_json(c);  // rest_shape, self_collision
   j["name"] = c.name;
   j["transform"] = transform_json(c.transform);
-  j["velocity"] = c.velocity;
+  j["velocity"] = vec3_json(c.params.velocity);
   j["material"] = fields_json(cloth_material_fields(), c);
   j["stitches"] = fields_json(stitch_fields(), c);
   j["stitches"]["list"] = stitch_list_json(c.extra_stitches);
@@ -182,10 +186,10 @@ nlohmann::json cloth_json(const ClothSpec& c) {
   }
   if (const auto& p = c.params.plasticity) j["plasticity"] = plasticity_json(*p);
   if (const auto& b = c.params.bending.plasticity) j["bending_plasticity"] = fields_json(bending_plasticity_fields(), *b);
-  if (c.inversion_test == "direction")
-    j["inversion_test"] = c.inversion_direction;
+  if (c.params.inversion == InversionReference::Direction)
+    j["inversion_test"] = vec3_json(c.params.inversion_direction);
   else
-    j["inversion_test"] = c.inversion_test;
+    j["inversion_test"] = c.params.inversion == InversionReference::Rest ? "rest" : "none";
   if (!c.attachments.empty()) {
     j["attachments"] = nlohmann::json::array();
     for (const auto& [solid, selection] : c.attachments) {

@@ -40,13 +40,17 @@ TriangleSurface make_grid(double width, double height, int nx, int ny, const Vec
   return mesh;
 }
 
+void validate(const HalfTorusParams& p) {
+  if (!(p.minor_radius > 0 && p.minor_radius < p.major_radius && std::isfinite(p.major_radius)))
+    throw std::invalid_argument("make_half_torus: need 0 < minor radius < major radius, got " +
+                                std::to_string(p.minor_radius) + " and " + std::to_string(p.major_radius));
+  if (p.around < 3 || p.across < 1)
+    throw std::invalid_argument("make_half_torus: need around >= 3 and across >= 1, got " + std::to_string(p.around) +
+                                " and " + std::to_string(p.across));
+}
+
 TriangleSurface make_half_torus(double R, double r, int around, int across) {
-  if (!(r > 0 && r < R && std::isfinite(R)))
-    throw std::invalid_argument("make_half_torus: need 0 < minor radius < major radius, got " + std::to_string(r) +
-                                " and " + std::to_string(R));
-  if (around < 3 || across < 1)
-    throw std::invalid_argument("make_half_torus: need around >= 3 and across >= 1, got " + std::to_string(around) +
-                                " and " + std::to_string(across));
+  validate(HalfTorusParams{R, r, around, across});
   constexpr double kPi = 3.14159265358979323846;
   TriangleSurface s;
   s.source = "half torus " + std::to_string(around) + "x" + std::to_string(across);

@@ -19,7 +19,10 @@ constexpr double kPi = 3.14159265358979323846;
   throw std::invalid_argument(std::string("GearParams.") + field + ": " + what);
 }
 
-void check(const GearParams& p) {
+
+}  // namespace
+
+void validate(const GearParams& p) {
   if (p.teeth < 3 || p.teeth > 1000) bad("teeth", "need 3 to 1000, got " + std::to_string(p.teeth));
   if (!std::isfinite(p.outer_radius) || !std::isfinite(p.root_radius) || !(p.root_radius > 0) ||
       !(p.outer_radius > p.root_radius))
@@ -31,10 +34,8 @@ void check(const GearParams& p) {
   if (!std::isfinite(p.tooth_bias) || p.tooth_bias < 0 || p.tooth_bias >= 1) bad("tooth_bias", "must be in [0, 1)");
 }
 
-}  // namespace
-
 GearSurface::GearSurface(const GearParams& params) : p_(params) {
-  check(p_);
+  validate(p_);
   const double k = p_.sharpness, b = p_.tooth_bias;
   f_lo_ = std::tanh(k * (-1 - b));
   f_scale_ = 1.0 / (std::tanh(k * (1 - b)) - f_lo_);
@@ -140,7 +141,7 @@ Vec3 GearSurface::normal(const Vec3& x, double) const {
 }
 
 GearPair make_gear_pair(const GearPairParams& params) {
-  check(params.gear);
+  validate(params.gear);
   if (!std::isfinite(params.clearance) || params.clearance < 0)
     throw std::invalid_argument("GearPairParams.clearance: must be finite and >= 0");
   if (!std::isfinite(params.spin_rate)) throw std::invalid_argument("GearPairParams.spin_rate: must be finite");

@@ -70,12 +70,16 @@ struct MeshSurface::Impl {
   }
 };
 
-MeshSurface::MeshSurface(const TriangleSurface& surface, MeshSurfaceOptions options) : impl_(std::make_unique<Impl>()) {
-  Impl& m = *impl_;
+void validate(const MeshSurfaceOptions& options) {
   if (std::isnan(options.query_radius) || !(options.query_radius > 0))
     throw std::invalid_argument("MeshSurfaceOptions.query_radius: must be > 0 (infinity for unbounded)");
   if (!(options.offset >= 0) || !(options.offset < options.query_radius))
     throw std::invalid_argument("MeshSurfaceOptions.offset: must be >= 0 and below query_radius");
+}
+
+MeshSurface::MeshSurface(const TriangleSurface& surface, MeshSurfaceOptions options) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  validate(options);
   m.options = options;
   m.bvh = std::make_unique<SurfaceBvh>(surface, SurfaceBvhOptions{.refit = true});
   m.x_prev = surface.x;

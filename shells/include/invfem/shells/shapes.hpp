@@ -33,5 +33,7 @@ struct HalfTorusParams {
   int across = 25;            // cells across the tube
 };
 TriangleSurface make_half_torus(const HalfTorusParams& p);
+// Throws std::invalid_argument as make_half_torus does.
+void validate(const HalfTorusParams& p);
 
 }  // namespace invfem

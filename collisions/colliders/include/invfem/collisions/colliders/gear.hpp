@@ -34,10 +34,13 @@ struct GearParams {
   double tooth_bias = 0.25;   // b above, in [0, 1)
 };
 
+// Throws std::invalid_argument naming the field: teeth outside [3, 1000], radii not 0 < root < outer,
+// thickness <= 0, sharpness <= 0, tooth_bias outside [0, 1), anything non-finite.
+void validate(const GearParams& params);
+
 class GearSurface final : public ImplicitSurface {
  public:
-  // Throws std::invalid_argument naming the field: teeth outside [3, 1000], radii not 0 < root < outer,
-  // thickness <= 0, sharpness <= 0, tooth_bias outside [0, 1), anything non-finite.
+  // Throws as validate(params) does.
   explicit GearSurface(const GearParams& params);
 
   double phi(const Vec3& x, double t) const override;

@@ -33,6 +33,10 @@ struct MeshSurfaceOptions {
   double offset = 0;
 };
 
+// Throws std::invalid_argument naming the field: query_radius not > 0, offset not in
+// [0, query_radius).
+void validate(const MeshSurfaceOptions& options);
+
 // The contact a scene gives a body's mesh (a mesh collider, an animated body, a solid coupled to
 // cloth): searched within 5 cm, the collision surface 1 mm outside, a gap the self-collision
 // layer can keep.

@@ -182,13 +182,6 @@ std::optional<std::int64_t> json_int64(const nlohmann::json& v) {
   return std::nullopt;
 }
 
-int index_in_range(std::int64_t index, std::int64_t count, const std::string& what) {
-  if (index < 0 || index >= count)
-    throw InputError(what + ": vertex " + std::to_string(index) + " but the mesh has " + std::to_string(count) +
-                     " vertices");
-  return static_cast<int>(index);  // count is a mesh size, an int
-}
-
 int Fields::integer(const std::string& key, int fallback, int lo, int hi) const {
   if (!j_.contains(key)) return fallback;
   const auto x = json_int64(j_.at(key));

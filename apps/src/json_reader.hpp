@@ -47,7 +47,7 @@ class Fields {
   // An integer in [lo, hi], checked in 64 bits before it is narrowed (4294967297 is not 1).
   int integer(const std::string& key, int fallback, int lo, int hi) const;
   // A required array of indices >= 0 (mesh vertices), kept in 64 bits: the caller checks them
-  // against the mesh before narrowing (index_in_range).
+  // against the mesh before narrowing (shells selected_vertices).
   std::vector<std::int64_t> index_list(const std::string& key) const;
   bool boolean(const std::string& key, bool fallback) const;
   std::string string(const std::string& key, const std::string& fallback) const;
@@ -91,9 +91,6 @@ std::string vec3_expected(double max_norm);
 // as JSON writes no integer that way) or an unsigned number above 2^63 - 1. Every integer of a
 // scene is read through it, so none is truncated or wrapped.
 std::optional<std::int64_t> json_int64(const nlohmann::json& v);
-// An index of a list of `count` (a mesh's vertices) as an int, once checked in 64 bits to lie in
-// [0, count). Throws InputError "WHAT: vertex I but the mesh has COUNT vertices" otherwise.
-int index_in_range(std::int64_t index, std::int64_t count, const std::string& what);
 
 // Why `name` cannot name a scene object, "" when it can. An object's name is the folder of its
 // frames (OUT/frames/<name>/) and the stem of its other files, so it must be one plain path

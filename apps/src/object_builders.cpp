@@ -172,17 +172,8 @@ SolidObject build_solid(const SolidSpec& spec, const Scene& scene, TetMesh* mesh
 
 namespace {
 
-// Vertex indices of a scene (64 bits) as the mesh's ints, each checked against its vertex count
-// before it is narrowed.
-std::vector<int> checked_vertices(const std::vector<std::int64_t>& indices, Eigen::Index count,
-                                  const std::string& what) {
-  std::vector<int> out;
-  out.reserve(indices.size());
-  for (const std::int64_t i : indices) out.push_back(index_in_range(i, count, what));
-  return out;
-}
-
-// The vertices a pin or attachment selects (boxes select by position at the start of the run);
+// The vertices a selection picks (boxes select by position at the start of the run): a pin's, an
+// attachment's, a stitch's or pin_vertices' indices, checked against the mesh before narrowing;
 // `what` names it in errors.
 std::vector<int> pinned_vertices(const VertexSelection& s, const Garment& g, const Points& x0, const std::string& what) {
   try {
@@ -265,18 +256,17 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene, LoadWarnings& w
   if (g.initial)
     check_object_size(*g.initial, spec.initial_transform.value_or(spec.transform).scale, where + ": initial shape");
   const Points& x0 = g.initial ? *g.initial : g.surface.x;
-  const int n = static_cast<int>(x0.rows());
   warn_about_cloth_start(spec, g, x0, warnings);
   ClothObjectParams params = spec.params;
   if (!spec.stitches_from_mesh) g.stitches.clear();
   for (std::size_t k = 0; k < spec.extra_stitches.size(); ++k) {
     const auto& s = spec.extra_stitches[k];
-    const std::vector<int> v = checked_vertices({s.vertices.begin(), s.vertices.end()}, n,
-                                                where + ": stitches.list[" + std::to_string(k) + "]");
+    const std::vector<int> v = pinned_vertices(VertexSelection{{s.vertices.begin(), s.vertices.end()}, {}, {}}, g, x0,
+                                               where + ": stitches.list[" + std::to_string(k) + "]");
     params.extra_stitches.push_back(Stitch{v[0], v[1], v[2], s.r});
   }
   params.gravity = to_vec(scene.gravity);
-  const std::vector<int> pin_vertices = checked_vertices(spec.pin_vertices, n, where + ": pin_vertices");
+  const std::vector<int> pin_vertices = pinned_vertices(VertexSelection{spec.pin_vertices, {}, {}}, g, x0, where + ": pin_vertices");
   try {
     params.mass_spring = make_mass_spring(spec);
     if (!params.mass_spring) params.model = make_isotropic_model(spec.model);

@@ -266,6 +266,7 @@ SimObject build_cloth(const ClothSpec& spec, const Scene& scene, LoadWarnings& w
     params.extra_stitches.push_back(Stitch{v[0], v[1], v[2], s.r});
   }
   params.gravity = to_vec(scene.gravity);
+  if (scene.solver.integrator != Integrator::Implicit) params.strain_limit = 1;  // a barrier: implicit only
   const std::vector<int> pin_vertices = pinned_vertices(VertexSelection{spec.pin_vertices, {}, {}}, g, x0, where + ": pin_vertices");
   try {
     params.mass_spring = make_mass_spring(spec);

@@ -243,6 +243,12 @@ int run_command(const std::vector<std::string>& raw) {
         newton += seams;
       }
       if (r.retried_steps > 0) newton += "  (" + std::to_string(r.retried_steps) + " steps retried at half length)";
+      if (const double p99 = stretch_percentile(r.elements, 99); std::isfinite(p99) && r.elements.hinges > 0) {
+        char cloth[120];
+        std::snprintf(cloth, sizeof cloth, "  stretch p99 %.3f, folds past 90 deg %.2f%%", p99,
+                      100.0 * r.elements.folds_90 / r.elements.hinges);
+        newton += cloth;
+      }
       const collisions::SelfCollisionFigures sc = collisions::SelfCollisionFigures::of(r);
       if (sc.candidates > 0) {
         char self[200];

@@ -308,6 +308,26 @@ std::string measure_frame(const World& world, FrameReport& r) {
   return bad;
 }
 
+namespace {
+// The cloths' stretch and fold figures of stats.jsonl, each with its comma; "" for a world without
+// membranes (stretch) or without hinges (folds), as a pass's record is absent without the pass.
+std::string cloth_figures(const ElementStats& e) {
+  std::string out;
+  char text[160];
+  const double p99 = stretch_percentile(e, 99), max = stretch_percentile(e, 100);
+  if (std::isfinite(p99) && std::isfinite(max)) {
+    std::snprintf(text, sizeof text, "\"stretch_p99\":%.6g,\"stretch_max\":%.6g,", p99, max);
+    out += text;
+  }
+  if (e.hinges > 0) {
+    std::snprintf(text, sizeof text, "\"folds_45\":%.6g,\"folds_90\":%.6g,", static_cast<double>(e.folds_45) / e.hinges,
+                  static_cast<double>(e.folds_90) / e.hinges);
+    out += text;
+  }
+  return out;
+}
+}  // namespace
+
 std::string stats_record(int frame, const World& world, const FrameReport& r, const FrameTimings& t) {
   std::string record;
   // Field order is fixed (frame first: a resumed run filters lines by it).
@@ -315,12 +335,17 @@ std::string stats_record(int frame, const World& world, const FrameReport& r, co
   std::snprintf(line, sizeof line,
                 "{\"frame\":%d,\"time\":%.6f,\"substeps\":%d,\"cg_iterations\":%d,\"cg_converged\":%s,"
                 "\"cg_condition\":%.3g,\"colliding_nodes\":%d,\"inverted\":%d,\"elements\":%d,\"min_det_F\":%.9g,"
-                "\"yielded\":%d,\"yielded_hinges\":%d,\"open_stitches\":%d,\"widest_stitch_gap\":%.6g,\"newton_iterations\":%d,\"newton_capped\":%d,"
-                "\"newton_worst_residual\":%.3g,\"motion_limited_steps\":%d,\"largest_step_motion\":%.3g,"
-                "\"step_motion_limit\":%.3g,\"retried_steps\":%d,",
+                "\"yielded\":%d,\"yielded_hinges\":%d,\"open_stitches\":%d,\"widest_stitch_gap\":%.6g,",
                 frame, world.time(), r.substeps, r.cg_iterations, r.cg_all_converged ? "true" : "false",
                 r.cg_condition, r.colliding_nodes, r.elements.inverted, r.elements.elements, r.elements.min_det_F, r.elements.yielded,
-                r.elements.yielded_hinges, r.elements.open_stitches, r.elements.widest_stitch_gap, r.newton_iterations, r.newton_capped, r.newton_worst_residual, r.motion_limited_steps,
+                r.elements.yielded_hinges, r.elements.open_stitches, r.elements.widest_stitch_gap);
+  record += line;
+  record += cloth_figures(r.elements);
+  std::snprintf(line, sizeof line,
+                "\"newton_iterations\":%d,\"newton_capped\":%d,"
+                "\"newton_worst_residual\":%.3g,\"motion_limited_steps\":%d,\"largest_step_motion\":%.3g,"
+                "\"step_motion_limit\":%.3g,\"retried_steps\":%d,",
+                r.newton_iterations, r.newton_capped, r.newton_worst_residual, r.motion_limited_steps,
                 r.largest_step_motion, r.step_motion_limit, r.retried_steps);
   record += line;
   // Each after-step pass's record under its name (the self-collision layer: "self_collision"),

@@ -70,6 +70,13 @@ const FieldTable<Scene>& solver_fields() {
                                           {"block_jacobi", Preconditioner::BlockJacobi},
                                           {"amg", Preconditioner::Amg}}),
        .description = "`implicit` with `cg`: CG's preconditioner (see below)"},
+      {.key = "body_contact", .member = named<S, BodyContact>([](auto& s) -> auto& { return s.solver.implicit.contact; },
+                                       {{"active_set", BodyContact::ActiveSet}, {"barrier", BodyContact::Barrier}}),
+       .description = "`implicit`: contact with the colliders as nodes held on their surfaces, let go and caught "
+                      "between Newton iterates (`active_set`), or as a barrier in the potential Newton minimizes "
+                      "(`barrier`: no accepted Newton iterate puts a node inside a collider)"},
+      {.key = "barrier_distance", .member = at<S>([](auto& s) -> auto& { return s.solver.implicit.barrier.distance; }), .unit = "m", .range = {1e-7, 1},
+       .description = "`barrier`: the distance from a collider's surface within which the barrier pushes"},
       {.key = "cfl", .member = &S::cfl, .range = {1e-3, 1},
        .description = "`itf04`: fraction of the explicit stability bound taken as the time step"},
       {.key = "max_dt", .member = at<S>([](auto& s) -> auto& { return s.solver.max_dt; }), .unit = "s", .range = {1e-9, 1},
@@ -424,6 +431,9 @@ const FieldTable<ClothSpec>& cloth_material_fields() {
        .description = "shell thickness: the membrane's energy and the areal density scale with it"},
       {.key = "damping", .member = at<S>([](auto& s) -> auto& { return s.params.damping; }), .unit = "s", .range = {0, 10},
        .description = "in-plane rotated damping"},
+      {.key = "strain_limit", .member = at<S>([](auto& s) -> auto& { return s.params.strain_limit; }), .range = {1, 100},
+       .description = "no triangle stretches past this against its rest shape (pattern) within an implicit step; "
+                      "1: no limit; the `itf04` integrator takes none"},
       {.key = "bending_stiffness", .member = at<S>([](auto& s) -> auto& { return s.params.bending.stiffness; }), .unit = "N m", .range = {0, 1e6},
        .description = "BMF03 hinge bending stiffness"},
       {.key = "bending_damping", .member = at<S>([](auto& s) -> auto& { return s.params.bending.damping; }), .unit = "N m s", .range = {0, 1e6},

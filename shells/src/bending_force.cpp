@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 #include "invfem/core/math/parallel.hpp"
@@ -48,6 +49,18 @@ void BendingForce::set_rest_angles(std::vector<double> angles) {
       throw std::invalid_argument(what_ + ": rest angle of hinge " + std::to_string(h) + " is not finite");
   rest_angles_ = std::move(angles);
   original_rest_angles_ = rest_angles_;
+}
+
+void BendingForce::add_element_stats(ElementStats& stats) const {
+  stats.yielded_hinges += yielded_count();
+  // |theta| > a exactly when |sin(theta/2)| > sin(a/2), theta in [-pi, pi]: no arcsine per hinge.
+  const double past_45 = std::sin(std::numbers::pi / 8), past_90 = std::sin(std::numbers::pi / 4);
+  stats.hinges += static_cast<int>(geom_.size());
+  for (const HingeGeometry& g : geom_) {
+    const double s = std::abs(g.sin_half);  // 0 for a degenerate hinge
+    stats.folds_45 += s > past_45;
+    stats.folds_90 += s > past_90;
+  }
 }
 
 int BendingForce::yielded_count() const {

@@ -34,6 +34,17 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   o.body.gravity = p.gravity;
   // In-plane: the membrane (ITF04 section 8), or the mass-spring baseline's edge springs.
   std::unique_ptr<Force> in_plane;
+  std::unique_ptr<StrainLimitForce> strain_limit;
+  if (!(p.strain_limit >= 1) || !std::isfinite(p.strain_limit))
+    throw std::invalid_argument(what + ": strain_limit must be finite and >= 1 (1: none), got " +
+                                std::to_string(p.strain_limit));
+  if (p.strain_limit > 1) {
+    // The barrier's stiffness: the in-plane wave modulus (E / (1 - nu^2) for a linear membrane), so
+    // that halfway to the limit it stiffens the cloth about twofold.
+    const double kappa = p.mass_spring ? p.mass_spring->young : wave_modulus(plane_stress(p.model));
+    strain_limit = std::make_unique<StrainLimitForce>(rest, StrainLimitParams{p.strain_limit, kappa, p.thickness},
+                                                      what + ": strain limit");
+  }
   std::vector<double> lengths;  // of the stitches' seams, from the rest data
   std::vector<Stitch> stitches = garment.stitches;
   stitches.insert(stitches.end(), p.extra_stitches.begin(), p.extra_stitches.end());
@@ -69,6 +80,10 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
   if (stitch) {
     seams = stitch.get();
     o.forces.push_back(std::move(stitch));
+  }
+  if (strain_limit) {
+    strain_limit->update_positions(o.body.x, 0.0);
+    o.forces.push_back(std::move(strain_limit));
   }
   o.pins = std::move(p.pins);
   set_pinned_velocities(o, 0.0);

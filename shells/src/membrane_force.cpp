@@ -79,6 +79,7 @@ void MembraneForce::init(const MembraneParams& params) {
   diag_.assign(m, Diagonalization32{Mat32::Identity(), Vec2::Ones(), Mat2::Identity()});
   G_.assign(m, Mat32::Zero());
   psi_.assign(m, 0.0);
+  stretch_.assign(m, 1.0);
   yielded_.assign(m, 0);
   inverted_.assign(m, 0);
 }
@@ -117,6 +118,7 @@ void MembraneForce::update(const Points& x, bool allow_flow) {
             diagonalize_batch(F.data(), count, &diag_[e0]);
             for (std::size_t e = e0; e < e0 + count; ++e) {
               psi_[e] = model.template psi<2>(diag_[e].sigma);
+              stretch_[e] = diag_[e].sigma(0);
               G_[e] = triangle_forces(first_piola(model, diag_[e]), rest_.Dm_inv[e], rest_.area[e] * thickness_);
             }
           });
@@ -132,6 +134,8 @@ void MembraneForce::update(const Points& x, bool allow_flow) {
           } else {
             diag_[e] = diagonalize(Mat32(F * Fp_inv));
           }
+          // Fe = F where Fp is the identity; the inversion test below flips only sigma(1).
+          stretch_[e] = Fp_inv == Mat2::Identity() ? diag_[e].sigma(0) : largest_singular_value(F);
           inverted_[e] = 0;
           if (!inversion_normals_.empty()) {
             if (triangle_normal(x, rest_.tris, static_cast<Eigen::Index>(e)).dot(inversion_normals_[e]) < 0) {  // F = U diag(s) V^T is unchanged by both flips
@@ -221,6 +225,11 @@ void MembraneForce::restore_state(StateReader& in) {
   plastic_.Fp_inv = std::move(fp);
   plastic_identity_ = identity;
   skip_next_flow_ = true;
+}
+
+void MembraneForce::add_element_stats(ElementStats& stats) const {
+  stats.yielded += yielded_count();
+  stats.stretches.insert(stats.stretches.end(), stretch_.begin(), stretch_.end());
 }
 
 int MembraneForce::yielded_count() const {

@@ -6,6 +6,8 @@
 // with INVFEM_WHOLE_DANCE it checks the whole dance instead (test_long_dress_dance).
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include "garment_checks.hpp"
 #include "invfem/core/io/obj_file.hpp"
 
@@ -58,6 +60,39 @@ TEST(DressDance, TheDressHangsOnTheDancer) {
   const std::vector<double> unresolved = stats_column(kOut / "stats.jsonl", "unresolved_steps");
   for (std::size_t f = 0; f < unresolved.size(); ++f) EXPECT_EQ(unresolved[f], 0) << "frame " << f;
 }
+
+#ifdef INVFEM_WHOLE_DANCE
+// stats.jsonl's `key` in every frame at most `bound`; a failure names the worst frame, its value and
+// the frames over the bound. The worst value is recorded as the test's property `worst`.
+void expect_every_frame_at_most(const std::string& key, double bound) {
+  const std::vector<double> v = stats_column(kOut / "stats.jsonl", key);
+  ASSERT_EQ(v.size(), static_cast<std::size_t>(kLastFrame + 1)) << key;
+  std::size_t worst = 0;
+  int over = 0;
+  for (std::size_t f = 0; f < v.size(); ++f) {
+    if (!(v[f] <= v[worst])) worst = f;
+    if (!(v[f] <= bound)) ++over;
+  }
+  ::testing::Test::RecordProperty("worst", std::to_string(v[worst]));
+  ::testing::Test::RecordProperty("worst_frame", static_cast<int>(worst));
+  char text[200];
+  std::snprintf(text, sizeof text, "%s above %g in %d of %zu frames; worst %g at frame %zu", key.c_str(), bound, over,
+                v.size(), v[worst], worst);
+  EXPECT_EQ(over, 0) << text;
+}
+
+// Cloth that looks like cloth, in every frame of the whole dance: the 99th percentile of the
+// dress's triangles' stretch against the sewing pattern (stretch_p99) at most 1.10, as woven cloth
+// and C-IPC's strain limit allow, and at most 1% of its interior edges folded past 90 degrees
+// (folds_90; C-IPC's drape of frame 0 has 0.5%).
+TEST(DressDance, StretchAgainstThePatternStaysWithinTenPercent) {
+  expect_every_frame_at_most("stretch_p99", 1.10);
+}
+
+TEST(DressDance, AtMostOnePercentOfEdgesFoldPastNinetyDegrees) {
+  expect_every_frame_at_most("folds_90", 0.01);
+}
+#endif
 
 #ifndef INVFEM_WHOLE_DANCE  // the goldens are the quick run's
 TEST(DressDance, EnergiesMatchGolden) {

@@ -77,21 +77,59 @@ void RigidCollisions::earlier_stages_stepped(const std::vector<SimObject>& objec
   }
 }
 
+const std::vector<RigidCollider>& RigidCollisions::current_colliders() const {
+  return active_.empty() ? colliders_ : active_;
+}
+
+void RigidCollisions::keep_clearances(double t, Eigen::Index n) {
+  // The clearances are known for this object's nodes when the colliders are the same surfaces at
+  // the same time and versions as at the last call (the implicit step's calls within one step).
+  ClearanceKey key{t, n, object_serial_, {}};
+  for (const RigidCollider& c : current_colliders()) key.surfaces.emplace_back(c.surface.get(), c.surface->version());
+  if (!(key == clearance_key_)) {
+    clearance_.assign(static_cast<std::size_t>(n), NodeClearance{});
+    clearance_key_ = std::move(key);
+  }
+}
+
+void RigidCollisions::gaps(const Points& x, double t, double reach, std::vector<BodyGap>& out) {
+  const Eigen::Index n = x.rows();
+  const std::vector<RigidCollider>& colliders = current_colliders();
+  keep_clearances(t, n);
+  // Per node, its gaps (few: one per collider within reach), gathered in node order afterwards.
+  gap_scratch_.resize(static_cast<std::size_t>(n));
+  parallel_for_each(static_cast<std::size_t>(n), kNodeGrain, [&](std::size_t node) {
+    std::vector<BodyGap>& mine = gap_scratch_[node];
+    mine.clear();
+    const auto i = static_cast<Eigen::Index>(node);
+    NodeClearance& clear = clearance_[node];
+    const Vec3 xi = x.row(i).transpose();
+    // phi is 1-Lipschitz: no collider within clear.radius of clear.x is within reach of xi when
+    // |xi - clear.x| + reach < clear.radius.
+    if ((xi - clear.x).norm() + reach < kClearanceShrink * clear.radius) return;
+    clear.x = xi;
+    clear.radius = std::numeric_limits<double>::infinity();
+    for (std::size_t c = 0; c < colliders.size(); ++c) {
+      const ImplicitSurface& surface = *colliders[c].surface;
+      clear.radius = std::min(clear.radius, kClearanceShrink * surface.clearance(xi, t));
+      const double phi = surface.phi(xi, t);
+      if (!(phi < reach)) continue;
+      mine.push_back(BodyGap{static_cast<int>(i), phi, surface.normal(xi, t), surface.velocity(xi, t),
+                             colliders[c].friction});
+    }
+  });
+  out.clear();
+  for (const std::vector<BodyGap>& mine : gap_scratch_) out.insert(out.end(), mine.begin(), mine.end());
+}
+
 int RigidCollisions::process(const Points& x_old, Points& x_new, Points& v, double t_new, double dt,
                              NodeConstraints& constraints, const std::vector<char>* skip) {
   const Eigen::Index n = x_new.rows();
   if (skip && static_cast<Eigen::Index>(skip->size()) != n)
     throw std::invalid_argument("collisions: " + std::to_string(skip->size()) + " skip flags for " +
                                 std::to_string(n) + " nodes");
-  const std::vector<RigidCollider>& colliders = active_.empty() ? colliders_ : active_;
-  // The clearances are known for this object's nodes when the colliders are the same surfaces at
-  // the same time and versions as at the last call (the implicit step's calls within one step).
-  ClearanceKey key{t_new, n, object_serial_, {}};
-  for (const RigidCollider& c : colliders) key.surfaces.emplace_back(c.surface.get(), c.surface->version());
-  if (!(key == clearance_key_)) {
-    clearance_.assign(static_cast<std::size_t>(n), NodeClearance{});
-    clearance_key_ = std::move(key);
-  }
+  const std::vector<RigidCollider>& colliders = current_colliders();
+  keep_clearances(t_new, n);
   contact_scratch_.resize(static_cast<std::size_t>(n));
   collided_scratch_.assign(static_cast<std::size_t>(n), 0);
   parallel_for_each(static_cast<std::size_t>(n), kNodeGrain, [&](std::size_t node) {

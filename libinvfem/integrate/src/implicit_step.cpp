@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
+#include "invfem/core/integrate/body_barrier.hpp"
 #include "invfem/core/math/parallel.hpp"
 
 namespace invfem {
@@ -61,7 +63,22 @@ struct Contacts {
   std::vector<double> friction;
   std::vector<Vec3> last_slip;  // per constraint: its slip at the last assembly (friction_hessian)
   std::size_t first_contact = 0;
+  // Body contact as a barrier (ImplicitSettings::contact): the barrier, and the friction of its
+  // contacts, which no filter holds (node, normal, the body's velocity; mu lambda; last slip).
+  BodyBarrier* barrier = nullptr;
+  NodeConstraints sliding;
+  std::vector<double> sliding_friction;
+  std::vector<Vec3> sliding_last_slip;
 };
+
+// Every frictional contact of k: the held contacts', then the barrier contacts'.
+// visit(contact, mu lambda, last slip).
+template <class Visit> void for_each_friction(const Contacts& k, Visit&& visit) {
+  for (std::size_t j = k.first_contact; j < k.constraints.size(); ++j)
+    if (k.friction[j] > 0) visit(k.constraints[j], k.friction[j], j, false);
+  for (std::size_t j = 0; j < k.sliding.size(); ++j)
+    if (k.sliding_friction[j] > 0) visit(k.sliding[j], k.sliding_friction[j], j, true);
+}
 
 // Coulomb friction of a sliding contact as a smoothed, lagged potential (the IPC way: Li et al.
 // 2020): with the tangential slip s = T (x_i - x_i(n) - h u) relative to the body (u its velocity,
@@ -98,25 +115,23 @@ Slip slip(const NodeConstraint& c, const Points& x, const Points& x_start, doubl
 
 double friction_potential(const Contacts& k, const Points& x, const Points& x_start, double h) {
   double sum = 0;  // sequential: reproducible
-  for (std::size_t j = k.first_contact; j < k.constraints.size(); ++j) {
-    if (k.friction[j] <= 0) continue;
-    const Slip sl = slip(k.constraints[j], x, x_start, h);
+  for_each_friction(k, [&](const NodeConstraint& c, double mu_lambda, std::size_t, bool) {
+    const Slip sl = slip(c, x, x_start, h);
     const double y = sl.s.norm();
-    sum += k.friction[j] * (y < sl.eps ? y * y / (2 * sl.eps) : y - sl.eps / 2);
-  }
+    sum += mu_lambda * (y < sl.eps ? y * y / (2 * sl.eps) : y - sl.eps / 2);
+  });
   return sum;
 }
 
 // grad += w dD/dx (w = h^2 in E's scaling).
 void add_friction_gradient(const Contacts& k, const Points& x, const Points& x_start, double h, double w,
                            Points& grad) {
-  for (std::size_t j = k.first_contact; j < k.constraints.size(); ++j) {
-    if (k.friction[j] <= 0) continue;
-    const Slip sl = slip(k.constraints[j], x, x_start, h);
+  for_each_friction(k, [&](const NodeConstraint& c, double mu_lambda, std::size_t, bool) {
+    const Slip sl = slip(c, x, x_start, h);
     const double y = sl.s.norm();
     const double scale = y < sl.eps ? 1 / sl.eps : 1 / y;  // f0'(y) / y
-    grad.row(k.constraints[j].node) += (w * k.friction[j] * scale) * sl.s.transpose();
-  }
+    grad.row(c.node) += (w * mu_lambda * scale) * sl.s.transpose();
+  });
 }
 
 // f = M g + the elastic forces at the forces' current evaluation.
@@ -125,8 +140,41 @@ void total_force(const Body& body, const std::vector<Force*>& forces, Points& f)
   for (const Force* force : forces) force->add_elastic_forces(f);
 }
 
-void evaluate(const std::vector<Force*>& forces, const Points& x, double t) {
+// The forces and the body barrier at x.
+void evaluate(const std::vector<Force*>& forces, const Contacts& k, const Points& x, double t) {
   for (Force* force : forces) force->evaluate_at(x, t);
+  if (k.barrier) k.barrier->evaluate(x);
+}
+
+// x was placed outside the line search (the first iterate, caught contacts): the barrier forces
+// admit it (Force::admit) before it is evaluated.
+void admit_and_evaluate(const std::vector<Force*>& forces, const Contacts& k, const Points& x, double t) {
+  for (Force* force : forces) force->admit(x);
+  evaluate(forces, k, x, t);
+}
+
+bool admissible(const std::vector<Force*>& forces, const Points& x) {
+  return std::all_of(forces.begin(), forces.end(), [&](const Force* f) { return f->admissible(x); });
+}
+
+// The first iterate x(n) + h v(n) + h^2 a predicts where momentum and gravity take the nodes; past
+// a barrier (a falling cloth stretched past its strain limit) its nodes that no constraint holds go
+// back towards x(n), halving, until every force admits it: the barrier then acts on the step. (An
+// admitted prediction would widen the limit by a step's motion at every step.) What remains past it
+// after kRetreats halvings (pins pulled it there) is admitted by the caller.
+constexpr int kRetreats = 8;
+void retreat_to_admissible(const std::vector<Force*>& forces, const Points& x_start, const NodeConstraints& fixed,
+                           Points& x, Points& scratch) {
+  if (admissible(forces, x)) return;
+  scratch = x - x_start;
+  for (const NodeConstraint& c : fixed) scratch.row(c.node).setZero();
+  const Points held = x;
+  for (int k = 0; k < kRetreats; ++k) {
+    scratch *= 0.5;
+    x = x_start + scratch;  // free rows: x(n) + 2^-(k+1) (x0 - x(n))
+    for (const NodeConstraint& c : fixed) x.row(c.node) = held.row(c.node);
+    if (admissible(forces, x)) return;
+  }
 }
 
 // E(x) of the header (plus h^2 times the friction potential) at the forces' current evaluation
@@ -144,7 +192,8 @@ double incremental_potential(const Body& body, const std::vector<Force*>& forces
   ws.scratch = x - x_start;
   ws.C.multiply(ws.scratch, ws.product);
   const double damping = points_dot(ws.scratch, ws.product);
-  return 0.5 * inertia + h * h * (psi - gravity + friction_potential(k, x, x_start, h)) + 0.5 * h * damping;
+  const double barrier = k.barrier ? k.barrier->energy() : 0.0;
+  return 0.5 * inertia + h * h * (psi - gravity + friction_potential(k, x, x_start, h) + barrier) + 0.5 * h * damping;
 }
 
 // grad E = M (x - x^) - h^2 f + h C (x - x(n)) + h^2 grad D, with f = M g + elastic forces at x.
@@ -156,6 +205,7 @@ void potential_gradient(const Body& body, const Contacts& k, const Points& x, co
   grad -= (h * h) * f;
   grad += h * ws.product;
   add_friction_gradient(k, x, x_start, h, h * h, grad);
+  if (k.barrier) k.barrier->add_gradient(h * h, grad);
 }
 
 // The friction Hessian of one contact, mu lambda times this (see kStickSpeed for D): T / eps in
@@ -205,16 +255,22 @@ void assemble(const Body& body, const std::vector<Force*>& forces, Contacts& k, 
     ws.A.mirror_lower();
   }
   ws.before_friction.clear();
-  for (std::size_t j = k.first_contact; j < k.constraints.size(); ++j) {
-    if (k.friction[j] <= 0) continue;
-    const int i = k.constraints[j].node;
-    const auto slot = static_cast<std::size_t>(ws.A.diagonal_slot(i));
+  if (k.barrier) {
+    k.barrier->for_each_hessian_block([&](int i, const Mat3& H) {
+      const auto slot = static_cast<std::size_t>(ws.A.diagonal_slot(i));
+      ws.before_friction.emplace_back(slot, ws.A.blocks()[slot]);
+      ws.A.blocks()[slot] += (h * h) * H;
+    });
+  }
+  for_each_friction(k, [&](const NodeConstraint& c, double mu_lambda, std::size_t j, bool sliding) {
+    const auto slot = static_cast<std::size_t>(ws.A.diagonal_slot(c.node));
     Mat3& block = ws.A.blocks()[slot];
     ws.before_friction.emplace_back(slot, block);
-    const Slip sl = slip(k.constraints[j], x, x_start, h);
-    block += (h * h * k.friction[j]) * friction_hessian(sl, k.last_slip[j], block, ws.grad.row(i).transpose());
-    k.last_slip[j] = sl.s;
-  }
+    Vec3& last = sliding ? k.sliding_last_slip[j] : k.last_slip[j];
+    const Slip sl = slip(c, x, x_start, h);
+    block += (h * h * mu_lambda) * friction_hessian(sl, last, block, ws.grad.row(c.node).transpose());
+    last = sl.s;
+  });
   parallel_for_each(ws.block_inverse.size(), kGrain, [&](std::size_t i) {
     ws.block_inverse[i] = ws.A.diagonal(static_cast<Eigen::Index>(i)).inverse();
   });
@@ -373,7 +429,7 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
     // Contacts let go move x^ rows only: the forces at x stand (the same bits as evaluating them
     // again). Caught nodes move to the body's surface: the forces are evaluated there.
     if (it == 0 || update.moved) {
-      evaluate(forces, x, t_new);
+      admit_and_evaluate(forces, k, x, t_new);
       total_force(body, forces, f);
     }
     if (it == 0 || update.changed) potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
@@ -413,21 +469,33 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
     ws.rhs = -ws.grad;
     solve_newton_system(fixed, x, it == 0, g_norm, g0, settings, ws, stats);
 
+    // Body contact as a barrier: each node's step bounded by its distance to the bodies
+    // (BodyBarrier::bound_step), unless that leaves no descent, where the line search alone rules.
+    if (k.barrier) {
+      ws.scratch = ws.dir;
+      if (k.barrier->bound_step(x, ws.dir) && !(points_dot(ws.grad, ws.dir) < 0)) ws.dir.swap(ws.scratch);
+    }
     // Backtracking line search on E (Armijo with c = 1e-4): A is definite, so d is a descent
     // direction of E.
     const double slope = points_dot(ws.grad, ws.dir);
     if (!(slope < 0)) return;  // no descent left: stop, reported as not converged
     const double E0 = E_x_known ? E_x : incremental_potential(body, forces, k, x, x_start, h, ws);
     double alpha = 1;
-    bool accepted = false;
+    bool accepted = false, trial_admissible = true;
+    int barrier_rejections = 0;
     for (int ls = 0; ls <= settings.max_line_search; ++ls, alpha *= 0.5) {
       ws.x_trial = x + alpha * ws.dir;
-      evaluate(forces, ws.x_trial, t_new);
+      evaluate(forces, k, ws.x_trial, t_new);
       const double E = incremental_potential(body, forces, k, ws.x_trial, x_start, h, ws);
       E_x = E;
+      trial_admissible = std::isfinite(E);
       if (E <= E0 + 1e-4 * alpha * slope) {
         accepted = true;
         break;
+      }
+      if (!trial_admissible) {  // past a barrier (a strain limit, a body): a shorter step
+        ++barrier_rejections;
+        continue;
       }
       // Near the solution the decrease alpha |slope| falls below the rounding of E (a sum of
       // element energies much larger than their change), and BMF03 bending's energy is not its
@@ -439,6 +507,14 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
         accepted = true;
         break;
       }
+    }
+    if (debug_contacts())
+      std::fprintf(stderr, "  line search: step %g, %s (%d trials past a barrier)\n", alpha,
+                   accepted ? "accepted" : trial_admissible ? "not accepted" : "past a barrier", barrier_rejections);
+    if (!accepted && !trial_admissible) {  // even the smallest step crosses a barrier: stay at x and stop
+      evaluate(forces, k, x, t_new);
+      total_force(body, forces, f);
+      return;
     }
     x.swap(ws.x_trial);
     E_x_known = accepted;
@@ -498,6 +574,32 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   for (const NodeConstraint& c : pinned) constrained[static_cast<std::size_t>(c.node)] = 1;
   Points v_tilde = body.v;
   const double g_scale = body.gravity.norm();
+  retreat_to_admissible(forces, x_start, k.fixed, x, ws.scratch);
+
+  // Body contact as a barrier (body_barrier.hpp): the first iterate placed outside the bodies, and
+  // the friction of the contacts it finds, lagged as the held contacts' below (their normal force:
+  // the last step's, or for a new contact the barrier's at the placed iterate, at most the force
+  // that stops its approach plus gravity's share). No contact is held or caught in the loop.
+  const bool barrier_contact = collisions && settings.contact == BodyContact::Barrier;
+  std::optional<BodyBarrier> barrier;
+  if (barrier_contact) {
+    barrier.emplace(*collisions, body.mass, t_new, settings.barrier);
+    std::vector<char> free(static_cast<std::size_t>(n));
+    for (std::size_t i = 0; i < free.size(); ++i) free[i] = !constrained[i];
+    barrier->place(x, x_start, free);
+    k.barrier = &*barrier;
+    for (const BodyGap& g : barrier->gaps()) {
+      if (g.friction <= 0 || barrier->left_out(g.node) || constrained[static_cast<std::size_t>(g.node)]) continue;
+      const double approach = std::max(0.0, (g.velocity - body.v.row(g.node).transpose()).dot(g.normal));
+      const double lagged = ws.normal_force(g.node) > 0
+                                ? ws.normal_force(g.node)
+                                : std::min(barrier->normal_force(g), body.mass(g.node) * (approach / h + g_scale));
+      NodeConstraint c{g.node, NodeConstraint::Kind::Normal, g.normal, g.velocity, g.friction};
+      k.sliding.push_back(c);
+      k.sliding_friction.push_back(g.friction * lagged);
+      k.sliding_last_slip.push_back(Vec3::Zero());
+    }
+  }
 
   // A new contact holds its normal velocity (the body's, or its own if leaving) and starts at its
   // projected position; its friction's lagged normal force is the last step's contact force, or
@@ -579,7 +681,7 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   ws.x_hat = x_start + h * v_tilde;
   auto update_contacts = [&](const Points& grad) {
     ContactUpdate u;
-    if (!collisions) return u;
+    if (!collisions || barrier_contact) return u;
     const std::size_t held = k.constraints.size() - k.first_contact;
     const bool released = let_go(grad);
     const std::size_t after_let_go = k.constraints.size();
@@ -615,6 +717,11 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   // next step's lagged normal forces.
   Points v = (x - x_start) / h;
   ws.normal_force.setZero();
+  if (barrier) {  // the barrier's normal forces at x(n+1), summed over the colliders
+    barrier->evaluate(x);
+    for (const BodyGap& g : barrier->gaps()) ws.normal_force(g.node) += barrier->normal_force(g);
+    for (Eigen::Index i = 0; i < n; ++i) stats.colliding_nodes += ws.normal_force(i) > 0;
+  }
   if (k.constraints.size() > k.first_contact) {
     potential_gradient(body, k, x, x_start, f, h, ws, ws.grad);
     for (std::size_t j = k.first_contact; j < k.constraints.size(); ++j) {

@@ -65,7 +65,10 @@ class BendingForce : public Force {
   // std::invalid_argument for a wrong count or a non-finite angle.
   void set_rest_angles(std::vector<double> angles);
   int yielded_count() const;  // hinges whose rest angle flowed in the last update
-  void add_element_stats(ElementStats& stats) const override { stats.yielded_hinges += yielded_count(); }
+  // Adds yielded_count() to stats.yielded_hinges, and the hinges and those folded past 45 and past
+  // 90 degrees (|angle|, from flat) to stats.hinges, folds_45 and folds_90. A degenerate hinge
+  // counts as flat.
+  void add_element_stats(ElementStats& stats) const override;
 
   const std::vector<Hinge>& hinges() const { return hinges_; }
   const HingeStats& hinge_stats() const { return stats_; }

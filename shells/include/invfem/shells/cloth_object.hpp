@@ -14,6 +14,7 @@
 #include "invfem/shells/garment.hpp"
 #include "invfem/shells/membrane_force.hpp"
 #include "invfem/shells/stitch_force.hpp"
+#include "invfem/shells/strain_limit_force.hpp"
 
 namespace invfem {
 
@@ -35,6 +36,9 @@ struct ClothObjectParams {
   double damping = 0.01;                   // in-plane Rayleigh coefficient k [s]
   BendingParams bending{1e-4, 1e-5};       // k_e [N m], k_d [N m s], optional plastic rest angles
   std::optional<PlasticParams> plasticity; // in-plane plasticity (ITF04 section 8), off when empty
+  // No principal stretch against the rest shape (pattern) reaches it, within an implicit step
+  // (strain_limit_force.hpp; C-IPC's garments use 1.10); 1 = none. The ITF04 step takes none.
+  double strain_limit = 1;
   InversionReference inversion = InversionReference::None;
   Vec3 inversion_direction = Vec3::UnitY();  // for InversionReference::Direction
   StitchParams stitch;                     // for the garment's stitches and `extra_stitches`
@@ -50,7 +54,7 @@ struct ClothObjectParams {
 
 // Rest shape: the garment's pattern when it has one (rest bend angles flat), else its 3D surface
 // (rest angles from its geometry). Initial positions: garment.initial, else the surface. Forces:
-// membrane, bending, then stitches (when there are any). Throws std::invalid_argument naming
+// membrane, bending, then stitches (when there are any), then the strain limit (when above 1). Throws std::invalid_argument naming
 // `name` for bad parameters, a bad rest mesh or a bad stitch.
 SimObject make_cloth_object(const std::string& name, const Garment& garment, ClothObjectParams params);
 

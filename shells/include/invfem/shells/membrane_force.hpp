@@ -62,8 +62,8 @@ class MembraneForce : public Force {
   // at the saved positions), as for solids.
   void save_state(StateWriter& out) const override;
   void restore_state(StateReader& in) override;
-  // Adds yielded_count() to stats.yielded.
-  void add_element_stats(ElementStats& stats) const override { stats.yielded += yielded_count(); }
+  // Adds yielded_count() to stats.yielded and appends stretches() to stats.stretches.
+  void add_element_stats(ElementStats& stats) const override;
 
   // Replace the model (3D Lame parameters, e.g. a time-dependent strength).
   void set_model(const IsotropicModel& model);
@@ -73,6 +73,9 @@ class MembraneForce : public Force {
   const PlasticState2& plastic_state() const { return plastic_; }
   int yielded_count() const;   // triangles whose trial strain yielded in the last update
   int inverted_count() const;  // triangles read as inverted by the inversion test, last update
+  // Per triangle, the largest singular value of F against the rest shape (Fp not taken out), at
+  // the last update_positions / evaluate_at.
+  const std::vector<double>& stretches() const { return stretch_; }
 
  private:
   void init(const MembraneParams& params);
@@ -91,6 +94,7 @@ class MembraneForce : public Force {
   std::vector<Diagonalization32> diag_;  // per element, of Fe = F Fp^-1 (signed by the inversion test)
   std::vector<Mat32> G_;                 // per element elastic forces
   std::vector<double> psi_;              // per element energy density [J/m^3], times det Fp
+  std::vector<double> stretch_;          // per element largest singular value of F (stretches())
   std::vector<char> yielded_, inverted_;
 };
 

@@ -31,6 +31,7 @@
 #include "invfem/shells/membrane_force.hpp"
 #include "invfem/shells/shapes.hpp"
 #include "invfem/shells/stitch_force.hpp"
+#include "invfem/shells/strain_limit_force.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 #include "test_meshes.hpp"
 
@@ -196,6 +197,18 @@ TEST(ElementMatrices, MembraneStiffnessIsMinusForceJacobian) {
   x.col(1) *= 1.05;
   x += random_points(x.rows(), 1e-3, rng);
   expect_stiffness_is_minus_force_jacobian(f, x);
+}
+
+TEST(ElementMatrices, StrainLimitStiffnessIsMinusForceJacobianAndSemidefinite) {
+  std::mt19937 rng(8);
+  const TriangleSurface grid = make_grid(0.2, 0.2, 3, 3);
+  StrainLimitForce f(make_triangle_rest(grid.x, grid.tris), StrainLimitParams{1.1, 1e5, 1e-3});
+  Points x = grid.x;
+  x.col(0) *= 1.075;  // within the barrier's width (1.05, 1.1)
+  x.col(1) *= 1.06;
+  x += random_points(x.rows(), 5e-4, rng);
+  expect_stiffness_is_minus_force_jacobian(f, x);
+  expect_matrices_sound_at(f, x, rng);
 }
 
 TEST(ElementMatrices, MembraneMatricesAreSemidefiniteWhenCompressedAndDampingMatches) {

@@ -70,6 +70,9 @@ class RigidCollisions final : public CollisionProcessor {
   // same, so the answers are the same as without it.
   int process(const Points& x_old, Points& x_new, Points& v, double t_new, double dt,
               NodeConstraints& constraints, const std::vector<char>* skip = nullptr) override;
+  // Every collider's phi at every node, but where the clearance that process() and earlier gaps()
+  // calls keep (same key) shows the node farther than reach from all of them.
+  void gaps(const Points& x, double t, double reach, std::vector<BodyGap>& out) override;
 
  private:
   std::vector<RigidCollider> colliders_;
@@ -92,8 +95,13 @@ class RigidCollisions final : public CollisionProcessor {
     std::vector<std::pair<const ImplicitSurface*, std::uint64_t>> surfaces;  // identity, version
     bool operator==(const ClearanceKey&) const = default;
   };
+  const std::vector<RigidCollider>& current_colliders() const;
+  // Keeps clearance_ when the key of (t, n, the object, the colliders' surfaces and versions) is
+  // the last call's, else forgets it.
+  void keep_clearances(double t, Eigen::Index n);
   std::vector<NodeClearance> clearance_;
   ClearanceKey clearance_key_;
+  std::vector<std::vector<BodyGap>> gap_scratch_;  // gaps(): per node
   std::uint64_t object_serial_ = 0;  // counts begin_object calls
 };
 

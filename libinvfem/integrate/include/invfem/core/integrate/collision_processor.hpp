@@ -11,6 +11,17 @@ namespace invfem {
 
 struct SimObject;
 
+// A node within reach of a collider (CollisionProcessor::gaps): the collider's signed distance phi
+// at the node [m] (its collision surface, offset included), outward unit normal and velocity there,
+// and its Coulomb coefficient.
+struct BodyGap {
+  int node = -1;
+  double phi = 0;
+  Vec3 normal = Vec3::UnitY();
+  Vec3 velocity = Vec3::Zero();
+  double friction = 0;
+};
+
 class CollisionProcessor {
  public:
   virtual ~CollisionProcessor() = default;
@@ -36,6 +47,13 @@ class CollisionProcessor {
   // implicit step's nodes already held, whose answer it would not use).
   virtual int process(const Points& x_old, Points& x_new, Points& v, double t_new, double dt,
                       NodeConstraints& constraints, const std::vector<char>* skip = nullptr) = 0;
+  // Body contact as a barrier (body_barrier.hpp): out = one BodyGap per node and collider with
+  // phi(x_i, t) < reach, in node order then collider order; nothing by default. Same threading and
+  // current-object rules as process.
+  virtual void gaps(const Points& x, double t, double reach, std::vector<BodyGap>& out) {
+    (void)x, (void)t, (void)reach;
+    out.clear();
+  }
 };
 
 }  // namespace invfem

@@ -2,6 +2,8 @@
 // The interface between the time stepper and a force model (a tet solid's elasticity and
 // damping, a cloth's membrane, its bending, its stitches). The call is virtual per force object,
 // never per element: each implementation runs its own flat element loop (parallel.hpp).
+#include <algorithm>
+#include <cstddef>
 #include <limits>
 #include <map>
 #include <vector>
@@ -14,7 +16,8 @@
 namespace invfem {
 
 // Element figures summed over the forces, written per frame. The first five are over volumetric
-// elements (tets); the plastic counts over every element and hinge that has plasticity.
+// elements (tets); the plastic counts over every element and hinge that has plasticity; the
+// stretches and folds over the cloths' membranes and bending hinges.
 struct ElementStats {
   int inverted = 0;       // tets with det F < 0
   int elements = 0;       // tets
@@ -26,7 +29,25 @@ struct ElementStats {
   // Seams: stitches, those open wider than kStitchTolerance, and the widest gap [m].
   int stitches = 0, open_stitches = 0;
   double widest_stitch_gap = 0;
+  // Stretch of each membrane triangle, in force then element order: the largest singular value
+  // of F = Ds Dm^-1 against its rest shape (a garment's pattern), plastic flow not taken out, so
+  // 1 is the rest length and 1.1 a tenth longer in the most stretched direction. Kept whole, as a
+  // percentile cannot be summed (stretch_percentile reduces them).
+  std::vector<double> stretches;
+  // Bending hinges (one per interior edge), and those whose bend, the angle between the two
+  // faces' normals, is past 45 and past 90 degrees: measured from flat, whatever the rest angle.
+  int hinges = 0, folds_45 = 0, folds_90 = 0;
 };
+
+// The nearest-rank percentile of the stretches: the smallest of them that at least `percent`
+// (in (0, 100]) of them do not exceed, the ceil(percent n / 100)-th smallest of n. NaN for none.
+inline double stretch_percentile(const ElementStats& stats, int percent) {
+  std::vector<double> s = stats.stretches;
+  if (s.empty() || percent <= 0 || percent > 100) return std::numeric_limits<double>::quiet_NaN();
+  const std::size_t rank = (static_cast<std::size_t>(percent) * s.size() + 99) / 100;  // 1-based
+  std::nth_element(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(rank - 1), s.end());
+  return s[rank - 1];
+}
 
 // [m] a stitch within this is closed: woven seams hold to about a millimetre.
 inline constexpr double kStitchTolerance = 1e-3;
@@ -85,6 +106,18 @@ class Force {
   // no plastic flow or other change of rest state, which happens once per step, in
   // update_positions at the step's end. The default serves forces without such state.
   virtual void evaluate_at(const Points& x, double time) { update_positions(x, time); }
+
+  // A force whose energy is a barrier, +inf outside an admissible set (a strain limit), says
+  // whether x lies inside (admissible), and widens the set to hold x (admit). The implicit step
+  // moves its first iterate back towards x(n) until it is admissible, then admits it (a pin may
+  // have pulled it out); it admits again wherever it moves nodes outside its line search (contacts
+  // caught), before evaluate_at; its line search keeps every other iterate inside. Every x by
+  // default.
+  virtual bool admissible(const Points& x) const {
+    (void)x;
+    return true;
+  }
+  virtual void admit(const Points& x) { (void)x; }
 
   // Element matrices at the last update_positions / evaluate_at (element_matrices.hpp):
   // stiffness_matrices writes K_e, positive semidefinite, approximating -d f_e/d x (exact where no

@@ -46,6 +46,12 @@
 // (kMaxReleases in the .cpp), so the set cannot cycle. What is still inside when Newton stops is
 // projected out (positions only), as the ITF04 step does.
 //
+// Barrier forces (a cloth's strain limit: Force::admissible, admit) have +inf energy outside their
+// admissible set. The first iterate moves its unconstrained nodes back towards x(n), halving, until
+// every force admits it (what pins pulled out is admitted); the line search rejects a trial past a
+// barrier as it rejects a rise of E, so every accepted iterate stays inside. Nodes that the contact
+// processing moves are admitted where they land.
+//
 // Stopping rule: |S grad E| / h^2 <= tolerance * force_scale, with
 //   force_scale = |S M g| + |S f(x^0)| + |S M v~(n)| / h     [N]
 // (gravity, the elastic forces at the first iterate and the momentum per step), so the
@@ -61,6 +67,7 @@
 
 #include "invfem/core/solve/amg.hpp"
 #include "invfem/core/solve/block_sparse.hpp"
+#include "invfem/core/integrate/body_barrier.hpp"
 #include "invfem/core/integrate/collision_processor.hpp"
 #include "invfem/core/math/element_matrices.hpp"
 #include "invfem/core/integrate/force.hpp"
@@ -82,6 +89,11 @@ enum class LinearSolver { CG, Direct };
 // multigrid loses (world.hpp).
 enum class Preconditioner { BlockJacobi, Amg, Auto };
 
+// How body contact enters the step: held nodes, the active set of constraints described above
+// (ActiveSet), or a barrier in the incremental potential that Newton minimizes with everything else
+// (Barrier: body_barrier.hpp; no node is held, and the line search keeps every node outside).
+enum class BodyContact { ActiveSet, Barrier };
+
 struct ImplicitSettings {
   LinearSolver linear = LinearSolver::CG;
   Preconditioner preconditioner = Preconditioner::Auto;
@@ -89,6 +101,8 @@ struct ImplicitSettings {
   double tolerance = 1e-4;   // relative residual of the stopping rule above
   int max_line_search = 12;  // halvings of the Newton step before giving up on descent
   CGSettings cg{1e-6, 1000}; // cg.relative_tolerance is the floor of the forcing term
+  BodyContact contact = BodyContact::ActiveSet;
+  BodyBarrierSettings barrier;  // for BodyContact::Barrier
 };
 
 // What one body keeps between implicit steps: the system's sparsity and buffers, built at the

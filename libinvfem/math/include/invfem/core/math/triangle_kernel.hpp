@@ -8,6 +8,7 @@
 //   G = [g1 g2] = -A0 h P Dm^-T (3x2),  g0 = -(g1 + g2),
 // with P = U P^ V^T and P^ = dPsi/dsigma of the model in 2D (psi_gradient<2>).
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,17 @@ inline Mat32 deformation_gradient(const TriangleRest& rest, int e, const Points&
 // The velocity gradient F_dot = Ds(v) Dm^-1 (damping, ITF04 section 6.2).
 inline Mat32 velocity_gradient(const TriangleRest& rest, int e, const Points& v) {
   return deformation_gradient(rest, e, v);
+}
+
+// The largest singular value of a 3x2 F (a triangle's largest principal stretch): the square
+// root of the larger eigenvalue of F^T F, in closed form, on F scaled to entries of at most 1 so
+// that no square overflows.
+inline double largest_singular_value(const Mat32& F) {
+  const double scale = F.cwiseAbs().maxCoeff();
+  if (!(scale > 0)) return 0;
+  const Mat32 G = F / scale;
+  const Mat2 C = G.transpose() * G;
+  return scale * std::sqrt(0.5 * (C(0, 0) + C(1, 1)) + std::hypot(0.5 * (C(0, 0) - C(1, 1)), C(0, 1)));
 }
 
 // P = U diag(P^) V^T for a diagonal model evaluated at the singular values of F.

@@ -238,7 +238,7 @@ struct PassRecord {
 // Per-frame figures, summed over objects.
 struct FrameReport {
   double kinetic = 0, elastic = 0, gravity = 0;  // [J]; gravity potential is -m g.x
-  ElementStats elements;                         // tets only
+  ElementStats elements;                         // every object's forces' (add_element_stats)
   int substeps = 0, cg_iterations = 0, colliding_nodes = 0;
   bool cg_all_converged = true;
   double cg_condition = 0;  // the largest CG condition estimate of the frame's steps (CGResult::condition)

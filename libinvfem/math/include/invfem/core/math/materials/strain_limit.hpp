@@ -1,0 +1,54 @@
+#pragma once
+// A strain limit in the diagonal space: a barrier on each principal stretch s_i against a limit L,
+// as C-IPC bounds the stretch of cloth (Li, Kaufman, Jiang 2021, section 5), with the log barrier of
+// barrier.hpp on the gap L - s_i:
+//
+//   Psi(s) = kappa sum_i b(L - s_i),   P^_i = -kappa b'(L - s_i) >= 0,   H = diag(kappa b''(L - s_i))
+//
+// zero for every s_i <= L - width and +inf from s_i = L on. P^ grows with s_i, so the pair blocks'
+// d_minus and d_plus and the out-of-plane terms P^_k / s_k are all >= 0: dP/dF is positive
+// semidefinite without clamping. Not a material: it has no rest stiffness and no finite wave speed
+// (wave_modulus is +inf), so only the implicit step, whose line search rejects a state past the
+// limit, may take it.
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "invfem/core/math/barrier.hpp"
+#include "invfem/core/math/types.hpp"
+
+namespace invfem {
+
+struct StrainLimit {
+  double stiffness = 0;  // kappa [Pa]
+  double limit = 1.1;    // L: no principal stretch reaches it
+  double width = 0.05;   // the barrier acts on stretches above L - width
+
+  template <int D> double psi(const VecD<D>& s) const {
+    double sum = 0;
+    for (int i = 0; i < D; ++i) sum += log_barrier(limit - s(i), width);
+    return stiffness * sum;
+  }
+  template <int D> VecD<D> psi_gradient(const VecD<D>& s) const {
+    VecD<D> p;
+    for (int i = 0; i < D; ++i) p(i) = -stiffness * log_barrier_gradient(limit - s(i), width);
+    return p;
+  }
+  template <int D> MatD<D> psi_hessian(const VecD<D>& s) const {
+    MatD<D> H = MatD<D>::Zero();
+    for (int i = 0; i < D; ++i) H(i, i) = stiffness * log_barrier_hessian(limit - s(i), width);
+    return H;
+  }
+  double wave_modulus() const { return std::numeric_limits<double>::infinity(); }
+  void validate(const std::string& what = "strain limit") const {
+    if (!std::isfinite(stiffness) || stiffness <= 0)
+      throw std::invalid_argument(what + ": stiffness must be finite and > 0, got " + std::to_string(stiffness));
+    if (!std::isfinite(limit) || !(limit > 1))
+      throw std::invalid_argument(what + ": the limit must be finite and > 1, got " + std::to_string(limit));
+    if (!(width > 0 && width < limit))
+      throw std::invalid_argument(what + ": the width must lie in (0, limit), got " + std::to_string(width));
+  }
+};
+
+}  // namespace invfem

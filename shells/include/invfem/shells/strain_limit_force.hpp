@@ -1,0 +1,74 @@
+#pragma once
+// A cloth's strain limit: the barrier of materials/strain_limit.hpp on each triangle's principal
+// stretches against its rest shape (a garment's pattern), energy A0 h Psi(s) with s the singular
+// values of the 3x2 F = Ds Dm^-1 (no plastic Fp: the limit is against the pattern), so that no
+// triangle stretches past the limit within an implicit step, whatever contact and gravity ask.
+//
+// A triangle found at or past its limit where the step places nodes itself (its first iterate, a
+// pin pulled it; contacts caught; the after-step collision layer stretched it) is held below its
+// own limit s + kAdmitMargin width (admit): it may not stretch much further, and its membrane pulls
+// it back. update_positions, at the step's end, sets every limit back to L before admitting, so the
+// limits follow from the positions and the force has no state to save.
+//
+// Only the implicit integrator may take this force (its line search rejects +inf energies); a
+// triangle below L - width costs one 2x2 eigenvalue and nothing more.
+#include <string>
+#include <vector>
+
+#include "invfem/core/integrate/force.hpp"
+#include "invfem/core/math/diagonalize.hpp"
+#include "invfem/core/math/triangle_kernel.hpp"
+
+namespace invfem {
+
+struct StrainLimitParams {
+  double limit = 1.10;      // L > 1: no principal stretch against the rest shape reaches it
+  double stiffness = 0;     // kappa [Pa] > 0: the membrane's plane-stress wave modulus, typically
+  double thickness = 0;     // h [m] > 0: element volume A0 h, as the membrane's
+};
+
+class StrainLimitForce : public Force {
+ public:
+  // The barrier acts on stretches above L - width, width = (L - 1) / 2: a cloth at rest feels
+  // nothing; halfway to the limit it starts to stiffen. Throws std::invalid_argument naming `what`.
+  StrainLimitForce(TriangleRest rest, const StrainLimitParams& params, const std::string& what = "strain limit");
+
+  // Every limit back to L, admit(x), evaluate_at(x): the step's end state, however it was reached,
+  // is admissible, and the next step starts from the limits it implies.
+  void update_positions(const Points& x, double time) override;
+  void evaluate_at(const Points& x, double time) override;
+  // Every triangle below its limit (a cheap 2x2 eigenvalue each).
+  bool admissible(const Points& x) const override;
+  void admit(const Points& x) override;
+  void add_elastic_forces(Points& f) const override { scatter_triangle_forces(rest_.tris, G_, f); }
+  void add_damping_forces(const Points&, Points&) const override {}
+  // +inf when a triangle has reached its limit at the last evaluation.
+  double elastic_energy() const override;
+  // 9x9 per triangle, zero below L - width; no damping.
+  bool stiffness_matrices(ElementMatrices& out) const override;
+  bool damping_matrices(ElementMatrices& out) const override {
+    out.resize(0, 3);
+    return true;
+  }
+
+  double limit() const { return limit_; }
+  double width() const { return width_; }
+  // Per triangle: L, or s + kAdmitMargin width where admit found it at s past its limit.
+  const std::vector<double>& admitted_limits() const { return admitted_; }
+  // [width] how far below its own limit admit places a triangle found at or past its limit: a whole
+  // width, where the barrier starts, so that admitting it adds no force (a closer limit starts it
+  // with the barrier's steepest stresses, which Newton's line search then spends its steps on).
+  static constexpr double kAdmitMargin = 1.0;
+
+ private:
+  std::string what_;
+  TriangleRest rest_;
+  double limit_, width_, stiffness_, thickness_;
+  std::vector<double> admitted_;          // per triangle
+  std::vector<char> active_;              // per triangle: within width of its limit (or past it)
+  std::vector<Diagonalization32> diag_;   // per active triangle's F
+  std::vector<Mat32> G_;                  // per triangle forces
+  std::vector<double> psi_;               // per triangle energy density [J/m^3]
+};
+
+}  // namespace invfem

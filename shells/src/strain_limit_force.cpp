@@ -1,0 +1,101 @@
+#include "invfem/shells/strain_limit_force.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "invfem/core/math/elasticity.hpp"
+#include "invfem/core/math/element_matrices.hpp"
+#include "invfem/core/math/materials/strain_limit.hpp"
+#include "invfem/core/math/parallel.hpp"
+
+namespace invfem {
+
+namespace {
+constexpr std::size_t kGrain = 1024;
+}  // namespace
+
+StrainLimitForce::StrainLimitForce(TriangleRest rest, const StrainLimitParams& p, const std::string& what)
+    : what_(what), rest_(std::move(rest)), limit_(p.limit), width_(0.5 * (p.limit - 1)), stiffness_(p.stiffness),
+      thickness_(p.thickness) {
+  StrainLimit{stiffness_, limit_, width_}.validate(what_);
+  if (!std::isfinite(thickness_) || thickness_ <= 0)
+    throw std::invalid_argument(what_ + ": thickness must be finite and > 0, got " + std::to_string(thickness_));
+  const std::size_t m = rest_.area.size();
+  admitted_.assign(m, limit_);
+  active_.assign(m, 0);
+  diag_.assign(m, Diagonalization32{Mat32::Identity(), Vec2::Ones(), Mat2::Identity()});
+  G_.assign(m, Mat32::Zero());
+  psi_.assign(m, 0.0);
+}
+
+void StrainLimitForce::update_positions(const Points& x, double time) {
+  std::fill(admitted_.begin(), admitted_.end(), limit_);
+  admit(x);
+  evaluate_at(x, time);
+}
+
+bool StrainLimitForce::admissible(const Points& x) const {
+  std::vector<char> past(admitted_.size());
+  parallel_for_each(admitted_.size(), kGrain, [&](std::size_t e) {
+    past[e] = largest_singular_value(deformation_gradient(rest_, static_cast<int>(e), x)) >= admitted_[e];
+  });
+  return std::find(past.begin(), past.end(), 1) == past.end();
+}
+
+void StrainLimitForce::admit(const Points& x) {
+  parallel_for_each(admitted_.size(), kGrain, [&](std::size_t e) {
+    const double s = largest_singular_value(deformation_gradient(rest_, static_cast<int>(e), x));
+    if (s >= admitted_[e]) admitted_[e] = s + kAdmitMargin * width_;
+  });
+}
+
+void StrainLimitForce::evaluate_at(const Points& x, double /*time*/) {
+  if (x.rows() != rest_.node_area.size())
+    throw std::invalid_argument(what_ + ": positions have " + std::to_string(x.rows()) + " rows, the mesh has " +
+                                std::to_string(rest_.node_area.size()) + " nodes");
+  parallel_for_each(admitted_.size(), kGrain, [&](std::size_t e) {
+    const Mat32 F = deformation_gradient(rest_, static_cast<int>(e), x);
+    const StrainLimit model{stiffness_, admitted_[e], width_};
+    active_[e] = largest_singular_value(F) > admitted_[e] - width_;
+    if (!active_[e]) {
+      psi_[e] = 0;
+      G_[e].setZero();
+      return;
+    }
+    diag_[e] = diagonalize(F);
+    psi_[e] = energy(model, diag_[e]);
+    // Past the limit the energy is +inf and the state is rejected; its force is left at zero.
+    G_[e] = std::isfinite(psi_[e]) ? triangle_forces(energy_gradient(model, diag_[e]), rest_.Dm_inv[e],
+                                                     rest_.area[e] * thickness_)
+                                   : Mat32::Zero();
+  });
+}
+
+double StrainLimitForce::elastic_energy() const {
+  double sum = 0;  // sequential, element order: reproducible
+  for (std::size_t e = 0; e < psi_.size(); ++e)
+    if (active_[e]) sum += psi_[e] * rest_.area[e] * thickness_;
+  return sum;
+}
+
+bool StrainLimitForce::stiffness_matrices(ElementMatrices& out) const {
+  if (!out.shaped(rest_.tris.rows(), 3, ElementMatrices::Form::Upper)) {
+    out.resize(rest_.tris.rows(), 3, ElementMatrices::Form::Upper);
+    out.nodes = rest_.tris;
+  }
+  parallel_for_each(psi_.size(), kGrain, [&](std::size_t e) {
+    const auto k = static_cast<Eigen::Index>(e);
+    if (!active_[e] || !std::isfinite(psi_[e])) {
+      out.set_upper<9>(k, Eigen::Matrix<double, 9, 9>::Zero());
+      return;
+    }
+    const StrainLimit model{stiffness_, admitted_[e], width_};
+    const Mat6x6 H = energy_hessian(model, diag_[e], /*project_psd=*/true);
+    out.set_upper<9>(k, element_matrix_from_dPdF<2>(H, shape_gradients<2>(rest_.Dm_inv[e]), rest_.area[e] * thickness_));
+  });
+  return true;
+}
+
+}  // namespace invfem

@@ -1,0 +1,188 @@
+// The strain limit of cloth (materials/strain_limit.hpp, shells/strain_limit_force.hpp): the log
+// barrier and the model's derivatives against finite differences (the activation boundary
+// included), the force as minus its energy's gradient, +inf past the limit until admitted, and a
+// heavy hanging cloth that stretches 30% without the limit and stays below it with it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "fd_check.hpp"
+#include "force_checks.hpp"
+#include "invfem/core/integrate/implicit_step.hpp"
+#include "invfem/core/math/barrier.hpp"
+#include "invfem/core/math/materials/lame.hpp"
+#include "invfem/core/math/materials/strain_limit.hpp"
+#include "invfem/shells/membrane_force.hpp"
+#include "invfem/shells/shapes.hpp"
+#include "invfem/shells/strain_limit_force.hpp"
+
+namespace {
+
+using namespace invfem;
+using namespace invfem::test;
+
+constexpr double kLimit = 1.1, kWidth = 0.05;
+
+TEST(StrainLimit, LogBarrierDerivativesMatchFiniteDifferencesAndVanishWhereItStarts) {
+  const double gh = 0.05;
+  for (double g : {1e-4, 1e-3, 0.01, 0.025, 0.049}) {
+    auto f = [&](const Eigen::VectorXd& x) { return log_barrier(x(0), gh); };
+    auto df = [&](const Eigen::VectorXd& x) { return Eigen::VectorXd::Constant(1, log_barrier_gradient(x(0), gh)); };
+    auto d2f = [&](const Eigen::VectorXd& x) { return Eigen::MatrixXd::Constant(1, 1, log_barrier_hessian(x(0), gh)); };
+    fd::Options o;
+    o.step_scale = 0.1 * std::min(g, gh - g);  // steps stay inside (0, gh)
+    const Eigen::VectorXd x = Eigen::VectorXd::Constant(1, g);
+    const fd::Result rg = fd::check_gradient(f, df, x, o), rh = fd::check_jacobian(df, d2f, x, o);
+    EXPECT_TRUE(rg.pass) << "g = " << g << "\n" << rg.report;
+    EXPECT_TRUE(rh.pass) << "g = " << g << "\n" << rh.report;
+    EXPECT_GT(log_barrier(g, gh), 0);
+    EXPECT_LT(log_barrier_gradient(g, gh), 0) << "it pushes the gap open";
+    EXPECT_GT(log_barrier_hessian(g, gh), 0) << "convex";
+  }
+  // C2 where it starts: value, slope and curvature all tend to 0 at gh (within O(d^2), O(d), O(d)).
+  const double d = 1e-6;
+  EXPECT_LT(log_barrier(gh - d, gh), 1e-15);
+  EXPECT_LT(std::abs(log_barrier_gradient(gh - d, gh)), 1e-9);
+  EXPECT_LT(log_barrier_hessian(gh - d, gh), 1e-3);
+  EXPECT_EQ(log_barrier(gh, gh), 0);
+  EXPECT_EQ(log_barrier(2 * gh, gh), 0);
+  EXPECT_EQ(log_barrier_gradient(2 * gh, gh), 0);
+  EXPECT_TRUE(std::isinf(log_barrier(0, gh)));
+  EXPECT_TRUE(std::isinf(log_barrier(-1e-3, gh)));
+}
+
+template <int D> void expect_model_derivatives_match_finite_differences(const std::vector<VecD<D>>& states) {
+  const StrainLimit m{1e5, kLimit, kWidth};
+  for (const VecD<D>& s : states) {
+    auto f = [&](const Eigen::VectorXd& x) { return m.template psi<D>(VecD<D>(x)); };
+    auto g = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return m.template psi_gradient<D>(VecD<D>(x)); };
+    auto H = [&](const Eigen::VectorXd& x) -> Eigen::MatrixXd { return m.template psi_hessian<D>(VecD<D>(x)); };
+    fd::Options o;
+    o.step_scale = 1e-3;  // every sample is at least 5e-3 from the limit and from L - width
+    o.value_scale = 1.0;
+    const fd::Result rg = fd::check_gradient(f, g, s, o), rh = fd::check_jacobian(g, H, s, o);
+    EXPECT_TRUE(rg.pass) << s.transpose() << "\n" << rg.report;
+    EXPECT_TRUE(rh.pass) << s.transpose() << "\n" << rh.report;
+  }
+}
+
+TEST(StrainLimit, ModelDerivativesMatchFiniteDifferences) {
+  expect_model_derivatives_match_finite_differences<2>({Vec2(1.08, 1.0), Vec2(1.09, 1.06), Vec2(1.07, 1.07), Vec2(1.095, 0.5)});
+  expect_model_derivatives_match_finite_differences<3>({Vec3(1.08, 1.0, 0.9), Vec3(1.09, 1.06, 1.07)});
+}
+
+TEST(StrainLimit, ModelIsZeroBelowItsWidthAndInfiniteAtTheLimit) {
+  const StrainLimit m{1e5, kLimit, kWidth};
+  EXPECT_EQ(m.psi<2>(Vec2(1.05, 0.3)), 0);
+  EXPECT_EQ(m.psi_gradient<2>(Vec2(1.0, 1.0)).norm(), 0);
+  EXPECT_TRUE(std::isinf(m.psi<2>(Vec2(kLimit, 1.0))));
+  EXPECT_TRUE(std::isinf(m.psi<2>(Vec2(1.0, 1.5))));
+  EXPECT_GT(m.psi_gradient<2>(Vec2(1.09, 1.0))(0), 0) << "P^ pulls the stretch back";
+  EXPECT_THROW((StrainLimit{1e5, 1.0, kWidth}.validate()), std::invalid_argument);
+  EXPECT_THROW((StrainLimit{0, kLimit, kWidth}.validate()), std::invalid_argument);
+}
+
+StrainLimitForce limit_on(const TriangleSurface& grid, double limit = kLimit) {
+  return StrainLimitForce(make_triangle_rest(grid.x, grid.tris), StrainLimitParams{limit, 1e5, 1e-3});
+}
+
+TEST(StrainLimit, ForceIsMinusEnergyGradientWithinTheBarrier) {
+  std::mt19937 rng(3);
+  const TriangleSurface grid = make_grid(0.2, 0.2, 3, 3);
+  StrainLimitForce f = limit_on(grid);
+  Points x = grid.x;
+  x.col(0) *= 1.075;  // inside the barrier's width (1.05, 1.1), a few FD steps from both ends
+  x += random_points(x.rows(), 5e-4, rng);
+  f.update_positions(x, 0);
+  ASSERT_GT(f.elastic_energy(), 0);
+  ASSERT_TRUE(std::isfinite(f.elastic_energy()));
+  fd::Options o;
+  o.step_scale = 1e-4;
+  o.value_scale = 1e-6;
+  const fd::Result r = check_force_is_minus_energy_gradient(f, x, o);
+  EXPECT_TRUE(r.pass) << r.report;
+  expect_zero_net_force_and_torque(x, elastic_forces_at(f, x), 1e-9);
+}
+
+TEST(StrainLimit, PastTheLimitTheEnergyIsInfiniteUntilAdmitted) {
+  const TriangleSurface grid = make_grid(0.2, 0.2, 3, 3);
+  StrainLimitForce f = limit_on(grid);
+  f.update_positions(grid.x, 0);
+  EXPECT_EQ(f.elastic_energy(), 0) << "a cloth at rest feels nothing";
+  Points x = grid.x;
+  x.col(0) *= 1.3;
+  f.evaluate_at(x, 0);  // a trial past the limit: rejected by the line search
+  EXPECT_TRUE(std::isinf(f.elastic_energy()));
+  EXPECT_EQ(elastic_forces_at(f, grid.x).norm(), 0);
+  f.evaluate_at(x, 0);
+  f.admit(x);  // the step placed it there itself: held from stretching further
+  f.evaluate_at(x, 0);
+  EXPECT_EQ(f.elastic_energy(), 0) << "admitted a width below its own limit: no force yet";
+  for (double lim : f.admitted_limits()) EXPECT_NEAR(lim, 1.3 + kWidth, 1e-9);
+  Points further = grid.x;
+  further.col(0) *= 1.3 + kWidth;
+  f.evaluate_at(further, 0);
+  EXPECT_TRUE(std::isinf(f.elastic_energy())) << "and no further than its own limit";
+  f.update_positions(grid.x, 0);  // a step's end back within the limit: L again
+  for (double lim : f.admitted_limits()) EXPECT_EQ(lim, kLimit);
+  EXPECT_THROW(StrainLimitForce(make_triangle_rest(grid.x, grid.tris), StrainLimitParams{1.0, 1e5, 1e-3}),
+               std::invalid_argument);
+  EXPECT_THROW(StrainLimitForce(make_triangle_rest(grid.x, grid.tris), StrainLimitParams{kLimit, 1e5, 0}),
+               std::invalid_argument);
+}
+
+// Largest principal stretch of every triangle against the grid's rest shape.
+double largest_stretch(const TriangleRest& rest, const Points& x) {
+  double s = 0;
+  for (Eigen::Index e = 0; e < rest.tris.rows(); ++e)
+    s = std::max(s, diagonalize(deformation_gradient(rest, static_cast<int>(e), x)).sigma.maxCoeff());
+  return s;
+}
+
+// A soft, heavy strip (rho g L / E = 30%) hanging from its top edge, 1 s at 50 steps a second.
+struct HangingStrip {
+  TriangleSurface grid = make_grid(0.2, 0.5, 4, 10, Vec3::Zero(), Vec3::UnitX(), -Vec3::UnitY());
+  double worst_stretch = 0;
+  int converged = 0, steps = 50;
+
+  explicit HangingStrip(bool limited) {
+    const Lame l = lame_from_young_poisson(5e3, 0.3);
+    MembraneParams mp{RotatedLinear{l.mu, l.lambda}, 1e-3, 0.01};
+    MembraneForce membrane(grid.x, grid.tris, mp);
+    StrainLimitForce limit(membrane.rest(), StrainLimitParams{kLimit, wave_modulus(plane_stress(mp.model)), 1e-3});
+    Body body{grid.x, Points::Zero(grid.x.rows(), 3), lumped_triangle_masses(membrane.rest(), 0.3)};
+    NodeConstraints pins;
+    for (Eigen::Index i = 0; i < grid.x.rows(); ++i)
+      if (grid.x(i, 1) > -1e-9) {
+        NodeConstraint c;
+        c.node = static_cast<int>(i);
+        c.kind = NodeConstraint::Kind::Full;
+        pins.push_back(c);
+      }
+    std::vector<Force*> forces = {&membrane};
+    if (limited) forces.push_back(&limit);
+    for (Force* f : forces) f->update_positions(body.x, 0);
+    ImplicitSettings settings;
+    settings.max_newton_iterations = 30;
+    ImplicitWorkspace ws;
+    for (int k = 0; k < steps; ++k) {
+      const StepStats st = implicit_step(body, forces, nullptr, pins, k / 50.0, 1.0 / 50, settings, ws);
+      converged += st.newton_converged;
+      worst_stretch = std::max(worst_stretch, largest_stretch(membrane.rest(), body.x));
+    }
+  }
+};
+
+TEST(StrainLimit, AHeavyHangingClothStopsBelowTheLimit) {
+  const HangingStrip free(false), limited(true);
+  EXPECT_GT(free.worst_stretch, 1.2) << "the test's cloth must stretch past the limit without it";
+  EXPECT_LT(limited.worst_stretch, kLimit);
+  EXPECT_GT(limited.worst_stretch, kLimit - kWidth) << "the limit, not the membrane, holds it";
+  EXPECT_EQ(limited.converged, limited.steps) << "Newton converges on the barrier";
+  RecordProperty("stretch_free", std::to_string(free.worst_stretch));
+  RecordProperty("stretch_limited", std::to_string(limited.worst_stretch));
+}
+
+}  // namespace

@@ -62,6 +62,18 @@ bool BodyBarrier::bound_step(const Points& x, Points& dir) {
   return shortened;
 }
 
+bool BodyBarrier::leave_out_inside(const Points& x) {
+  collisions_.gaps(x, t_, settings_.distance, reach_);
+  bool left = false;
+  for (const BodyGap& g : reach_) {
+    auto& out = left_out_[static_cast<std::size_t>(g.node)];
+    if (g.phi > 0 || out) continue;
+    out = 1;
+    left = true;
+  }
+  return left;
+}
+
 double BodyBarrier::energy() const {
   double sum = 0;  // sequential, pair order: reproducible
   for (const BodyGap& g : gaps_) {

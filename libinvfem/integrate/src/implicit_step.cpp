@@ -511,10 +511,13 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
     if (debug_contacts())
       std::fprintf(stderr, "  line search: step %g, %s (%d trials past a barrier)\n", alpha,
                    accepted ? "accepted" : trial_admissible ? "not accepted" : "past a barrier", barrier_rejections);
-    if (!accepted && !trial_admissible) {  // even the smallest step crosses a barrier: stay at x and stop
+    if (!accepted && !trial_admissible) {  // even the smallest step crosses a barrier: stay at x
+      const bool left_out = k.barrier && k.barrier->leave_out_inside(ws.x_trial);
       evaluate(forces, k, x, t_new);
       total_force(body, forces, f);
-      return;
+      if (!left_out) return;  // and stop
+      E_x_known = false;      // or go on without the nodes whose body it cannot respect
+      continue;
     }
     x.swap(ws.x_trial);
     E_x_known = accepted;

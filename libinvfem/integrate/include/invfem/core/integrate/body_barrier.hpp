@@ -56,6 +56,12 @@ class BodyBarrier {
   // ones the line search's test of every node remains the guarantee. Returns whether it shortened
   // one. Leaves the last evaluation as it was.
   bool bound_step(const Points& x, Points& dir);
+  // Leaves out of the barrier, for the rest of the step, the nodes that x puts at or inside a body:
+  // where even a line search's smallest step crosses a body, phi jumps there (a character's mesh
+  // that crosses itself, at an armpit: its sign changes with no zero between), which no step can
+  // respect; the step's fail-safe projection takes them. Returns whether it left one out. Leaves
+  // the last evaluation as it was.
+  bool leave_out_inside(const Points& x);
   static constexpr double kStepShare = 0.9;
   // B at the last evaluation [J]; +inf when a node has reached a body.
   double energy() const;

@@ -39,8 +39,9 @@ SimObject make_cloth_object(const std::string& name, const Garment& garment, Clo
     throw std::invalid_argument(what + ": strain_limit must be finite and >= 1 (1: none), got " +
                                 std::to_string(p.strain_limit));
   if (p.strain_limit > 1) {
-    // The barrier's stiffness: the in-plane wave modulus (E / (1 - nu^2) for a linear membrane), so
-    // that halfway to the limit it stiffens the cloth about twofold.
+    // The barrier's stiffness kappa: the in-plane wave modulus (E / (1 - nu^2) for a linear
+    // membrane), so that the stiffness it adds, kappa b'', equals the membrane's an eighth of the
+    // way into its width (b'' = 1), is six times it halfway (b'' = 6.4) and grows without bound.
     const double kappa = p.mass_spring ? p.mass_spring->young : wave_modulus(plane_stress(p.model));
     strain_limit = std::make_unique<StrainLimitForce>(rest, StrainLimitParams{p.strain_limit, kappa, p.thickness},
                                                       what + ": strain limit");

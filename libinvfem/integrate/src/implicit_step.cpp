@@ -72,7 +72,7 @@ struct Contacts {
 };
 
 // Every frictional contact of k: the held contacts', then the barrier contacts'.
-// visit(contact, mu lambda, last slip).
+// visit(contact, mu lambda, its index j in its list, whether that list is k.sliding).
 template <class Visit> void for_each_friction(const Contacts& k, Visit&& visit) {
   for (std::size_t j = k.first_contact; j < k.constraints.size(); ++j)
     if (k.friction[j] > 0) visit(k.constraints[j], k.friction[j], j, false);
@@ -469,7 +469,7 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
     ws.rhs = -ws.grad;
     solve_newton_system(fixed, x, it == 0, g_norm, g0, settings, ws, stats);
 
-    // Body contact as a barrier: each node's step bounded by its distance to the bodies
+    // Body contact as a barrier: each node's approach to a body bounded by its distance to it
     // (BodyBarrier::bound_step), unless that leaves no descent, where the line search alone rules.
     if (k.barrier) {
       ws.scratch = ws.dir;

@@ -9,7 +9,7 @@
 //                                                       positive semidefinite, exact on flat bodies)
 //
 // over the pairs with phi < d. kappa_i = m_i a / d makes the barrier's force at a node scale with
-// its mass: under its weight alone a node rests where |b'(phi)| = g d / a, about 0.9 d for a = 10 g.
+// its mass: under its weight alone a node rests where |b'(phi)| = g d / a, about 0.83 d for a = 10 g.
 // B is +inf once a node reaches a body (phi <= 0): the line search rejects such trials, so no
 // accepted iterate enters a body (between two iterates a node may still pass through a body
 // thinner than its step: the after-step collision layer's CCD is the guarantee there).

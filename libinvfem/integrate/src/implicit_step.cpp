@@ -577,6 +577,9 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   for (const NodeConstraint& c : pinned) constrained[static_cast<std::size_t>(c.node)] = 1;
   Points v_tilde = body.v;
   const double g_scale = body.gravity.norm();
+  // The normal force a new contact's friction is lagged on [N]: the force that stops its approach
+  // [m/s] within the step, plus gravity's share.
+  auto stopping_force = [&](int node, double approach) { return body.mass(node) * (approach / h + g_scale); };
   retreat_to_admissible(forces, x_start, k.fixed, x, ws.scratch);
 
   // Body contact as a barrier (body_barrier.hpp): the first iterate placed outside the bodies, and
@@ -596,7 +599,7 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
       const double approach = std::max(0.0, (g.velocity - body.v.row(g.node).transpose()).dot(g.normal));
       const double lagged = ws.normal_force(g.node) > 0
                                 ? ws.normal_force(g.node)
-                                : std::min(barrier->normal_force(g), body.mass(g.node) * (approach / h + g_scale));
+                                : std::min(barrier->normal_force(g), stopping_force(g.node, approach));
       NodeConstraint c{g.node, NodeConstraint::Kind::Normal, g.normal, g.velocity, g.friction};
       k.sliding.push_back(c);
       k.sliding_friction.push_back(g.friction * lagged);
@@ -615,8 +618,7 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
       flag = added = true;
       const Vec3 vn = body.v.row(c.node).transpose();
       const double approach = std::max(0.0, c.velocity.dot(c.normal) - vn.dot(c.normal));
-      const double lagged = ws.normal_force(c.node) > 0 ? ws.normal_force(c.node)
-                                                         : body.mass(c.node) * (approach / h + g_scale);
+      const double lagged = ws.normal_force(c.node) > 0 ? ws.normal_force(c.node) : stopping_force(c.node, approach);
       c.friction_charged = 0;
       x.row(c.node) = x_proj.row(c.node);
       v_tilde.row(c.node) = (vn + (c.velocity.dot(c.normal) - vn.dot(c.normal)) * c.normal).transpose();

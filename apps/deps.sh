@@ -4,11 +4,13 @@
 # outputs with (VTK's Python module, ffmpeg), venv (pip install ./apps/python into a venv, offline)
 # and mypy (the type stubs checked as a type checker reads them). assimp-testmodels holds the rigged
 # characters the skinned scenes and tests use (/usr/share/assimp/models); pybind11, Python's
-# headers and NumPy build the Python module (apps/python).
+# headers and NumPy build the Python module (apps/python); SuiteSparse's CHOLMOD and OpenBLAS (the
+# BLAS its supernodal factorization runs on) make the implicit step's direct solve.
 set -euo pipefail
 INVFEM_PACKAGES=(build-essential cmake pkg-config libeigen3-dev libassimp-dev libembree-dev
                  libosmesa6-dev libtbb-dev libpng-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev
-                 libgmp-dev assimp-testmodels pybind11-dev python3-dev python3-numpy)
+                 libgmp-dev assimp-testmodels pybind11-dev python3-dev python3-numpy
+                 libsuitesparse-dev libopenblas-dev)
 if [ "${1:-}" = "--tests" ]; then INVFEM_PACKAGES+=(python3-vtk9 ffmpeg python3-venv python3-mypy); fi
 missing=()
 for p in "${INVFEM_PACKAGES[@]}"; do

@@ -63,8 +63,8 @@ const FieldTable<Scene>& solver_fields() {
        .default_text = "`implicit` with a cloth, else `itf04`"},
       {.key = "linear", .member = named<S, LinearSolver>([](auto& s) -> auto& { return s.solver.implicit.linear; },
                                        {{"cg", LinearSolver::CG}, {"direct", LinearSolver::Direct}}),
-       .description = "`implicit`: each Newton system solved by preconditioned CG (`cg`) or factorized by sparse "
-                      "Cholesky (`direct`)"},
+       .description = "`implicit`: each Newton system solved by preconditioned CG (`cg`) or factorized by "
+                      "CHOLMOD's supernodal sparse Cholesky (`direct`)"},
       {.key = "preconditioner", .member = named<S, Preconditioner>([](auto& s) -> auto& { return s.solver.implicit.preconditioner; },
                                          {{"auto", Preconditioner::Auto},
                                           {"block_jacobi", Preconditioner::BlockJacobi},

@@ -1,15 +1,37 @@
 #include "invfem/core/solve/sparse_direct.hpp"
 
-#include <Eigen/SparseCholesky>
+#include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 
+#include <dlfcn.h>
+
+#include <mutex>
 #include <stdexcept>
 
 namespace invfem {
 
+namespace {
+
+// CHOLMOD's supernodal factorization runs serially: its OpenMP loops (their thread count fixed
+// when CHOLMOD was built) and OpenBLAS's own threads busy-wait against the TBB workers that
+// assemble the forces on the same cores, which made the factorization slower, not faster, on 2
+// cores. max-active-levels 0 makes every OpenMP region of the process run on one thread (invfem
+// has no other); both calls are looked up at run time, so another BLAS or an OpenMP-free CHOLMOD
+// is simply left as it is.
+void run_cholmod_serially() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    using SetInt = void (*)(int);
+    if (auto set = reinterpret_cast<SetInt>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) set(1);
+    if (auto set = reinterpret_cast<SetInt>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"))) set(0);
+  });
+}
+
+}  // namespace
+
 struct FilteredDirectSolver::Factorization {
   Eigen::SparseMatrix<double> K;  // 3n x 3n, lower triangle of K only
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
 };
 
 FilteredDirectSolver::FilteredDirectSolver() = default;
@@ -70,8 +92,11 @@ void FilteredDirectSolver::analyze(const BlockSparseMatrix& A) {
   filtered_.assign(blocks_, Mat3::Zero());
   rhs_.resize(N);
   sol_.resize(N);
-  f_->ldlt.analyzePattern(K);
-  if (f_->ldlt.info() != Eigen::Success) throw std::runtime_error("sparse direct: the ordering of K failed");
+  run_cholmod_serially();
+  cholmod_common& cm = f_->llt.cholmod();
+  cm.print = 0;  // its warnings (a matrix not definite) are read from the status instead
+  f_->llt.analyzePattern(K);  // CHOLMOD's default: AMD, and METIS where AMD fills in much
+  if (cm.status < CHOLMOD_OK) throw std::runtime_error("sparse direct: CHOLMOD's analysis of K failed (out of memory?)");
 }
 
 bool FilteredDirectSolver::analyzed_for(const BlockSparseMatrix& A) const {
@@ -96,10 +121,11 @@ bool FilteredDirectSolver::factorize(const BlockSparseMatrix& A, const NodeConst
   const std::size_t nnz = source_.size();
   for (std::size_t p = 0; p < nnz; ++p) value[p] = f[source_[p]];
 
-  f_->ldlt.factorize(f_->K);
-  if (f_->ldlt.info() != Eigen::Success) return false;
-  // SimplicialLDLT succeeds on any nonzero pivots; K is SPD exactly when every pivot is positive.
-  if (!(f_->ldlt.vectorD().array() > 0).all()) return false;
+  // A matrix not definite stops LL^T at its first nonpositive pivot (info() NumericalIssue, CHOLMOD's
+  // status CHOLMOD_NOT_POSDEF); the analysis stays valid for the next factorize().
+  f_->llt.factorize(f_->K);
+  if (f_->llt.cholmod().status < CHOLMOD_OK) throw std::runtime_error("sparse direct: CHOLMOD's factorization failed (out of memory?)");
+  if (f_->llt.info() != Eigen::Success) return false;
   factorized_ = true;
   return true;
 }
@@ -112,7 +138,7 @@ void FilteredDirectSolver::solve(const Points& r, Points& d) {
     if (filter_.constrained(i)) ri = filter_.S(i) * ri;
     rhs_.segment<3>(3 * i) = ri;
   }
-  sol_ = f_->ldlt.solve(rhs_);
+  sol_ = f_->llt.solve(rhs_);
   d.resize(n, 3);
   for (Eigen::Index i = 0; i < n; ++i) {
     Vec3 di = sol_.segment<3>(3 * i);

@@ -1,8 +1,9 @@
 // The sparse direct solve of the filtered Newton system (core/sparse_direct.hpp): on a small
 // deformed solid's M + h^2 K with pins, single normal constraints and a node under two normal
 // constraints, it gives projected CG's answer (solved to 1e-14) to tight tolerance and leaves the
-// constrained components zero; refactorizing after the constraints change reuses the analysis; a
-// matrix that is not definite is refused, never solved silently.
+// constrained components zero; refactorizing after the constraints or the values change reuses the
+// analysis, also after a refused factorization; a matrix that is not definite is refused, never
+// solved silently.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -80,6 +81,48 @@ TEST(SparseDirect, RefusesAMatrixThatIsNotDefinite) {
   EXPECT_THROW(direct.solve(Points::Ones(sys.A.rows(), 3), d), std::logic_error);
   // Pinning that node removes the bad block from the filtered system.
   EXPECT_TRUE(direct.factorize(sys.A, {full_constraint(0), full_constraint(20)}));
+}
+
+TEST(SparseDirect, ReusesTheAnalysisForNewValuesAndFilters) {
+  std::mt19937 rng(11);
+  NewtonSystem first({3, 3, 2}, rng);
+  // The same mesh deformed elsewhere: A's pattern, other values.
+  const NewtonSystem second(first, first.mesh.X + random_points(first.mesh.X.rows(), 0.01, rng));
+  ASSERT_EQ(first.A.columns(), second.A.columns());
+  ASSERT_GT((first.A.blocks()[5] - second.A.blocks()[5]).norm(), 0.0);
+  const Eigen::Index n = first.A.rows();
+  const Points r = random_points(n, 1.0, rng);
+  const NodeConstraints pins = {full_constraint(0), full_constraint(3), normal_constraint(8, Vec3(0, 1, 1))};
+  const NodeConstraints others = {full_constraint(1), normal_constraint(20, Vec3(1, 0, 0)),
+                                  normal_constraint(20, Vec3(0, 0, 1)), normal_constraint(33, Vec3(2, -1, 1))};
+
+  FilteredDirectSolver direct;
+  direct.analyze(first.A);
+  Points d;
+  ASSERT_TRUE(direct.factorize(first.A, pins));
+  direct.solve(r, d);
+  EXPECT_LT(relative_difference(d, reference_solve(first.A, pins, r)), 1e-9);
+
+  // New values and a new filter, no new analysis.
+  ASSERT_TRUE(direct.analyzed_for(second.A));
+  ASSERT_TRUE(direct.factorize(second.A, others));
+  direct.solve(r, d);
+  EXPECT_LT(relative_difference(d, reference_solve(second.A, others, r)), 1e-9);
+  EXPECT_LT(std::abs(d(20, 0)) + std::abs(d(20, 2)), 1e-15) << "node 20 moves along y only";
+
+  // A refused factorization leaves the analysis usable: the next good matrix is solved.
+  BlockSparseMatrix bad = second.A;
+  bad.blocks()[static_cast<std::size_t>(bad.find(12, 12))] *= -1;
+  EXPECT_FALSE(direct.factorize(bad, others));
+  EXPECT_THROW(direct.solve(r, d), std::logic_error);
+  ASSERT_TRUE(direct.factorize(first.A, others));
+  direct.solve(r, d);
+  EXPECT_LT(relative_difference(d, reference_solve(first.A, others, r)), 1e-9);
+  Points Ad;
+  first.A.multiply(d, Ad);
+  Points residual = r - Ad;
+  project_free(others, residual);
+  EXPECT_LT(residual.norm(), 1e-12 * r.norm());
 }
 
 TEST(SparseDirect, FactorizeOnAnotherPatternIsAnError) {

@@ -2,7 +2,7 @@
 // The large-step integrator beside the ITF04 step: backward Euler on positions, solved by
 // Newton's method with a backtracking line search on the incremental potential, its linear
 // systems by CG preconditioned by block Jacobi or a multigrid (ImplicitSettings::preconditioner;
-// amg.hpp) or by a sparse LDL^T factorization (ImplicitSettings::linear; sparse_direct.hpp) (reference time-stepping sheet; Baraff-Witkin 1998 for the filtered
+// amg.hpp) or by a sparse LL^T factorization (CHOLMOD) (ImplicitSettings::linear; sparse_direct.hpp) (reference time-stepping sheet; Baraff-Witkin 1998 for the filtered
 // constraints; Teran et al. 2005 for the definite stiffness).
 //
 // With h the step, x^ = x(n) + h v~(n) the inertial target (v~(n): the velocity after collision
@@ -79,7 +79,7 @@
 namespace invfem {
 
 // How each Newton system is solved: preconditioned CG (inexact, Eisenstat-Walker
-// forcing), or the filtered system factorized by sparse LDL^T (FilteredDirectSolver).
+// forcing), or the filtered system factorized by sparse LL^T (FilteredDirectSolver, CHOLMOD).
 enum class LinearSolver { CG, Direct };
 
 // CG's preconditioner: block Jacobi (the inverse 3x3 diagonal blocks), or one V-cycle of the

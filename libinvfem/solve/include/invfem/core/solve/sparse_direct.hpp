@@ -12,15 +12,17 @@
 // identity, and S r has no component there, so d = S d is the filtered solution (the constrained
 // components of the Newton increment come out zero, as with CG from a zero start).
 //
-// K is factorized by Eigen's SimplicialLDLT with an AMD ordering. The ordering and the symbolic
-// factorization depend on the pattern only: analyze() runs once per pattern (the implicit step's
-// workspace: the pattern of A never changes within a body's life), factorize() at every Newton
-// iteration. The scalar matrix is the lower triangle of K in compressed columns (3n x 3n, scalar
-// row/column 3 i + c for node i, component c), filled through an index map built by analyze(), so
-// refilling it allocates nothing (Eigen's factorize() still permutes K into a temporary).
+// K is factorized by CHOLMOD's supernodal LL^T (SuiteSparse, through Eigen's CholmodSupport), its
+// ordering CHOLMOD's choice of AMD or METIS, its dense blocks on single-threaded BLAS. The ordering
+// and the symbolic factorization depend on the pattern only: analyze() runs once per pattern (the
+// implicit step's workspace: the pattern of A never changes within a body's life), factorize() at
+// every Newton iteration. The scalar matrix is the lower triangle of K in compressed columns
+// (3n x 3n, scalar row/column 3 i + c for node i, component c), filled through an index map built
+// by analyze(), so refilling it allocates nothing (CHOLMOD's solve allocates its result).
 //
-// A factorization per Newton iteration costs more than CG's iterations on the cloth drapes and
-// the dress, so CG stays the default (solver.linear); a stiff shell that CG barely solves gains.
+// A factorization per Newton iteration, even a supernodal one, costs more than CG's inexact solves
+// on the cloth drapes and the dress, so CG stays the default (solver.linear); a stiff shell that CG
+// barely solves gains.
 #include <memory>
 #include <vector>
 
@@ -45,16 +47,16 @@ class FilteredDirectSolver {
   bool analyzed_for(const BlockSparseMatrix& A) const;
 
   // K = S A S + (I - S) for the filter of `fixed` (the constraints' kinds and normals; values are
-  // ignored), then its numeric LDL^T factorization. A must have the analyzed pattern. Returns false
-  // when K is numerically singular or not definite (a zero or negative pivot): the caller falls
-  // back to CG.
+  // ignored), then its numeric LL^T factorization. A must have the analyzed pattern. Returns false
+  // when K is not numerically positive definite (a zero or negative pivot): the caller falls back
+  // to CG. The analysis stays valid either way.
   bool factorize(const BlockSparseMatrix& A, const NodeConstraints& fixed);
 
   // d = K^-1 S r (n x 3 each; r is not modified). Only after a successful factorize().
   void solve(const Points& r, Points& d);
 
  private:
-  struct Factorization;  // K (3n x 3n, its lower triangle only) and its Eigen SimplicialLDLT
+  struct Factorization;  // K (3n x 3n, its lower triangle only) and its CHOLMOD factorization
   std::unique_ptr<Factorization> f_;
   // Per stored entry of K (in value order): its source in the blocks of the upper block triangle
   // of A, as block index * 9 + the column-major offset of entry (c, r) in that block, where K's

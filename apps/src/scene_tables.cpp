@@ -143,6 +143,10 @@ const FieldTable<Scene>& self_collision_fields() {
       {.key = "colliders", .member = at<S>([](auto& s) -> auto& { return s.self_collision.kinematic_bodies; }),
        .description = "mesh colliders' triangles take part (analytic colliders act on their exact shape through "
                       "the collision processing)"},
+      {.key = "barrier", .member = at<S>([](auto& s) -> auto& { return s.self_collision.barrier; }),
+       .description = "`implicit`: a cloth's contact with itself also inside the step, as a barrier on its pairs "
+                      "closer than `thickness` with a CCD filter on Newton's line search; the layer stays after "
+                      "the step as the fail-safe"},
   });
   return table;
 }

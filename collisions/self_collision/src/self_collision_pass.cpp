@@ -516,4 +516,23 @@ void SelfCollisionPass::restore_state(StateReader& in, std::vector<SimObject>& o
   resumed_ = std::move(r);
 }
 
+ContactPotential* SelfCollisionPass::contact_potential(const SimObject& o, std::size_t index) {
+  if (!settings_.barrier || excluded(o.name) || o.tets.rows() > 0 || !o.embedded.empty() || o.surface.tris.rows() == 0)
+    return nullptr;
+  if (potentials_.size() <= index) {
+    potentials_.resize(index + 1);
+    potential_versions_.resize(index + 1, 0);
+  }
+  auto& p = potentials_[index];
+  if (!p || potential_versions_[index] != o.topology_version) {
+    std::vector<Weld> welds;  // the seams its forces hold, as gather() joins them
+    for (const auto& f : o.forces) welds.insert(welds.end(), f->seams().begin(), f->seams().end());
+    ContactBarrierSettings s;
+    s.distance = settings_.thickness;
+    p = std::make_unique<ClothContactPotential>(o.name, o.surface.tris, o.surface_nodes, o.surface.x, welds, s);
+    potential_versions_[index] = o.topology_version;
+  }
+  return p.get();
+}
+
 }  // namespace invfem::collisions

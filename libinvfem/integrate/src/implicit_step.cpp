@@ -69,6 +69,8 @@ struct Contacts {
   NodeConstraints sliding;
   std::vector<double> sliding_friction;
   std::vector<Vec3> sliding_last_slip;
+  // The object's contact with itself (contact_potential.hpp), or null.
+  ContactPotential* potential = nullptr;
 };
 
 // Every frictional contact of k: the held contacts', then the barrier contacts'.
@@ -140,10 +142,11 @@ void total_force(const Body& body, const std::vector<Force*>& forces, Points& f)
   for (const Force* force : forces) force->add_elastic_forces(f);
 }
 
-// The forces and the body barrier at x.
+// The forces, the body barrier and the contact potential at x.
 void evaluate(const std::vector<Force*>& forces, const Contacts& k, const Points& x, double t) {
   for (Force* force : forces) force->evaluate_at(x, t);
   if (k.barrier) k.barrier->evaluate(x);
+  if (k.potential) k.potential->evaluate(x);
 }
 
 // x was placed outside the line search (the first iterate, caught contacts): the barrier forces
@@ -192,7 +195,7 @@ double incremental_potential(const Body& body, const std::vector<Force*>& forces
   ws.scratch = x - x_start;
   ws.C.multiply(ws.scratch, ws.product);
   const double damping = points_dot(ws.scratch, ws.product);
-  const double barrier = k.barrier ? k.barrier->energy() : 0.0;
+  const double barrier = (k.barrier ? k.barrier->energy() : 0.0) + (k.potential ? k.potential->energy() : 0.0);
   return 0.5 * inertia + h * h * (psi - gravity + friction_potential(k, x, x_start, h) + barrier) + 0.5 * h * damping;
 }
 
@@ -206,6 +209,7 @@ void potential_gradient(const Body& body, const Contacts& k, const Points& x, co
   grad += h * ws.product;
   add_friction_gradient(k, x, x_start, h, h * h, grad);
   if (k.barrier) k.barrier->add_gradient(h * h, grad);
+  if (k.potential) k.potential->add_gradient(h * h, grad);
 }
 
 // The friction Hessian of one contact, mu lambda times this (see kStickSpeed for D): T / eps in
@@ -260,6 +264,19 @@ void assemble(const Body& body, const std::vector<Force*>& forces, Contacts& k, 
       const auto slot = static_cast<std::size_t>(ws.A.diagonal_slot(i));
       ws.before_friction.emplace_back(slot, ws.A.blocks()[slot]);
       ws.A.blocks()[slot] += (h * h) * H;
+    });
+  }
+  // The contact pairs: their diagonal blocks into A (restored with the friction's), the rest kept
+  // for the products (apply_system).
+  ws.contact_hessians.clear();
+  if (k.potential) {
+    k.potential->for_each_hessian([&](const std::array<int, 4>& nodes, const Mat12& H) {
+      for (int a = 0; a < 4; ++a) {
+        const auto slot = static_cast<std::size_t>(ws.A.diagonal_slot(nodes[static_cast<std::size_t>(a)]));
+        ws.before_friction.emplace_back(slot, ws.A.blocks()[slot]);
+        ws.A.blocks()[slot] += (h * h) * H.block<3, 3>(3 * a, 3 * a);
+      }
+      ws.contact_hessians.emplace_back(nodes, (h * h) * H);
     });
   }
   for_each_friction(k, [&](const NodeConstraint& c, double mu_lambda, std::size_t j, bool sliding) {
@@ -328,6 +345,17 @@ void prepare_multigrid(const NodeConstraints& fixed, const Points& x, bool first
   if (first_iteration || rebuild) ++ws.amg_age;
 }
 
+// Ap = A p with the contact pairs' off-diagonal blocks (their diagonal ones are in A).
+void apply_system(ImplicitWorkspace& ws, const Points& p, Points& Ap) {
+  ws.A.multiply(p, Ap);
+  for (const auto& [nodes, H] : ws.contact_hessians)  // sequential: reproducible
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        if (a != b)
+          Ap.row(nodes[static_cast<std::size_t>(a)]).noalias() +=
+              (H.block<3, 3>(3 * a, 3 * b) * p.row(nodes[static_cast<std::size_t>(b)]).transpose()).transpose();
+}
+
 // CG on the filtered Newton system from ws.dir, preconditioned by the multigrid (prepared) or by
 // block Jacobi.
 CGResult run_cg(const NodeConstraints& fixed, bool multigrid, const CGSettings& cg, ImplicitWorkspace& ws) {
@@ -342,7 +370,7 @@ CGResult run_cg(const NodeConstraints& fixed, bool multigrid, const CGSettings& 
     });
     project_free(fixed, z);
   };
-  auto apply_A = [&](const Points& p, Points& Ap) { ws.A.multiply(p, Ap); };
+  auto apply_A = [&](const Points& p, Points& Ap) { apply_system(ws, p, Ap); };
   return projected_pcg(apply_A, precondition, ws.rhs, fixed, ws.dir, cg, ws.cg);
 }
 
@@ -355,7 +383,7 @@ CGResult run_cg(const NodeConstraints& fixed, bool multigrid, const CGSettings& 
 // and falls back to CG when the filtered matrix is found not definite. Adds its CG iterations.
 void solve_newton_system(const NodeConstraints& fixed, const Points& x, bool first_iteration, double g_norm, double g0,
                          const ImplicitSettings& settings, ImplicitWorkspace& ws, StepStats& stats) {
-  if (settings.linear == LinearSolver::Direct) {
+  if (settings.linear == LinearSolver::Direct && ws.contact_hessians.empty()) {  // pairs: CG (A lacks them)
     if (!ws.direct.analyzed_for(ws.A)) ws.direct.analyze(ws.A);
     if (ws.direct.factorize(ws.A, fixed)) {
       ws.direct.solve(ws.rhs, ws.dir);
@@ -471,7 +499,9 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
 
     // Body contact as a barrier: each node's approach to a body bounded by its distance to it
     // (BodyBarrier::bound_step), unless that leaves no descent, where the line search alone rules.
-    if (k.barrier) {
+    // Not with a contact potential: its step filter bounds the step as a whole, and a node's row
+    // shortened alone drags its cloth neighbours' pairs shut along the rest of the direction.
+    if (k.barrier && !k.potential) {
       ws.scratch = ws.dir;
       if (k.barrier->bound_step(x, ws.dir) && !(points_dot(ws.grad, ws.dir) < 0)) ws.dir.swap(ws.scratch);
     }
@@ -480,7 +510,9 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
     const double slope = points_dot(ws.grad, ws.dir);
     if (!(slope < 0)) return;  // no descent left: stop, reported as not converged
     const double E0 = E_x_known ? E_x : incremental_potential(body, forces, k, x, x_start, h, ws);
-    double alpha = 1;
+    // The step filter: no trial carries a contact pair through its separation.
+    double alpha = k.potential ? k.potential->max_step(x, ws.dir) : 1.0;
+    if (!(alpha > 0)) return;  // a pair at its separation and closing: the fail-safe's
     bool accepted = false, trial_admissible = true;
     int barrier_rejections = 0;
     for (int ls = 0; ls <= settings.max_line_search; ++ls, alpha *= 0.5) {
@@ -539,7 +571,7 @@ constexpr int kMaxReleases = 1;
 
 StepStats implicit_step(Body& body, const std::vector<Force*>& forces, CollisionProcessor* collisions,
                         const NodeConstraints& pinned, double t, double dt, const ImplicitSettings& settings,
-                        ImplicitWorkspace& ws) {
+                        ImplicitWorkspace& ws, ContactPotential* contact) {
   StepStats stats;
   const double h = dt, t_new = t + dt;
   if (!ws.ready || ws.stiffness.forces() != forces.size() || ws.A.rows() != body.x.rows()) prepare(ws, body, forces);
@@ -605,6 +637,19 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
       k.sliding_friction.push_back(g.friction * lagged);
       k.sliding_last_slip.push_back(Vec3::Zero());
     }
+  }
+
+  // The object's contact with itself: the first iterate, as every iterate after it, free of
+  // crossings (the step filter): where the prediction carries a pair through its separation, the
+  // free nodes go that fraction of the way only.
+  if (contact) {
+    contact->begin_step(x_start, body.mass);
+    k.potential = contact;
+    ws.scratch = x - x_start;
+    const double alpha = contact->max_step(x_start, ws.scratch);
+    if (alpha < 1)
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (!constrained[static_cast<std::size_t>(i)]) x.row(i) = x_start.row(i) + alpha * ws.scratch.row(i);
   }
 
   // A new contact holds its normal velocity (the body's, or its own if leaving) and starts at its

@@ -192,6 +192,12 @@ double World::substeps_for(double duration) const {
   return std::max(1.0, std::ceil(duration / step_size() - 1e-9));
 }
 
+ContactPotential* World::contact_potential(std::size_t k) {
+  for (const auto& p : passes_)
+    if (ContactPotential* c = p->contact_potential(objects_[k], k)) return c;
+  return nullptr;
+}
+
 ImplicitSettings World::implicit_settings(const SimObject& o) const {
   ImplicitSettings s = settings_.implicit;
   if (s.preconditioner == Preconditioner::Auto) s.preconditioner = o.auto_preconditioner;
@@ -321,7 +327,7 @@ void World::advance_to(double t_end, FrameReport& report) {
                 ? newmark_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, settings_.cg,
                                newmark_[k])
                 : implicit_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, implicit_settings(o),
-                                implicit_[k]);
+                                implicit_[k], contact_potential(k));
         report.object_seconds[k] += since(t0);
         report.cg_iterations += s.cg_iterations;
         report.cg_all_converged = report.cg_all_converged && s.cg_converged;

@@ -41,6 +41,7 @@
 #include "invfem/collisions/self_collision/broad_phase/broad_phase.hpp"
 #include "invfem/collisions/self_collision/candidates/tangles.hpp"
 #include "invfem/collisions/self_collision/collision_mesh.hpp"
+#include "invfem/collisions/self_collision/potential/cloth_contact_potential.hpp"
 #include "invfem/collisions/self_collision/response/impact_zones.hpp"
 #include "invfem/core/world/world.hpp"
 
@@ -59,6 +60,10 @@ struct SelfCollisionSettings {
   double tangle_patience = 0.1;
   std::vector<std::string> excluded;  // names of objects that do not take part
   bool kinematic_bodies = true;       // kinematic bodies' shape triangles take part
+  // A cloth's contact with itself also inside its implicit step: a barrier on its pairs closer
+  // than the thickness and a CCD filter on Newton's line search (potential/cloth_contact_potential.hpp);
+  // the layer after the step stays as the fail-safe.
+  bool barrier = false;
 };
 
 // Throws std::invalid_argument naming the field for a bad setting (non-positive thickness, a ccd
@@ -120,6 +125,10 @@ class SelfCollisionPass final : public StepPass {
   void save_state(StateWriter& out) const override;
   void restore_state(StateReader& in, std::vector<SimObject>& objects) override;
   const SelfCollisionSettings& settings() const { return settings_; }
+  // With settings().barrier, a cloth's (an object with a surface and no tets) contact with itself,
+  // made at its first step and again when its topology changes; null otherwise or for an excluded
+  // object.
+  ContactPotential* contact_potential(const SimObject& object, std::size_t index) override;
 
  private:
   // The object or body of this name does not take part (SelfCollisionSettings::excluded).
@@ -183,6 +192,9 @@ class SelfCollisionPass final : public StepPass {
   std::optional<Resumed> resumed_;
   Candidates candidates_;
   std::vector<std::pair<int, int>> edge_triangles_;
+  // Per object index: its contact potential (or null) and the topology_version it was made for.
+  std::vector<std::unique_ptr<ClothContactPotential>> potentials_;
+  std::vector<std::uint64_t> potential_versions_;
 };
 
 }  // namespace invfem::collisions

@@ -52,6 +52,11 @@
 // barrier as it rejects a rise of E, so every accepted iterate stays inside. Nodes that the contact
 // processing moves are admitted where they land.
 //
+// A contact potential (contact_potential.hpp: a cloth's pairs, brought by the collision module) is
+// one more term of E, its pair Hessians in the Newton system (their diagonal blocks in A, the rest
+// applied beside it, so CG solves those systems); its step filter caps every line search's first
+// trial, and the first iterate, at the fraction of the step that keeps every pair apart.
+//
 // Stopping rule: |S grad E| / h^2 <= tolerance * force_scale, with
 //   force_scale = |S M g| + |S f(x^0)| + |S M v~(n)| / h     [N]
 // (gravity, the elastic forces at the first iterate and the momentum per step), so the
@@ -69,6 +74,7 @@
 #include "invfem/core/solve/block_sparse.hpp"
 #include "invfem/core/integrate/body_barrier.hpp"
 #include "invfem/core/integrate/collision_processor.hpp"
+#include "invfem/core/integrate/contact_potential.hpp"
 #include "invfem/core/math/element_matrices.hpp"
 #include "invfem/core/integrate/force.hpp"
 #include "invfem/core/integrate/newmark_step.hpp"
@@ -115,6 +121,10 @@ struct ImplicitWorkspace {
   std::vector<Mat3> block_inverse;  // the block-Jacobi preconditioner
   // A's diagonal blocks that the last assembly's friction went into, (slot, block before it).
   std::vector<std::pair<std::size_t, Mat3>> before_friction;
+  // The contact potential's pair Hessians at the last assembly (their nodes, 12 x 12): their
+  // diagonal blocks went into A with the friction's, their off-diagonal ones are applied beside A
+  // (A's pattern is the elements'; the pairs change with every iterate).
+  std::vector<std::pair<std::array<int, 4>, Mat12>> contact_hessians;
   // Per node, carried from one step to the next (and in checkpoints); empty before a first step.
   Eigen::VectorXd normal_force;     // its contact force at the end of the last step [N]
   Points acceleration;              // n x 3: (v(n) - v(n-1)) / h of the last step [m/s^2]
@@ -149,6 +159,6 @@ struct ImplicitWorkspace {
 // newmark_step. Throws std::invalid_argument if a force gives no stiffness or damping matrices.
 StepStats implicit_step(Body& body, const std::vector<Force*>& forces, CollisionProcessor* collisions,
                         const NodeConstraints& pinned, double t, double dt, const ImplicitSettings& settings,
-                        ImplicitWorkspace& workspace);
+                        ImplicitWorkspace& workspace, ContactPotential* contact = nullptr);
 
 }  // namespace invfem

@@ -178,6 +178,12 @@ class StepPass {
   // without state of its own writes nothing and reads nothing.
   virtual void save_state(StateWriter& out) const { (void)out; }
   virtual void restore_state(StateReader& in, std::vector<SimObject>& objects) { (void)in, (void)objects; }
+  // The contact of object `index` with itself inside its implicit step (contact_potential.hpp), or
+  // null (the default: the pass acts after the step only). Valid until the next call.
+  virtual ContactPotential* contact_potential(const SimObject& object, std::size_t index) {
+    (void)object, (void)index;
+    return nullptr;
+  }
 };
 
 // itf04: ITF04 section 9 (explicit elasticity, implicit damping; CFL-limited), the reference.
@@ -335,6 +341,8 @@ class World {
   // settings_.implicit for object o: ImplicitSettings::preconditioner Auto is the object's
   // auto_preconditioner.
   ImplicitSettings implicit_settings(const SimObject& o) const;
+  // The first pass's contact potential for object k's implicit step (StepPass::contact_potential).
+  ContactPotential* contact_potential(std::size_t k);
   void apply_state(StateReader& in);
 
   WorldSettings settings_;

@@ -1,0 +1,70 @@
+#pragma once
+// A cloth's contact with itself inside the implicit step (core/integrate/contact_potential.hpp):
+// the barrier of every point-triangle and edge-edge pair of its surface closer than d^
+// (pair_barrier.hpp), found by the layer's broad phase on boxes grown by d^, and a step filter by
+// the layer's CCD (ccd/candidate_ccd.hpp). Pairs that share a vertex or hold two vertices a seam
+// joins are never pairs (collision_mesh.hpp), as in the after-step layer.
+//
+// Stiffness per pair: kappa = m a / d^ with m the mean lumped mass of its four nodes, as the body
+// barrier's (core/integrate/body_barrier.hpp): a pair resting under its own weight sits where
+// |b'(d)| = g d^ / a, about 0.83 d^ for a = 10 g. The step filter keeps every pair at least
+// `separation` d^ apart along the step (or half its distance at the step's start when closer).
+#include <array>
+#include <vector>
+
+#include "invfem/core/integrate/contact_potential.hpp"
+#include "invfem/core/integrate/force.hpp"
+#include "invfem/collisions/self_collision/broad_phase/broad_phase.hpp"
+#include "invfem/collisions/self_collision/collision_mesh.hpp"
+#include "invfem/collisions/self_collision/potential/pair_barrier.hpp"
+
+namespace invfem::collisions {
+
+struct ContactBarrierSettings {
+  double distance = 1e-3;       // d^ [m]
+  double acceleration = 98.1;   // a [m/s^2]: kappa = m a / d^
+  double separation = 1e-2;     // the step filter's separation, a share of d^
+};
+
+class ClothContactPotential final : public ContactPotential {
+ public:
+  // tris: the surface (#F x 3, surface vertex indices); nodes: the body node of each surface
+  // vertex; rest: the surface's vertex positions of reference (#V x 3; the edge mollifier's
+  // thresholds); welds: its seams, in surface vertex indices. Throws std::invalid_argument for
+  // indices out of range or a non-positive setting.
+  ClothContactPotential(const std::string& name, const Tris& tris, std::vector<int> nodes, const Points& rest,
+                        const std::vector<Weld>& welds, const ContactBarrierSettings& settings);
+
+  void begin_step(const Points& x_start, const Eigen::VectorXd& mass) override;
+  void evaluate(const Points& x) override;
+  double energy() const override { return energy_; }
+  void add_gradient(double w, Points& grad) const override;
+  void for_each_hessian(const std::function<void(const std::array<int, 4>&, const Mat12&)>& emit) const override;
+  double max_step(const Points& x, const Points& dir) override;
+  std::size_t active_pairs() const override { return pairs_.size(); }
+  const ContactBarrierSettings& settings() const { return settings_; }
+
+ private:
+  struct Pair {
+    PairBarrierParams params;
+    std::array<int, 4> vertices{};  // surface vertices, candidate_vertices' order
+  };
+  void load(const Points& x, Points& out) const;  // body rows -> surface rows
+  Vec12 coordinates(const Pair& p) const;          // at the last evaluation
+  std::array<int, 4> nodes_of(const Pair& p) const;
+  double kappa(const std::array<int, 4>& vertices) const;
+
+  ContactBarrierSettings settings_;
+  std::vector<int> nodes_;
+  Points rest_;
+  CollisionMesh mesh_;
+  BroadPhase broad_phase_;
+  Candidates candidates_;
+  Eigen::VectorXd mass_;  // per surface vertex
+  Points zero_;           // #V x 3 zeros: the evaluation's velocities
+  Points evaluated_;      // #V x 3: the positions of the last evaluation (mesh_.x0 is the queries')
+  std::vector<Pair> pairs_;
+  double energy_ = 0;
+};
+
+}  // namespace invfem::collisions

@@ -41,6 +41,7 @@
 #include "invfem/collisions/self_collision/broad_phase/broad_phase.hpp"
 #include "invfem/collisions/self_collision/candidates/tangles.hpp"
 #include "invfem/collisions/self_collision/collision_mesh.hpp"
+#include "invfem/collisions/self_collision/response/collider_keep_out.hpp"
 #include "invfem/collisions/self_collision/response/impact_zones.hpp"
 #include "invfem/core/world/world.hpp"
 
@@ -133,10 +134,30 @@ class SelfCollisionPass final : public StepPass {
   // move the nodes, and the nodes are what is written back. Embedded vertices on a common node
   // are no pair (the two faces of a crack near its front are one material there).
   void gather(const std::vector<SimObject>& objects, const StepPassInput& step);
+  // after_step's later stages (gather, above, is the first), each in a file of src/pass/ named for it.
+  // The checkpoint's state (restore_state) once the mesh is gathered, if it fits.
+  void adopt_resumed();
+  // Releases for the step what the start holds crossed (recovering tets, tangles, a cloth's
+  // crossings with a kinematic body: the counts), and finds the repulsion's candidates.
+  struct StartCrossings {
+    int recovering = 0, tangles = 0, crossings = 0;
+  };
+  StartCrossings release_start_crossings(double dt, SelfCollisionFigures& report);
   // Stages 1-4 on mesh_ (its inverse masses and exemptions as set), changing v. have_candidates:
   // candidates_ already holds the repulsion's candidates for these velocities and filters.
   void resolve(double dt, SelfCollisionFigures& report, const Points& v_in, Points& v, bool have_candidates,
                const ZoneConstraint& constrain);
+  // Stages 1-2 (and the first broad phase unless have_candidates); returns the repulsions.
+  long long repel(double dt, SelfCollisionFigures& report, const Points& v_in, Points& v, bool have_candidates);
+  // Stage 3; repelled: the repulsion changed v since candidates_ were found. Returns true when the
+  // last pass found nothing colliding.
+  bool ccd_impulse_passes(double dt, SelfCollisionFigures& report, const Points& v_in, Points& v, bool repelled,
+                          const CcdSettings& ccd);
+  // Stage 5: the objects' surface nodes from v (v_in: the velocities before the layer).
+  void write_back(std::vector<SimObject>& objects, double dt, const Points& v_in, const Points& v,
+                  const ColliderKeepOut& keep_out) const;
+  // end_: where the surfaces ended the step, as the next step's gather will read them.
+  void record_end(const std::vector<SimObject>& objects, const StepPassInput& step);
 
   // Sets mesh_.recovering (collision_mesh.hpp): the vertex pairs of the tets in boundary_tets_
   // that are inverted at the step's start (mesh_.x0) and were already so at a start the layer did

@@ -14,11 +14,11 @@
 // by its nearest one, or by the blend of the two nearest on either side of it where it lies
 // between two body surfaces (response/zone_following.hpp); its own pairs are then tested too, and
 // those still colliding get impulses, round after round (the rules and their order:
-// impact_zones.cpp).
+// impact_zones/zone_loop.hpp).
 // A weld (a garment's stitch) with vertices in two zones makes them one zone. After each round's
 // moves the seams are held (response/seams.hpp hold_seams) with the rigid zones' vertices fixed:
 // a stitch's vertices outside every zone follow its side in the zone, and the vertices of a zone
-// that follows the body keep their seams as the time step left them (impact_zones.cpp). In a zone holding surfaces of several levels
+// that follows the body keep their seams as the time step left them (impact_zones/hold_zone_seams.cpp). In a zone holding surfaces of several levels
 // (CollisionMesh::Range::level: a solid's boundary and a cloth), the vertices above the zone's
 // lowest level count as kinematic (one-way coupling).
 // An embedded vertex (a cut solid's material surface, collision_mesh.hpp) that joins a zone brings
@@ -30,7 +30,7 @@
 // and are not tested again. Each round re-detects its candidates with the broad phase on the
 // current velocities (a zone's motion can carry a vertex out of its first swept box), and runs
 // the CCD again only on the pairs that collided in the last round or hold a vertex whose
-// velocity or rule changed since (the others would answer as they did: impact_zones.cpp).
+// velocity or rule changed since (the others would answer as they did: impact_zones/zone_loop.hpp).
 #include <functional>
 #include <vector>
 

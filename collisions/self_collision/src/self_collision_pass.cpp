@@ -19,6 +19,8 @@ void validate(const SelfCollisionSettings& s) {
   if (!(s.friction >= 0) || !std::isfinite(s.friction)) fail("friction must be >= 0");
   if (s.impulse_passes < 0) fail("impulse_passes must be >= 0");
   if (s.max_zone_iterations < 1) fail("max_zone_iterations must be >= 1");
+  if (s.zone_projection.rounds < 0) fail("zone_projection_rounds must be >= 0");
+  if (s.zone_projection.solve.max_sweeps < 0) fail("the zone projection's sweeps must be >= 0");
   if (!(s.tangle_patience > 0) || !std::isfinite(s.tangle_patience)) fail("tangle_patience must be a positive time [s]");
 }
 
@@ -36,6 +38,8 @@ template <class Figures, class Visit> void visit_figures(Figures& f, Visit&& vis
   visit("ccd_hits", f.ccd_hits);
   visit("impact_zones", f.impact_zones);
   visit("largest_zone", f.largest_zone);
+  visit("projected_zones", f.projected_zones);
+  visit("rigid_zones", f.rigid_zones);
   visit("unresolved_steps", f.unresolved_steps);
   visit("tangled_pairs", f.tangled_pairs);
   visit("body_crossings", f.body_crossings);

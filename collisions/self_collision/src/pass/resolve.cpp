@@ -19,8 +19,10 @@ void SelfCollisionPass::resolve(double dt, SelfCollisionFigures& r, const Points
   ImpactZoneReport zones;
   if (!clear || (constrain && constrain({}, v)))
     zones = resolve_impact_zones(mesh_, broad_phase_, 2 * settings_.ccd_distance, dt, ccd,
-                                 settings_.max_zone_iterations, v, constrain);
+                                 settings_.max_zone_iterations, v, constrain, settings_.zone_projection);
   r.impact_zones += zones.zones;
+  r.projected_zones += zones.projected;
+  r.rigid_zones += zones.rigid;
   r.largest_zone = std::max(r.largest_zone, zones.largest);
   if (!zones.resolved) ++r.unresolved_steps;
 }

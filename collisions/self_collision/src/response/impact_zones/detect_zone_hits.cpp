@@ -14,17 +14,17 @@ void mark_changed(ZoneLoop& loop, const Points& v) {
   parallel_for_each(loop.n, 4096, [&](std::size_t i) {
     const auto r = static_cast<Eigen::Index>(i);
     loop.changed[i] =
-        (v.row(r).array() != loop.v_tested.row(r).array()).any() || loop.follows[i] != loop.follows_tested[i] ? 1 : 0;
+        (v.row(r).array() != loop.v_tested.row(r).array()).any() || loop.moved_by[i] != loop.moved_by_tested[i] ? 1 : 0;
   });
 }
 
-// hit[k]: candidate k of list may come within the CCD's distance. Not tested: a pair whose four
+// hit[k]: candidate k of list may come within the CCD's distance (toi[k]: its contact time). Not tested: a pair whose four
 // vertices are one rigid zone of movable vertices of one level (it moves rigidly from an
 // intersection-free start), and a pair none of whose vertices changed that did not collide last
 // round (ZoneLoop::v_tested). In parallel; the roots are read from the round's frozen copy.
 template <class List, class Hits>
 void test(const ZoneLoop& loop, const List& list, const Hits& last_hits, const Points& v, const ZoneRound& round,
-          std::vector<char>& hit) {
+          std::vector<char>& hit, std::vector<double>& toi) {
   const CollisionMesh& m = loop.m;
   parallel_for_each(list.size(), 512, [&](std::size_t k) {
     const auto ids = candidate_vertices(m, list[k]);
@@ -33,12 +33,11 @@ void test(const ZoneLoop& loop, const List& list, const Hits& last_hits, const P
     for (int i : ids) {
       inside = inside && m.movable(i) && loop.in_zone[static_cast<std::size_t>(i)] &&
                round.frozen.parent[static_cast<std::size_t>(i)] == root && m.level(i) == m.level(ids[0]) &&
-               !loop.follows[static_cast<std::size_t>(i)];
+               loop.moved_by[static_cast<std::size_t>(i)] == ZoneLoop::kRigid;
       moved = moved || loop.changed[static_cast<std::size_t>(i)];
     }
     if (inside || (!moved && !std::binary_search(last_hits.begin(), last_hits.end(), list[k]))) return;
-    double toi = 0;
-    hit[k] = candidate_ccd(m, list[k], v, loop.dt, loop.s, toi) ? 1 : 0;
+    hit[k] = candidate_ccd(m, list[k], v, loop.dt, loop.s, toi[k]) ? 1 : 0;
   });
 }
 
@@ -57,10 +56,12 @@ void detect_zone_hits(ZoneLoop& loop, const Candidates& c, const Points& v, Zone
   mark_changed(loop, v);
   round.vf_hit.assign(c.vf.size(), 0);
   round.ee_hit.assign(c.ee.size(), 0);
-  test(loop, c.vf, loop.hits_vf, v, round, round.vf_hit);
-  test(loop, c.ee, loop.hits_ee, v, round, round.ee_hit);
+  round.vf_toi.assign(c.vf.size(), 0.0);
+  round.ee_toi.assign(c.ee.size(), 0.0);
+  test(loop, c.vf, loop.hits_vf, v, round, round.vf_hit, round.vf_toi);
+  test(loop, c.ee, loop.hits_ee, v, round, round.ee_hit, round.ee_toi);
   loop.v_tested = v;
-  loop.follows_tested = loop.follows;
+  loop.moved_by_tested = loop.moved_by;
   collect(c.vf, round.vf_hit, loop.hits_vf);
   collect(c.ee, round.ee_hit, loop.hits_ee);
 }

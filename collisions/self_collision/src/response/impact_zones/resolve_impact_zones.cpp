@@ -7,9 +7,9 @@ namespace invfem::collisions {
 
 ImpactZoneReport resolve_impact_zones(const CollisionMesh& m, BroadPhase& broad_phase, double margin, double dt,
                                       const CcdSettings& s, int max_iterations, Points& v,
-                                      const ZoneConstraint& constrain) {
+                                      const ZoneConstraint& constrain, const ZoneProjectionSettings& projection) {
   ImpactZoneReport report;
-  ZoneLoop loop(m, dt, s, max_iterations, v);
+  ZoneLoop loop(m, dt, s, max_iterations, v, projection, margin);
   Candidates c;
   for (; loop.iteration < max_iterations; ++loop.iteration) {
     if (constrain) constrain(zone_lists(loop), v);

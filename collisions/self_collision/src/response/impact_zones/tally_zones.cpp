@@ -17,6 +17,9 @@ void tally_zones(ZoneLoop& loop, ImpactZoneReport& report) {
   for (const auto& [root, size] : sizes) {
     ++report.zones;
     report.largest = std::max(report.largest, size);
+    const char rule = loop.moved_by[static_cast<std::size_t>(root)];
+    report.projected += rule == ZoneLoop::kProjected ? 1 : 0;
+    report.rigid += rule == ZoneLoop::kRigid ? 1 : 0;
     if (debug_zones() && !report.resolved) print_unresolved_zone(loop, root, size, kinematic[root]);
   }
 }

@@ -72,9 +72,9 @@ void dump(const ZoneLoop& loop, const char* kind, const List& list, const std::v
     for (int i : ids) {
       const auto u = static_cast<std::size_t>(i);
       const int root = round.frozen.parent[u];
-      std::fprintf(stderr, " %c%d(zone %d mode %d follows %d tries %d)", m.movable(i) ? 'c' : 'k', local_index(m, i),
+      std::fprintf(stderr, " %c%d(zone %d mode %d moved by %d tries %d)", m.movable(i) ? 'c' : 'k', local_index(m, i),
                    round.zoned_before[u] ? root : -1, round.mode_before[static_cast<std::size_t>(root)],
-                   loop.follows[u], loop.tries[u]);
+                   loop.moved_by[u], loop.tries[u]);
     }
     const Vec3 p = m.start(ids[3]);
     std::fprintf(stderr, " at (%.4f %.4f %.4f)\n", p(0), p(1), p(2));
@@ -107,8 +107,8 @@ void print_rule_change(const ZoneLoop& loop, const std::vector<int>& zone, char 
 
 void print_unresolved_zone(const ZoneLoop& loop, int root, int size, int kinematic) {
   const auto r = static_cast<std::size_t>(root);
-  std::fprintf(stderr, "[zones] unresolved step: zone %d size %d kinematic %d mode %d follows %d tries %d\n", root, size,
-               kinematic, loop.mode[r], loop.follows[r], loop.tries[r]);
+  std::fprintf(stderr, "[zones] unresolved step: zone %d size %d kinematic %d mode %d moved by %d tries %d\n", root, size,
+               kinematic, loop.mode[r], loop.moved_by[r], loop.tries[r]);
 }
 
 }  // namespace invfem::collisions

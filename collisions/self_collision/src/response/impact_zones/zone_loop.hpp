@@ -4,7 +4,8 @@
 //   detect_zone_hits   the CCD of the round's candidates on the current velocities
 //   merge_zone_hits    the hits' vertices join zones (and a zone's own hit moves its rule on)
 //   join_seam_zones    a weld touching two zones makes them one
-//   move_zones         every zone moves by its rule (rigidify_zone, follow_kinematic_triangles)
+//   move_zones         every zone moves by its rule (project_zone, rigidify_zone,
+//                      follow_kinematic_triangles)
 //   own_hit_impulses   impulses on the own colliding pairs of the following zones kept as they were
 //   hold_zone_seams    the seams held through the moves
 //   tally_zones        the report's counts
@@ -22,7 +23,9 @@
 namespace invfem::collisions {
 
 struct ZoneLoop {
-  ZoneLoop(const CollisionMesh& mesh, double dt, const CcdSettings& ccd, int max_iterations, const Points& v);
+  ZoneLoop(const CollisionMesh& mesh, double dt, const CcdSettings& ccd, int max_iterations, const Points& v,
+           const ZoneProjectionSettings& projection, double gap);
+  bool projecting() const { return projection.rounds > 0 && !m.has_embedding(); }
 
   const CollisionMesh& m;
   const double dt;
@@ -33,9 +36,13 @@ struct ZoneLoop {
   UnionFind zones;
   std::vector<char> in_zone;
   // A zone's rule, per vertex (set for all of a zone at each move; a merged zone takes the highest
-  // of its parts): 0 rigid (BFA02), 1 carried by its kinematic triangles
-  // (response/zone_following.hpp). A hit among the vertices of one zone (it
-  // moved, and its own pairs still collide: merging cannot change its motion) moves it on:
+  // of its parts): kProjected (HVTG08, response/inelastic_projection.hpp), kRigid (BFA02),
+  // kFollowing: carried by its kinematic triangles (response/zone_following.hpp).
+  //  - projected -> rigid: a zone that got new constraints in more than projection.rounds rounds,
+  //    whose projection failed (its sweeps ran out, or a constraint no movable vertex can meet),
+  //    or a mesh with embedded vertices (impact_zones.hpp);
+  // A hit among the vertices of one rigid zone (it moved, and its own pairs still collide: merging
+  // cannot change its motion) moves it on:
   //  - rigid -> following, once a quarter of the rounds has passed: a zone holding kinematic
   //    vertices that no rigid motion follows (a skinned limb bending and stretching). Not at
   //    once: on dress_dance most zones on the body clear rigidly within a few rounds as they grow,
@@ -48,22 +55,30 @@ struct ZoneLoop {
   //    anew. A following zone never turns rigid again: the rigid fit of a zone holding two body
   //    parts that move apart (a hand sliding over the chest, dress_dance frames 43-44) carries
   //    its cloth through both, where following with impulses resolves the step.
-  // follows: the zone was last moved by following (its own pairs are then tested); tries: rounds
-  // of impulses so far (INVFEM_DEBUG_ZONES prints it); moved_size: the zone's size at its last move.
-  std::vector<char> mode, follows;
-  std::vector<int> tries, moved_size;
+  // moved_by: the rule the vertex's zone last moved by (kProjected for a vertex in no zone); only
+  // a rigid zone's own pairs go untested. tries: rounds of impulses so far (INVFEM_DEBUG_ZONES
+  // prints it); moved_size: the zone's size at its last move; projected_rounds: the rounds in
+  // which the projected zone got new constraints.
+  static constexpr char kProjected = 0, kRigid = 1, kFollowing = 2;
+  std::vector<char> mode, moved_by;
+  std::vector<int> tries, moved_size, projected_rounds;
+  // The projection's settings, the gap its constraints keep [m] and its tolerance set from it,
+  // and the constraints of every pair found colliding so far (none when the projection is off).
+  ZoneProjectionSettings projection;
+  double gap = 0;
+  std::vector<InelasticConstraint> constraints;
   VertexTriangles incident;  // built when a zone first follows
   const Points v_entry;      // the seams' reference (hold_seams)
-  // What the last round tested: its velocities, which vertices followed, and the pairs it found
+  // What the last round tested: its velocities, the rules that moved them, and the pairs it found
   // colliding (sorted). A pair none of whose vertices changed velocity or rule since then is
   // not tested again unless it collided: its CCD (a function of x0, its four velocities, dt and
   // s) would answer as it did, its swept boxes are the same so it was a candidate then too, and
   // it was tested then (a pair exempt then is exempt now: zones only merge, and the one way out
-  // of the exemption, a change of `follows`, counts as a change). The answers are exactly those
+  // of the exemption, a change of `moved_by`, counts as a change). The answers are exactly those
   // of testing every pair; the rounds after the first cost what the zones' moves touch, not the
   // whole mesh.
   Points v_tested;
-  std::vector<char> follows_tested, changed;
+  std::vector<char> moved_by_tested, changed;
   std::vector<VertexFaceCandidate> hits_vf;
   std::vector<EdgeEdgeCandidate> hits_ee;
 };
@@ -73,6 +88,7 @@ struct ZoneRound {
   explicit ZoneRound(const ZoneLoop& loop);
   UnionFind frozen;  // the zones at the round's start, fully compressed (find is then read-only)
   std::vector<char> vf_hit, ee_hit;  // per candidate of the round
+  std::vector<double> vf_toi, ee_toi;  // the hits' contact times (candidate_ccd)
   std::vector<char> zoned_before, mode_before;
   std::vector<char> had_own;  // per root at the round's start: a following zone's own hit
   Candidates own_hits;        // the following zones' own colliding pairs
@@ -84,7 +100,8 @@ std::vector<std::vector<int>> zone_lists(ZoneLoop& loop);
 // Tests the candidates c on v (the pairs that may answer differently from the last round:
 // ZoneLoop::v_tested), sets round.vf_hit, ee_hit and the loop's last hits.
 void detect_zone_hits(ZoneLoop& loop, const Candidates& c, const Points& v, ZoneRound& round);
-// The hits' vertices join zones; returns whether there was any hit.
+// The hits' vertices join zones (and their constraints ZoneLoop::constraints); returns whether
+// there was any hit.
 bool merge_zone_hits(ZoneLoop& loop, const Candidates& c, const Points& v, ZoneRound& round);
 // A weld with vertices in two zones makes them one.
 void join_seam_zones(ZoneLoop& loop);
@@ -96,6 +113,10 @@ void own_hit_impulses(ZoneLoop& loop, const std::vector<std::vector<int>>& list,
                       const ZoneRound& round, Points& v);
 // The seams held through the zones' moves (relative to the loop's input).
 void hold_zone_seams(const ZoneLoop& loop, Points& v);
+// The zone's velocities projected onto its constraints (inelastic_projection.hpp; welds: the
+// stitches all of whose vertices are in it); false when the projection failed.
+bool project_zone(const ZoneLoop& loop, const std::vector<int>& zone, const std::vector<int>& constraints,
+                  const std::vector<const Weld*>& welds, Points& v);
 // The report's zone counts at the loop's end.
 void tally_zones(ZoneLoop& loop, ImpactZoneReport& report);
 

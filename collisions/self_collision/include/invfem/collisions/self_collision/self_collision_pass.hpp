@@ -18,7 +18,8 @@
 //   1. broad phase on the swept boxes (broad_phase/), giving candidates (candidates/)
 //   2. repulsion at x0 (response/repulsion.hpp): pairs closer than the thickness
 //   3. up to `impulse_passes` passes of CCD impulses (response/ccd_impulses.hpp)
-//   4. rigid impact zones until no pair may come within ccd_distance (response/impact_zones.hpp)
+//   4. impact zones until no pair may come within ccd_distance (response/impact_zones.hpp):
+//      non-rigid (HVTG08's inelastic projection), rigid as the last resort
 //   5. x(n+1) = x0 + dt v for every surface node; each node's end-of-step velocity gets the same
 //      change as its average velocity (for the implicit step the two are one).
 // Nodes off the surface (a solid's interior) are not touched. A solid's boundary is handled as a
@@ -53,6 +54,8 @@ struct SelfCollisionSettings {
   double friction = 0.3;        // Coulomb coefficient between surfaces
   int impulse_passes = 3;       // CCD impulse passes before the zones (PhysBAM's default)
   int max_zone_iterations = 100;
+  // The impact zones' non-rigid rule (response/impact_zones.hpp): rounds 0 makes every zone rigid.
+  ZoneProjectionSettings zone_projection;
   // How long [s] a tangle (candidates/tangles.hpp) may last, released only by the pairs that can
   // undo it, before it counts as stuck and its vertices leave the pairs among themselves. Long
   // enough for those pairs to undo an ordinary tangle over many steps, short enough that a stuck
@@ -81,11 +84,11 @@ int limit_failed_step(const CollisionMesh& mesh, double dt, double thickness, co
 
 // The layer's figures, per step and summed over a frame's steps in its FrameReport record
 // (kSelfCollisionRecord; stats.jsonl "self_collision"): candidate pairs, repulsion impulses, CCD
-// hits, impact zones (count and largest in vertices), steps that ended with a collision the
-// fail-safe could not resolve, and seconds.
+// hits, impact zones (count and largest in vertices; of them, those that ended non-rigid and those
+// that ended rigid), steps that ended with a collision the fail-safe could not resolve, and seconds.
 struct SelfCollisionFigures {
   long long candidates = 0, proximity_impulses = 0, ccd_hits = 0;
-  int impact_zones = 0, largest_zone = 0, unresolved_steps = 0;
+  int impact_zones = 0, largest_zone = 0, projected_zones = 0, rigid_zones = 0, unresolved_steps = 0;
   long long tangled_pairs = 0;         // a solid boundary's edge-triangle crossings at a step's start (exempted)
   long long body_crossings = 0;        // a cloth's edge-triangle crossings with a kinematic body at a step's start (released)
   long long collider_projections = 0;  // vertices the layer moved into an analytic collider, put back

@@ -252,8 +252,9 @@ int run_command(const std::vector<std::string>& raw) {
       const collisions::SelfCollisionFigures sc = collisions::SelfCollisionFigures::of(r);
       if (sc.candidates > 0) {
         char self[200];
-        std::snprintf(self, sizeof self, "  self-collision %.2fs: %lld repulsions, %lld CCD hits, %d zones (largest %d)%s",
-                      sc.seconds, sc.proximity_impulses, sc.ccd_hits, sc.impact_zones, sc.largest_zone,
+        std::snprintf(self, sizeof self,
+                      "  self-collision %.2fs: %lld repulsions, %lld CCD hits, %d zones (largest %d, %d rigid)%s",
+                      sc.seconds, sc.proximity_impulses, sc.ccd_hits, sc.impact_zones, sc.largest_zone, sc.rigid_zones,
                       sc.unresolved_steps > 0 ? " FAIL-SAFE UNRESOLVED" : "");
         newton += self;
       }

@@ -136,10 +136,14 @@ const FieldTable<Scene>& self_collision_fields() {
       {.key = "friction", .member = at<S>([](auto& s) -> auto& { return s.self_collision.friction; }), .range = {0, 10},
        .description = "Coulomb coefficient between surfaces"},
       {.key = "impulse_passes", .member = at<S>([](auto& s) -> auto& { return s.self_collision.impulse_passes; }), .unit = "count", .range = {0, 1000},
-       .description = "CCD impulse passes before the rigid impact zones take over"},
+       .description = "CCD impulse passes before the impact zones take over"},
       {.key = "max_zone_iterations", .member = at<S>([](auto& s) -> auto& { return s.self_collision.max_zone_iterations; }), .unit = "count", .range = {1, 100000},
        .description = "detect-merge-move rounds of the impact zones; a step that needs more is counted "
                       "(`unresolved_steps`) and flagged in the progress line"},
+      {.key = "zone_projection_rounds", .member = at<S>([](auto& s) -> auto& { return s.self_collision.zone_projection.rounds; }), .unit = "count", .range = {0, 100000},
+       .description = "rounds of new collisions an impact zone is resolved non-rigidly (its velocities projected "
+                      "onto its pairs' non-penetration constraints, keeping the sliding) before it turns rigid; "
+                      "0: every zone rigid. Counted in `stats.jsonl` (`projected_zones`, `rigid_zones`)"},
       {.key = "colliders", .member = at<S>([](auto& s) -> auto& { return s.self_collision.kinematic_bodies; }),
        .description = "mesh colliders' triangles take part (analytic colliders act on their exact shape through "
                       "the collision processing)"},

@@ -7,11 +7,7 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "invfem/collisions/self_collision/candidates/tangles.hpp"
-#include "invfem/collisions/self_collision/response/ccd_impulses.hpp"
-#include "invfem/collisions/self_collision/response/impact_zones.hpp"
-#include "invfem/collisions/self_collision/response/repulsion.hpp"
-#include "invfem/collisions/self_collision/response/seams.hpp"
+#include "invfem/collisions/self_collision/response/collider_keep_out.hpp"
 
 namespace invfem::collisions {
 
@@ -23,6 +19,8 @@ void validate(const SelfCollisionSettings& s) {
   if (!(s.friction >= 0) || !std::isfinite(s.friction)) fail("friction must be >= 0");
   if (s.impulse_passes < 0) fail("impulse_passes must be >= 0");
   if (s.max_zone_iterations < 1) fail("max_zone_iterations must be >= 1");
+  if (s.zone_projection.rounds < 0) fail("zone_projection_rounds must be >= 0");
+  if (s.zone_projection.solve.max_sweeps < 0) fail("the zone projection's sweeps must be >= 0");
   if (!(s.tangle_patience > 0) || !std::isfinite(s.tangle_patience)) fail("tangle_patience must be a positive time [s]");
 }
 
@@ -40,6 +38,8 @@ template <class Figures, class Visit> void visit_figures(Figures& f, Visit&& vis
   visit("ccd_hits", f.ccd_hits);
   visit("impact_zones", f.impact_zones);
   visit("largest_zone", f.largest_zone);
+  visit("projected_zones", f.projected_zones);
+  visit("rigid_zones", f.rigid_zones);
   visit("unresolved_steps", f.unresolved_steps);
   visit("tangled_pairs", f.tangled_pairs);
   visit("body_crossings", f.body_crossings);
@@ -222,254 +222,33 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
   }
 }
 
-int SelfCollisionPass::mark_recovering(bool fresh) {
-  mesh_.recovering.clear();
-  recovering_tets_.resize(boundary_tets_.size(), 0);
-  for (std::size_t e = 0; e < boundary_tets_.size(); ++e) {
-    const auto& t = boundary_tets_[e];
-    auto x = [&](std::size_t c) -> Vec3 { return mesh_.x0.row(t[c]).transpose(); };
-    const Vec3 a = x(0);
-    const bool inverted = !((x(1) - a).cross(x(2) - a).dot(x(3) - a) > 0);  // 6V <= 0: inverted or flat
-    char& flag = recovering_tets_[e];
-    flag = inverted && (flag || fresh) ? 1 : 0;
-    if (!flag) continue;
-    for (std::size_t c = 0; c < 4; ++c)
-      for (std::size_t d = c + 1; d < 4; ++d) mesh_.recovering.push_back(std::minmax(t[c], t[d]));
-  }
-  std::sort(mesh_.recovering.begin(), mesh_.recovering.end());
-  mesh_.recovering.erase(std::unique(mesh_.recovering.begin(), mesh_.recovering.end()), mesh_.recovering.end());
-  return static_cast<int>(mesh_.recovering.size());
-}
-
-int limit_failed_step(const CollisionMesh& mesh, double dt, double thickness, const Points& v_in, Points& v,
-                      std::vector<int>& projected_at) {
-  // The farthest any vertex moved in the step before the layer (kinematic ones included), plus the
-  // thickness: what a working response could need to move a vertex by.
-  double reach = 0;
-  for (Eigen::Index i = 0; i < v_in.rows(); ++i) reach = std::max(reach, dt * v_in.row(i).norm());
-  const double bound = reach + thickness;
-  int limited = 0;
-  for (Eigen::Index i = 0; i < v.rows(); ++i) {
-    if (!mesh.movable(static_cast<int>(i)) || mesh.is_embedded(static_cast<int>(i))) continue;
-    if (!(dt * (v.row(i) - v_in.row(i)).norm() > bound)) continue;
-    v.row(i) = v_in.row(i);
-    if (static_cast<std::size_t>(i) < projected_at.size()) projected_at[static_cast<std::size_t>(i)] = -1;
-    ++limited;
-  }
-  if (limited > 0) sync_embedded(mesh, v);
-  return limited;
-}
-
 bool SelfCollisionPass::may_start_crossed() const {
   // The last step's end, bit for bit: nothing moved the surfaces in between (another pass, a
   // restored checkpoint), and the mesh is the one it ended on (a rebuild leaves end_ empty).
   return left_crossable_ || !started_where_ended();
 }
 
-void SelfCollisionPass::resolve(double dt, SelfCollisionFigures& r, const Points& v_in, Points& v, bool have_candidates,
-                                const ZoneConstraint& constrain) {
-  // Repulsion: pairs within the thickness at x0 (swept boxes grown by it hold them all).
-  if (!have_candidates) broad_phase_.find(mesh_, v, dt, settings_.thickness, candidates_);
-  r.candidates += static_cast<long long>(candidates_.size());
-  const long long repulsions = apply_repulsion(mesh_, candidates_, dt, {settings_.thickness, settings_.friction}, v);
-  r.proximity_impulses += repulsions;
-  // Seams move as one with what the impulses asked of either side (response/seams.hpp); the
-  // passes below re-detect on the result.
-  if (repulsions > 0) r.seam_impulses += hold_seams(mesh_, v_in, v);
-  // The impulses need the time of contact only roughly (it sets where the normal is taken), and a
-  // query that runs out of boxes is answered as a conservative hit (an extra impulse or zone
-  // merge, never a miss): loose tolerances buy speed without costing safety.
-  CcdSettings ccd;
-  ccd.min_distance = settings_.ccd_distance;
-  ccd.time_tolerance = 1e-4;
-  ccd.max_iterations = 10'000;
-  // Each pass re-detects on the velocities the last one left (BFA02 section 5); when the
-  // repulsion changed nothing, its candidates (boxes grown by the thickness, more than the CCD
-  // needs) serve the first pass. Otherwise the first pass refinds from the repulsion's find: its
-  // boxes, grown by the thickness, still hold nearly every box of the CCD's margin after the
-  // repulsion's small velocity changes (broad_phase.hpp refind). A pass that finds nothing
-  // colliding ends the step's work: the impact zones would find the same nothing.
-  const double margin = 2 * settings_.ccd_distance;
-  bool clear = false;
-  for (int pass = 0; pass < settings_.impulse_passes && !clear; ++pass) {
-    if (pass > 0 || repulsions > 0)  // only velocities changed since the last find: re-detect around them
-      broad_phase_.refind(mesh_, v, dt, margin, candidates_);
-    const CcdPassReport p = apply_ccd_impulses(mesh_, candidates_, dt, ccd, settings_.friction, v);
-    r.ccd_hits += p.impulses;
-    clear = p.colliding == 0;
-    if (!clear) r.seam_impulses += hold_seams(mesh_, v_in, v);
-  }
-  // With nothing colliding, the zones run only if keeping clear of the colliders moved something.
-  ImpactZoneReport zones;
-  if (!clear || (constrain && constrain({}, v)))
-    zones = resolve_impact_zones(mesh_, broad_phase_, margin, dt, ccd, settings_.max_zone_iterations, v, constrain);
-  r.impact_zones += zones.zones;
-  r.largest_zone = std::max(r.largest_zone, zones.largest);
-  if (!zones.resolved) ++r.unresolved_steps;
-}
-
 void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPassInput& step, FrameReport& report) {
   const auto start = std::chrono::steady_clock::now();
-  const double dt = step.dt, t1 = step.t + dt;
+  const double dt = step.dt;
   gather(objects, step);
   if (mesh_.tris.rows() == 0) return;
-  if (resumed_) {
-    if (resumed_->end.rows() == mesh_.x0.rows() && resumed_->recovering_tets.size() == boundary_tets_.size()) {
-      end_ = std::move(resumed_->end);
-      left_crossable_ = resumed_->left_crossable;
-      tangle_ages_ = std::move(resumed_->tangle_ages);
-      recovering_tets_ = std::move(resumed_->recovering_tets);
-    }
-    resumed_.reset();
-  }
+  adopt_resumed();
   SelfCollisionFigures r;  // this step's, added to the frame's record at its end
-
-  // Tangles at the step's start release the pairs that can undo them (candidates/tangles.hpp);
-  // only solids' boundaries are searched, so a scene of cloths pays nothing for it.
-  // A cloth's crossings with a kinematic body at the step's start (left by a fail-safe failure
-  // in an earlier step) are released for the step (candidates/tangles.hpp mark_body_crossings),
-  // so the cloth can come out of the body instead of being held in it for ever.
-  // Both searches run only when the start can hold a crossing (may_start_crossed).
-  mesh_.exempt_vf.clear();
-  mesh_.exempt_ee.clear();
-  mesh_.stuck.clear();
-  mesh_.loose.clear();
-  mesh_.released.clear();
-  // Before the candidates: it joins vertices.
-  const int recovering = mark_recovering(!started_where_ended());
-  broad_phase_.find(mesh_, dt, settings_.thickness, candidates_);
-  int tangles = 0, crossings = 0;
-  const bool search = may_start_crossed();
-  const bool solids =
-      search && std::any_of(mesh_.surfaces.begin(), mesh_.surfaces.end(), [](const auto& s) { return s.untangle; });
-  const bool cloth_and_body =
-      search &&
-      std::any_of(mesh_.surfaces.begin(), mesh_.surfaces.end(), [](const auto& s) { return s.kinematic; }) &&
-      std::any_of(mesh_.surfaces.begin(), mesh_.surfaces.end(), [](const auto& s) { return !s.kinematic && !s.untangle; });
-  if (solids || cloth_and_body) broad_phase_.edge_triangle_pairs(mesh_, edge_triangles_);
-  if (!solids) tangle_ages_.entries.clear();
-  if (solids) {
-    tangles = mark_tangles(mesh_, edge_triangles_, tangle_ages_, dt, settings_.tangle_patience);
-    r.tangled_pairs += tangles;
-  }
-  if (cloth_and_body) {
-    crossings = mark_body_crossings(mesh_, edge_triangles_);
-    r.body_crossings += crossings;
-  }
-
+  const StartCrossings released = release_start_crossings(dt, r);
   const Points v_in = mesh_.v;
   Points v = mesh_.v;
-
-  // The layer does not see the analytic colliders (their exact shape acts on vertices, through
-  // the collision processing). Where its impulses or zones would carry a vertex into one (an
-  // impact zone moving a cloth that rests on the ground downward), the vertex's zone (or the
-  // vertex alone) is translated out along the collider's normal, inside the zones' loop, so the
-  // result is both free of collisions and outside the colliders; the end-of-step velocity of
-  // such a vertex then takes the body's normal velocity (no kick out of it). Counted in
-  // stats.jsonl (`collider_projections`).
   std::vector<const ImplicitSurface*> bodies;
   for (const auto& c : analytic_colliders_) bodies.push_back(c.get());
-  struct Projected {
-    int vertex;
-    Vec3 normal, body_velocity;
-  };
-  std::vector<Projected> projected;
-  std::vector<int> projected_at(static_cast<std::size_t>(mesh_.num_vertices()), -1);  // latest entry per vertex
-  ZoneConstraint keep_out;
-  if (!bodies.empty())
-    keep_out = [&](const std::vector<std::vector<int>>& zones, Points& vel) {
-      std::vector<int> zone_of(static_cast<std::size_t>(mesh_.num_vertices()), -1);
-      for (std::size_t z = 0; z < zones.size(); ++z)
-        for (int i : zones[z]) zone_of[static_cast<std::size_t>(i)] = static_cast<int>(z);
-      bool any = false;
-      // A few sweeps: a zone translated out of a curved body may leave another of its vertices in.
-      for (int sweep = 0; sweep < 4; ++sweep) {
-        bool moved = false;
-        std::vector<Vec3> zone_shift(zones.size(), Vec3::Zero());
-        for (Eigen::Index i = 0; i < mesh_.num_vertices(); ++i) {
-          // An embedded vertex follows its nodes, which are vertices here too.
-          if (!mesh_.movable(static_cast<int>(i)) || vel.row(i) == v_in.row(i) || mesh_.is_embedded(static_cast<int>(i)))
-            continue;
-          for (const ImplicitSurface* b : bodies) {
-            const Vec3 x1 = mesh_.position(static_cast<int>(i), vel, 1.0, dt);
-            const double phi = b->phi(x1, t1);
-            if (!(phi < 0)) continue;
-            const Vec3 n = b->normal(x1, t1);
-            moved = true;
-            projected_at[static_cast<std::size_t>(i)] = static_cast<int>(projected.size());
-            projected.push_back({static_cast<int>(i), n, b->velocity(x1, t1)});
-            ++r.collider_projections;
-            const int z = zone_of[static_cast<std::size_t>(i)];
-            if (z < 0) {
-              vel.row(i) -= (phi / dt) * n.transpose();
-            } else {  // the deepest push of the zone along each direction, applied to all of it
-              const Vec3 push = -phi * n;
-              Vec3& shift = zone_shift[static_cast<std::size_t>(z)];
-              for (int c = 0; c < 3; ++c) shift(c) = std::abs(push(c)) > std::abs(shift(c)) ? push(c) : shift(c);
-            }
-          }
-        }
-        for (std::size_t z = 0; z < zones.size(); ++z)
-          if (!zone_shift[z].isZero()) {
-            const int lowest = lowest_level(mesh_, zones[z]);
-            for (int i : zones[z])
-              if (!fixed_in_zone(mesh_, i, lowest) && !mesh_.is_embedded(i)) vel.row(i) += (zone_shift[z] / dt).transpose();
-          }
-        any = any || moved;
-        if (!moved) break;
-      }
-      if (any) sync_embedded(mesh_, vel);
-      return any;
-    };
-  const long long unresolved_before = r.unresolved_steps;
-  resolve(dt, r, v_in, v, tangles == 0 && crossings == 0, keep_out);
-  if (r.unresolved_steps > unresolved_before) r.limited_vertices += limit_failed_step(mesh_, dt, settings_.thickness, v_in, v, projected_at);
+  ColliderKeepOut keep_out(mesh_, std::move(bodies), v_in, dt, step.t + dt);
+  resolve(dt, r, v_in, v, released.tangles == 0 && released.crossings == 0, keep_out.constraint(r.collider_projections));
+  const bool unresolved = r.unresolved_steps > 0;
+  if (unresolved) r.limited_vertices += limit_failed_step(mesh_, dt, settings_.thickness, v_in, v, keep_out.projected_at());
   // What the next step's start may hold (may_start_crossed): a crossing only where this step let
   // pairs go (recovering tets, tangles, body crossings) or its fail-safe gave up.
-  left_crossable_ = recovering > 0 || tangles > 0 || crossings > 0 || r.unresolved_steps > unresolved_before;
-
-  // Write back: x(n+1) = x0 + dt v on the surface nodes; v(n+1) gets the same change.
-  for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {
-    if (source_[s] < 0) continue;
-    SimObject& o = objects[static_cast<std::size_t>(source_[s])];
-    const CollisionMesh::Range& range = mesh_.surfaces[s];
-    for (int j = 0; j < range.num_vertices; ++j) {
-      const int g = range.first_vertex + j;
-      const int node = vertex_nodes_[s][static_cast<std::size_t>(j)];
-      if (node < 0 || !mesh_.movable(g) || v.row(g) == v_in.row(g)) continue;  // embedded: its nodes are written
-      o.body.x.row(node) = mesh_.x0.row(g) + dt * v.row(g);
-      o.body.v.row(node) += v.row(g) - v_in.row(g);
-      if (const int k = projected_at[static_cast<std::size_t>(g)]; k >= 0) {
-        const Projected& p = projected[static_cast<std::size_t>(k)];
-        const Vec3 vn = o.body.v.row(node).transpose();
-        o.body.v.row(node) = (vn + (p.body_velocity.dot(p.normal) - vn.dot(p.normal)) * p.normal).transpose();
-      }
-    }
-    o.refresh_surface();
-  }
-  // Where the surfaces now are, as the next step's start will read them (gather).
-  end_.resize(mesh_.num_vertices(), 3);
-  for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {
-    const CollisionMesh::Range& range = mesh_.surfaces[s];
-    if (source_[s] >= 0) {
-      // As gather() forms x0: the nodes' positions, and embedded vertices (listed first) as
-      // their weighted sums, in the same order of operations so the bits agree.
-      const SimObject& o = objects[static_cast<std::size_t>(source_[s])];
-      const SurfaceEmbedding& em = embeddings_[s];
-      Points x(range.num_vertices, 3);
-      for (int j = em.num_embedded; j < range.num_vertices; ++j)
-        x.row(j) = o.body.x.row(vertex_nodes_[s][static_cast<std::size_t>(j)]);
-      if (em.num_embedded > 0) {
-        Points unused_v = Points::Zero(range.num_vertices, 3);
-        Eigen::VectorXd unused_w = Eigen::VectorXd::Zero(range.num_vertices);
-        embedded_state(em, x, unused_v, unused_w);
-      }
-      end_.middleRows(range.first_vertex, range.num_vertices) = x;
-    } else {
-      end_.middleRows(range.first_vertex, range.num_vertices) =
-          step.kinematic[static_cast<std::size_t>(-1 - source_[s])]->surface()->x;
-    }
-  }
+  left_crossable_ = released.recovering > 0 || released.tangles > 0 || released.crossings > 0 || unresolved;
+  write_back(objects, dt, v_in, v, keep_out);
+  record_end(objects, step);
   r.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.add_to(report.pass(kSelfCollisionRecord));
   report.unresolved_steps += r.unresolved_steps;

@@ -8,20 +8,19 @@
 
 namespace invfem::collisions {
 
-namespace {
-
-// The pair's stencil at normalized time s of the step (positions x0 + s dt v).
-PairStencil stencil_at(const CollisionMesh& m, const VertexFaceCandidate& c, const Points& v, double dt, double s) {
+PairStencil contact_stencil(const CollisionMesh& m, const VertexFaceCandidate& c, const Points& v, double dt, double s) {
   auto x = [&](int i) { return m.position(i, v, s, dt); };
   const auto p = point_triangle_proximity(x(c.vertex), x(m.tris(c.face, 0)), x(m.tris(c.face, 1)), x(m.tris(c.face, 2)));
   return vertex_face_stencil(m, c.vertex, c.face, p.weights, p.normal);
 }
-PairStencil stencil_at(const CollisionMesh& m, const EdgeEdgeCandidate& c, const Points& v, double dt, double s) {
+PairStencil contact_stencil(const CollisionMesh& m, const EdgeEdgeCandidate& c, const Points& v, double dt, double s) {
   auto x = [&](int i) { return m.position(i, v, s, dt); };
   const auto p = edge_edge_proximity(x(m.edges(c.edge_a, 0)), x(m.edges(c.edge_a, 1)), x(m.edges(c.edge_b, 0)),
                                      x(m.edges(c.edge_b, 1)));
   return edge_edge_stencil(m, c.edge_a, c.edge_b, p.s, p.t, p.normal);
 }
+
+namespace {
 
 template <class Candidate>
 CcdPassReport resolve(const CollisionMesh& m, const std::vector<Candidate>& list, double dt, const CcdSettings& s,
@@ -37,7 +36,7 @@ CcdPassReport resolve(const CollisionMesh& m, const std::vector<Candidate>& list
     ++report.colliding;
     double toi = 0;
     if (!candidate_ccd(m, list[k], v, dt, s, toi)) continue;  // an earlier impulse cleared it
-    const PairStencil p = stencil_at(m, list[k], v, dt, toi);
+    const PairStencil p = contact_stencil(m, list[k], v, dt, toi);
     const double v_N = relative_velocity(p, v).dot(p.n);
     if (v_N < 0 && apply_pair_impulse(m, p, -v_N, mu, v)) ++report.impulses;
   }

@@ -20,6 +20,7 @@
 #include "invfem/collisions/self_collision/distance/edge_edge.hpp"
 #include "invfem/collisions/self_collision/distance/point_triangle.hpp"
 #include "invfem/collisions/self_collision/response/impact_zones.hpp"
+#include "invfem/collisions/self_collision/response/inelastic_projection.hpp"
 #include "invfem/collisions/self_collision/response/pair_impulse.hpp"
 #include "invfem/collisions/self_collision/response/repulsion.hpp"
 #include "invfem/collisions/self_collision/response/seams.hpp"
@@ -617,6 +618,127 @@ TEST(ImpactZones, ResolveEveryCollisionOfAFastCrossing) {
   EXPECT_EQ(colliding_pairs(m, v, dt, 1e-5), 0);
 }
 
+namespace {
+
+// A sheet sliding along x as it falls through another at rest within one step: its vertices hit
+// the lower sheet's triangles all at once.
+CollisionMesh sliding_crossing() {
+  CollisionMesh m;
+  append_grid(m, "lower", 4, 1.0, 0.0, Vec3::Zero());
+  append_grid(m, "upper", 4, 0.7, 0.01, Vec3(0.5, -1.0, 0.0));
+  return m;
+}
+
+double mean_x_velocity(const Points& v, int first, int count) {
+  return v.middleRows(first, count).col(0).mean();
+}
+
+}  // namespace
+
+TEST(ImpactZones, AZoneIsResolvedNonRigidlyKeepingItsSliding) {
+  const CollisionMesh m = sliding_crossing();
+  const double dt = 0.02;
+  ASSERT_GT(colliding_pairs(m, m.v, dt, 1e-5), 0);
+  CcdSettings s;
+  s.min_distance = 1e-5;
+  auto resolve = [&](const ZoneProjectionSettings& projection, ImpactZoneReport& r) {
+    BroadPhase bp;
+    Points v = m.v;
+    r = resolve_impact_zones(m, bp, 2e-5, dt, s, 100, v, {}, projection);
+    return v;
+  };
+  ImpactZoneReport projected, rigid;
+  ZoneProjectionSettings on;
+  on.rounds = 10;
+  const Points v = resolve(on, projected);
+  ZoneProjectionSettings off;
+  off.rounds = 0;
+  const Points v_rigid = resolve(off, rigid);
+  ASSERT_TRUE(projected.resolved);
+  EXPECT_EQ(colliding_pairs(m, v, dt, 1e-5), 0);
+  EXPECT_GE(projected.zones, 1);
+  EXPECT_EQ(projected.projected, projected.zones);
+  EXPECT_EQ(projected.rigid, 0);
+  // The projection cancels the approach along the contact normals (y) and leaves the sliding:
+  // the upper sheet keeps its x velocity, the lower one gets none (no friction in the zone).
+  EXPECT_NEAR(mean_x_velocity(v, 25, 25), 0.5, 1e-9);
+  EXPECT_NEAR(mean_x_velocity(v, 0, 25), 0.0, 1e-9);
+  // The rigid zones (BFA02 alone) share one motion between the sheets: the sliding is lost.
+  ASSERT_TRUE(rigid.resolved);
+  EXPECT_EQ(colliding_pairs(m, v_rigid, dt, 1e-5), 0);
+  EXPECT_EQ(rigid.projected, 0);
+  EXPECT_GE(rigid.rigid, 1);
+  EXPECT_LT(mean_x_velocity(v_rigid, 25, 25), 0.45);
+}
+
+TEST(ImpactZones, AZoneWhoseProjectionFailsTurnsRigid) {
+  // No sweep allowed: every projection fails, and the zones fall back to the rigid rule.
+  const CollisionMesh m = sliding_crossing();
+  const double dt = 0.02;
+  CcdSettings s;
+  s.min_distance = 1e-5;
+  ZoneProjectionSettings failing;
+  failing.rounds = 10;
+  failing.solve.max_sweeps = 0;
+  BroadPhase bp;
+  Points v = m.v;
+  const ImpactZoneReport r = resolve_impact_zones(m, bp, 2e-5, dt, s, 100, v, {}, failing);
+  ASSERT_TRUE(r.resolved);
+  EXPECT_EQ(colliding_pairs(m, v, dt, 1e-5), 0);
+  EXPECT_EQ(r.projected, 0);
+  EXPECT_GE(r.rigid, 1);
+  EXPECT_EQ(r.rigid, r.zones);
+}
+
+TEST(InelasticProjection, OneConstraintIsTheMassWeightedProjection) {
+  // For one violated constraint g . v' >= b the projection is v' = v + M^-1 g lambda with
+  // lambda = (b - g . v) / (g^T M^-1 g): the constraint met exactly, and the change M-orthogonal
+  // to every velocity change that keeps g . v.
+  InelasticConstraint k;
+  k.ids = {0, 1, 2, 3};
+  k.c << -0.2, -0.3, -0.5, 1.0;
+  k.n = Vec3(1, 2, 3).normalized();
+  const double w[4] = {0.5, 2.0, 1.0, 0.25};
+  auto inverse_mass = [&](int i) { return w[i]; };
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Points v0(4, 3);
+  for (int i = 0; i < 4; ++i) v0.row(i) << u(rng), u(rng), u(rng);
+  auto g_dot = [&](const Points& v) {
+    double g = 0;
+    for (int j = 0; j < 4; ++j) g += k.c(j) * k.n.dot(v.row(j).transpose());
+    return g;
+  };
+  k.b = g_dot(v0) + 0.7;
+  ProjectionSolve solve;
+  solve.tolerance = 1e-12;
+  Points v = v0;
+  ASSERT_TRUE(project_inelastic({k}, inverse_mass, solve, v));
+  double diagonal = 0;
+  for (int j = 0; j < 4; ++j) diagonal += k.c(j) * k.c(j) * w[j];
+  const double lambda = (k.b - g_dot(v0)) / diagonal;
+  for (int j = 0; j < 4; ++j) {
+    const Vec3 expected = v0.row(j).transpose() + w[j] * k.c(j) * lambda * k.n;
+    EXPECT_LT((v.row(j).transpose() - expected).norm(), 1e-12) << "vertex " << j;
+  }
+  EXPECT_NEAR(g_dot(v), k.b, 1e-12);
+  // M-orthogonality: sum_j m_j (v'_j - v_j) . d_j = 0 for any d with g . d = 0.
+  Points d(4, 3);
+  for (int i = 0; i < 4; ++i) d.row(i) << u(rng), u(rng), u(rng);
+  const double along = g_dot(d);
+  d.row(3) -= (along / k.c(3)) * k.n.transpose();  // now g . d = 0
+  ASSERT_NEAR(g_dot(d), 0, 1e-12);
+  double inner = 0;
+  for (int j = 0; j < 4; ++j) inner += (v.row(j) - v0.row(j)).dot(d.row(j)) / w[j];
+  EXPECT_NEAR(inner, 0, 1e-12);
+  // A met constraint changes nothing (an inequality never pulls).
+  Points met = v;
+  met.row(3) += 0.1 * k.n.transpose();
+  const Points before = met;
+  ASSERT_TRUE(project_inelastic({k}, inverse_mass, solve, met));
+  EXPECT_EQ(met, before);
+}
+
 TEST(ImpactZones, AZoneOnABendingStretchingBodyFollowsItWithoutCrossing) {
   // A kinematic sheet (an animated body's skin) bends into a valley y = k x^2 and stretches by
   // 10% along x within one step, under a cloth patch resting 0.5 mm above it (the cloth's own
@@ -637,7 +759,9 @@ TEST(ImpactZones, AZoneOnABendingStretchingBodyFollowsItWithoutCrossing) {
   s.min_distance = 1e-5;
   BroadPhase bp;
   Points v = m.v;
-  const ImpactZoneReport r = resolve_impact_zones(m, bp, 2e-5, dt, s, 100, v);
+  ZoneProjectionSettings rigid_first;  // the rules after the projection (rigid, then following)
+  rigid_first.rounds = 0;
+  const ImpactZoneReport r = resolve_impact_zones(m, bp, 2e-5, dt, s, 100, v, {}, rigid_first);
   EXPECT_TRUE(r.resolved) << r.iterations << " rounds, largest zone " << r.largest;
   EXPECT_EQ(colliding_pairs(m, v, dt, 1e-5), 0);
   for (int i = 0; i < body_vertices; ++i) EXPECT_EQ(v.row(i), m.v.row(i)) << "body vertex " << i;
@@ -679,7 +803,9 @@ TEST(ImpactZones, ManyFollowingZonesGiveTheSameBitsOnAnyThreadCount) {
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
     BroadPhase bp;
     Points v = m.v;
-    r = resolve_impact_zones(m, bp, 2e-5, dt, s, 100, v);
+    ZoneProjectionSettings rigid_first;  // the rules after the projection (rigid, then following)
+    rigid_first.rounds = 0;
+    r = resolve_impact_zones(m, bp, 2e-5, dt, s, 100, v, {}, rigid_first);
     return v;
   };
   ImpactZoneReport one, four;
@@ -1072,6 +1198,11 @@ TEST(SelfCollisionSettings, RejectsBadValues) {
   s = {};
   s.tangle_patience = 0;
   EXPECT_THROW(validate(s), std::invalid_argument);
+  s = {};
+  s.zone_projection.rounds = -1;
+  EXPECT_THROW(validate(s), std::invalid_argument);
+  s.zone_projection.rounds = 0;  // every zone rigid: allowed
+  EXPECT_NO_THROW(validate(s));
 }
 
 namespace {

@@ -18,7 +18,8 @@
 //   1. broad phase on the swept boxes (broad_phase/), giving candidates (candidates/)
 //   2. repulsion at x0 (response/repulsion.hpp): pairs closer than the thickness
 //   3. up to `impulse_passes` passes of CCD impulses (response/ccd_impulses.hpp)
-//   4. rigid impact zones until no pair may come within ccd_distance (response/impact_zones.hpp)
+//   4. impact zones until no pair may come within ccd_distance (response/impact_zones.hpp):
+//      non-rigid (HVTG08's inelastic projection), rigid as the last resort
 //   5. x(n+1) = x0 + dt v for every surface node; each node's end-of-step velocity gets the same
 //      change as its average velocity (for the implicit step the two are one).
 // Nodes off the surface (a solid's interior) are not touched. A solid's boundary is handled as a
@@ -42,6 +43,7 @@
 #include "invfem/collisions/self_collision/candidates/tangles.hpp"
 #include "invfem/collisions/self_collision/collision_mesh.hpp"
 #include "invfem/collisions/self_collision/potential/cloth_contact_potential.hpp"
+#include "invfem/collisions/self_collision/response/collider_keep_out.hpp"
 #include "invfem/collisions/self_collision/response/impact_zones.hpp"
 #include "invfem/core/world/world.hpp"
 
@@ -53,6 +55,8 @@ struct SelfCollisionSettings {
   double friction = 0.3;        // Coulomb coefficient between surfaces
   int impulse_passes = 3;       // CCD impulse passes before the zones (PhysBAM's default)
   int max_zone_iterations = 100;
+  // The impact zones' non-rigid rule (response/impact_zones.hpp): rounds 0 makes every zone rigid.
+  ZoneProjectionSettings zone_projection;
   // How long [s] a tangle (candidates/tangles.hpp) may last, released only by the pairs that can
   // undo it, before it counts as stuck and its vertices leave the pairs among themselves. Long
   // enough for those pairs to undo an ordinary tangle over many steps, short enough that a stuck
@@ -85,11 +89,11 @@ int limit_failed_step(const CollisionMesh& mesh, double dt, double thickness, co
 
 // The layer's figures, per step and summed over a frame's steps in its FrameReport record
 // (kSelfCollisionRecord; stats.jsonl "self_collision"): candidate pairs, repulsion impulses, CCD
-// hits, impact zones (count and largest in vertices), steps that ended with a collision the
-// fail-safe could not resolve, and seconds.
+// hits, impact zones (count and largest in vertices; of them, those that ended non-rigid and those
+// that ended rigid), steps that ended with a collision the fail-safe could not resolve, and seconds.
 struct SelfCollisionFigures {
   long long candidates = 0, proximity_impulses = 0, ccd_hits = 0;
-  int impact_zones = 0, largest_zone = 0, unresolved_steps = 0;
+  int impact_zones = 0, largest_zone = 0, projected_zones = 0, rigid_zones = 0, unresolved_steps = 0;
   long long tangled_pairs = 0;         // a solid boundary's edge-triangle crossings at a step's start (exempted)
   long long body_crossings = 0;        // a cloth's edge-triangle crossings with a kinematic body at a step's start (released)
   long long collider_projections = 0;  // vertices the layer moved into an analytic collider, put back
@@ -142,10 +146,30 @@ class SelfCollisionPass final : public StepPass {
   // move the nodes, and the nodes are what is written back. Embedded vertices on a common node
   // are no pair (the two faces of a crack near its front are one material there).
   void gather(const std::vector<SimObject>& objects, const StepPassInput& step);
+  // after_step's later stages (gather, above, is the first), each in a file of src/pass/ named for it.
+  // The checkpoint's state (restore_state) once the mesh is gathered, if it fits.
+  void adopt_resumed();
+  // Releases for the step what the start holds crossed (recovering tets, tangles, a cloth's
+  // crossings with a kinematic body: the counts), and finds the repulsion's candidates.
+  struct StartCrossings {
+    int recovering = 0, tangles = 0, crossings = 0;
+  };
+  StartCrossings release_start_crossings(double dt, SelfCollisionFigures& report);
   // Stages 1-4 on mesh_ (its inverse masses and exemptions as set), changing v. have_candidates:
   // candidates_ already holds the repulsion's candidates for these velocities and filters.
   void resolve(double dt, SelfCollisionFigures& report, const Points& v_in, Points& v, bool have_candidates,
                const ZoneConstraint& constrain);
+  // Stages 1-2 (and the first broad phase unless have_candidates); returns the repulsions.
+  long long repel(double dt, SelfCollisionFigures& report, const Points& v_in, Points& v, bool have_candidates);
+  // Stage 3; repelled: the repulsion changed v since candidates_ were found. Returns true when the
+  // last pass found nothing colliding.
+  bool ccd_impulse_passes(double dt, SelfCollisionFigures& report, const Points& v_in, Points& v, bool repelled,
+                          const CcdSettings& ccd);
+  // Stage 5: the objects' surface nodes from v (v_in: the velocities before the layer).
+  void write_back(std::vector<SimObject>& objects, double dt, const Points& v_in, const Points& v,
+                  const ColliderKeepOut& keep_out) const;
+  // end_: where the surfaces ended the step, as the next step's gather will read them.
+  void record_end(const std::vector<SimObject>& objects, const StepPassInput& step);
 
   // Sets mesh_.recovering (collision_mesh.hpp): the vertex pairs of the tets in boundary_tets_
   // that are inverted at the step's start (mesh_.x0) and were already so at a start the layer did

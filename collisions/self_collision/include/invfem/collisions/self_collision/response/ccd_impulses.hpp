@@ -9,6 +9,7 @@
 #include "invfem/collisions/self_collision/candidates/candidates.hpp"
 #include "invfem/collisions/self_collision/ccd/ccd.hpp"
 #include "invfem/collisions/self_collision/collision_mesh.hpp"
+#include "invfem/collisions/self_collision/response/pair_impulse.hpp"
 
 namespace invfem::collisions {
 
@@ -16,6 +17,13 @@ struct CcdPassReport {
   long long colliding = 0;  // pairs the CCD flagged at the pass's start (0: nothing left to do)
   long long impulses = 0;   // pairs that received an impulse
 };
+
+// The pair's stencil (pair_impulse.hpp) at normalized time s of the step (positions x0 + s dt v):
+// its closest points' weights and normal there (distance/).
+PairStencil contact_stencil(const CollisionMesh& mesh, const VertexFaceCandidate& pair, const Points& v, double dt,
+                            double s);
+PairStencil contact_stencil(const CollisionMesh& mesh, const EdgeEdgeCandidate& pair, const Points& v, double dt,
+                            double s);
 
 CcdPassReport apply_ccd_impulses(const CollisionMesh& mesh, const Candidates& candidates, double dt,
                                  const CcdSettings& settings, double friction, Points& v);

@@ -30,7 +30,7 @@
 // different triangles may still meet, and a second body part may sweep past the cloth: the zone
 // loop tests every pair of such a zone (not only the pairs that reach outside it), gives the
 // zone's own colliding pairs impulses for some rounds, then falls back to the rigid rule
-// (impact_zones.cpp says when each rule applies).
+// (impact_zones/zone_loop.hpp says when each rule applies).
 //
 // Which triangles: those of the mesh whose three vertices are each either kinematic (inverse
 // mass 0) or a vertex of the zone that is fixed in it (fixed_in_zone: a higher level's surface

@@ -39,6 +39,14 @@ ClothContactPotential::ClothContactPotential(const std::string& name, const Tris
   mass_ = Eigen::VectorXd::Ones(n);
 }
 
+bool ClothContactPotential::straddles_seam(PairKind kind, const std::array<int, 4>& v) const {
+  auto on_seam = [&](int i) {
+    return mesh_.weld_offsets[static_cast<std::size_t>(i) + 1] > mesh_.weld_offsets[static_cast<std::size_t>(i)];
+  };
+  if (kind == PairKind::PointTriangle) return on_seam(v[3]) && (on_seam(v[0]) || on_seam(v[1]) || on_seam(v[2]));
+  return (on_seam(v[0]) || on_seam(v[1])) && (on_seam(v[2]) || on_seam(v[3]));
+}
+
 void ClothContactPotential::load(const Points& x, Points& out) const {
   out.resize(static_cast<Eigen::Index>(nodes_.size()), 3);
   for (std::size_t s = 0; s < nodes_.size(); ++s) out.row(static_cast<Eigen::Index>(s)) = x.row(nodes_[s]);
@@ -75,6 +83,7 @@ void ClothContactPotential::evaluate(const Points& x) {
   pairs_.clear();
   energy_ = 0;
   auto consider = [&](PairKind kind, const std::array<int, 4>& v) {
+    if (straddles_seam(kind, v)) return;
     Pair p;
     p.vertices = v;
     p.params.kind = kind;
@@ -125,6 +134,10 @@ double ClothContactPotential::max_step(const Points& x, const Points& dir) {
   const std::size_t nvf = candidates_.vf.size();
   std::vector<double> toi(candidates_.size(), 1.0);
   parallel_for_each(toi.size(), kGrain, [&](std::size_t i) {
+    const bool ee = i >= nvf;
+    if (ee ? straddles_seam(PairKind::EdgeEdge, candidate_vertices(mesh_, candidates_.ee[i - nvf]))
+           : straddles_seam(PairKind::PointTriangle, candidate_vertices(mesh_, candidates_.vf[i])))
+      return;
     double t = 1;
     const bool hit = i < nvf ? candidate_ccd(mesh_, candidates_.vf[i], v, 1.0, ccd, t)
                              : candidate_ccd(mesh_, candidates_.ee[i - nvf], v, 1.0, ccd, t);

@@ -3,7 +3,11 @@
 // the barrier of every point-triangle and edge-edge pair of its surface closer than d^
 // (pair_barrier.hpp), found by the layer's broad phase on boxes grown by d^, and a step filter by
 // the layer's CCD (ccd/candidate_ccd.hpp). Pairs that share a vertex or hold two vertices a seam
-// joins are never pairs (collision_mesh.hpp), as in the after-step layer.
+// joins are never pairs (collision_mesh.hpp), as in the after-step layer; nor, here, is a pair
+// whose two sides each hold a seam vertex (straddles_seam): where a seam's stitches pull two panels
+// together, the two sides' rings beside the seam come within d^ of each other, and a barrier
+// between them fights the stitches: the step filter then cut Newton's steps on the dress to a few
+// percent, at pairs one ring off the seam. The layer after the step keeps those pairs apart.
 //
 // Stiffness per pair: kappa = m a / d^ with m the mean lumped mass of its four nodes, as the body
 // barrier's (core/integrate/body_barrier.hpp): a pair resting under its own weight sits where
@@ -49,6 +53,7 @@ class ClothContactPotential final : public ContactPotential {
     PairBarrierParams params;
     std::array<int, 4> vertices{};  // surface vertices, candidate_vertices' order
   };
+  bool straddles_seam(PairKind kind, const std::array<int, 4>& vertices) const;
   void load(const Points& x, Points& out) const;  // body rows -> surface rows
   Vec12 coordinates(const Pair& p) const;          // at the last evaluation
   std::array<int, 4> nodes_of(const Pair& p) const;

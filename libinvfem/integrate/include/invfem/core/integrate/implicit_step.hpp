@@ -119,7 +119,8 @@ struct ImplicitWorkspace {
   BlockSparseMatrix A;  // M + h^2 K + h C
   BlockSparseMatrix C;  // the damping matrix at x(n) (same pattern)
   std::vector<Mat3> block_inverse;  // the block-Jacobi preconditioner
-  // A's diagonal blocks that the last assembly's friction went into, (slot, block before it).
+  // A's diagonal blocks that the last assembly's friction, body barrier and contact pairs went into,
+  // (slot, block before it).
   std::vector<std::pair<std::size_t, Mat3>> before_friction;
   // The contact potential's pair Hessians at the last assembly (their nodes, 12 x 12): their
   // diagonal blocks went into A with the friction's, their off-diagonal ones are applied beside A

@@ -48,6 +48,14 @@ template <class Figures, class Visit> void visit_figures(Figures& f, Visit&& vis
   visit("limited_vertices", f.limited_vertices);
   visit("seconds", f.seconds);
 }
+
+// The seams an object's forces hold (a garment's stitches), in its surface's vertex indices: the
+// layer's mesh and the contact potential join them alike.
+std::vector<Weld> object_seams(const SimObject& o) {
+  std::vector<Weld> welds;
+  for (const auto& f : o.forces) welds.insert(welds.end(), f->seams().begin(), f->seams().end());
+  return welds;
+}
 }  // namespace
 
 void SelfCollisionFigures::add_to(PassRecord& record) const {
@@ -163,9 +171,7 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
       Eigen::VectorXd w;
       object_state(k, nodes, e, x0, v, w);
       const bool embedded = e.num_embedded > 0;
-      std::vector<Weld> welds;  // the seams its forces hold (a garment's stitches)
-      for (const auto& f : o.forces) welds.insert(welds.end(), f->seams().begin(), f->seams().end());
-      append_surface(mesh_, o.name, embedded ? o.embedded.surface.tris : o.surface.tris, x0, v, w, false, welds,
+      append_surface(mesh_, o.name, embedded ? o.embedded.surface.tris : o.surface.tris, x0, v, w, false, object_seams(o),
                      embedded ? &e : nullptr);
       const bool volume = o.tets.rows() > 0;  // a solid's boundary; else a sheet
       mesh_.surfaces.back().untangle = volume;
@@ -304,11 +310,9 @@ ContactPotential* SelfCollisionPass::contact_potential(const SimObject& o, std::
   }
   auto& p = potentials_[index];
   if (!p || potential_versions_[index] != o.topology_version) {
-    std::vector<Weld> welds;  // the seams its forces hold, as gather() joins them
-    for (const auto& f : o.forces) welds.insert(welds.end(), f->seams().begin(), f->seams().end());
     ContactBarrierSettings s;
     s.distance = settings_.thickness;
-    p = std::make_unique<ClothContactPotential>(o.name, o.surface.tris, o.surface_nodes, o.surface.x, welds, s);
+    p = std::make_unique<ClothContactPotential>(o.name, o.surface.tris, o.surface_nodes, o.surface.x, object_seams(o), s);
     potential_versions_[index] = o.topology_version;
   }
   return p.get();

@@ -201,5 +201,45 @@ TEST(Garment, TheCipcDressWithItsPatternAndDrape) {
   EXPECT_LT(*std::max_element(gaps.begin(), gaps.end()), 3e-4);
 }
 
+// ARCSim's older writer: `vv` (per-vertex velocity) and `t` lines beside the faces, and a vertex
+// where two fans of triangles meet (a non-manifold vertex, as five of the robe's are; its edges
+// are each on one or two triangles). The lines are counted as not used; the vertex is accepted.
+TEST(Garment, ArcsimVelocityLinesAndANonManifoldVertexAreAccepted) {
+  TempDir t;
+  const std::string text =
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv -1 0 0\nv 0 -1 0\n"
+      "vv 0 0 0\nvv 0 0 0\nvv 0 0 0\nvv 0 0 0\nvv 0 0 0\n"
+      "vt 0 0\nvt 1 0\nvt 0 1\nvt 5 5\nvt 4 5\nvt 5 4\n"
+      "f 1/1 2/2 3/3\nt 0\nf 1/4 4/5 5/6\nt 0\n";
+  const Garment g = load_garment(t.file("bowtie.obj", text), {.pattern = true});
+  EXPECT_EQ(g.surface.x.rows(), 5);
+  EXPECT_EQ(g.surface.tris.rows(), 2);
+  EXPECT_EQ(g.ignored.at("vv"), 5);
+  EXPECT_EQ(g.ignored.at("t"), 2);
+  const TriangleRest rest = make_triangle_rest(g.pattern, g.surface.tris, 5);
+  for (double a : rest.area) EXPECT_NEAR(a, 0.5, 1e-15);
+}
+
+// ARCSim's T-shirt and robe (../shared/data/cloth/, scenes garments/tshirt_hang and robe_hang):
+// per-corner patterns in metres, several vt at a seam vertex.
+TEST(Garment, TheArcsimTshirtAndRobeWithTheirPerCornerPatterns) {
+  const std::string tshirt = kShared + "/cloth/tshirt_arcsim.obj", robe = kShared + "/cloth/robe_arcsim.obj";
+  if (!std::filesystem::exists(tshirt) || !std::filesystem::exists(robe))
+    GTEST_SKIP() << "the shared data (" << kShared << ") is absent";
+  const Garment a = load_garment(tshirt, {.pattern = true});
+  EXPECT_EQ(a.surface.x.rows(), 330);
+  EXPECT_EQ(a.surface.tris.rows(), 604);
+  EXPECT_NEAR(pattern_scale(a), 1, 0.01);  // the pattern is in the mesh's unit
+  const TriangleRest ra = make_triangle_rest(a.pattern, a.surface.tris, a.surface.x.rows());
+  EXPECT_NEAR(std::accumulate(ra.area.begin(), ra.area.end(), 0.0), 0.674, 0.001);  // m^2 of fabric
+  const Garment b = load_garment(robe, {.pattern = true});
+  EXPECT_EQ(b.surface.x.rows(), 523);
+  EXPECT_EQ(b.surface.tris.rows(), 940);
+  EXPECT_EQ(b.ignored.at("vv"), 523);
+  EXPECT_EQ(b.ignored.at("t"), 940);
+  const TriangleRest rb = make_triangle_rest(b.pattern, b.surface.tris, b.surface.x.rows());
+  EXPECT_NEAR(std::accumulate(rb.area.begin(), rb.area.end(), 0.0), 2.829, 0.001);
+}
+
 }  // namespace
 }  // namespace invfem

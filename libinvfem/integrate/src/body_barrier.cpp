@@ -45,21 +45,6 @@ bool BodyBarrier::place(Points& x, const Points& x_start, const std::vector<char
   return true;
 }
 
-std::vector<char> BodyBarrier::clear_nodes(const Points& x_start) {
-  std::vector<char> clear(left_out_.size(), 1);
-  collisions_.gaps(x_start, t_, settings_.distance, reach_);
-  for (const BodyGap& g : reach_)
-    if (g.phi < kFloor * settings_.distance) clear[static_cast<std::size_t>(g.node)] = 0;
-  return clear;
-}
-
-bool BodyBarrier::crowds(const Points& x, const std::vector<char>& clear) {
-  collisions_.gaps(x, t_, settings_.distance, reach_);
-  for (const BodyGap& g : reach_)
-    if (clear[static_cast<std::size_t>(g.node)] && g.phi < 0.5 * kFloor * settings_.distance) return true;
-  return false;
-}
-
 void BodyBarrier::evaluate(const Points& x) { collisions_.gaps(x, t_, settings_.distance, gaps_); }
 
 bool BodyBarrier::bound_step(const Points& x, Points& dir) {

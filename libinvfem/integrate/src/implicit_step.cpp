@@ -161,18 +161,14 @@ bool admissible(const std::vector<Force*>& forces, const Points& x) {
 }
 
 // The first iterate x(n) + h v(n) + h^2 a predicts where momentum and gravity take the nodes; past
-// a barrier (a falling cloth stretched past its strain limit, a node carried onto a body that the
-// body barrier keeps it from) its nodes that no constraint holds go back towards x(n), halving,
-// until `admits` it: the barrier then acts on the step. (An admitted prediction would widen the
-// limit by a step's motion at every step.) The whole prediction is shortened, never one node:
-// along one segment every triangle's largest stretch is convex in the fraction, so a fraction
-// admitted at both ends is admitted between. What remains past it after kRetreats halvings (pins
-// pulled it there) is admitted by the caller.
+// a barrier (a falling cloth stretched past its strain limit) its nodes that no constraint holds go
+// back towards x(n), halving, until every force admits it: the barrier then acts on the step. (An
+// admitted prediction would widen the limit by a step's motion at every step.) What remains past it
+// after kRetreats halvings (pins pulled it there) is admitted by the caller.
 constexpr int kRetreats = 8;
-template <class Admits>
-void retreat_to_admissible(const Points& x_start, const NodeConstraints& fixed, Points& x, Points& scratch,
-                           Admits&& admits) {
-  if (admits(x)) return;
+void retreat_to_admissible(const std::vector<Force*>& forces, const Points& x_start, const NodeConstraints& fixed,
+                           Points& x, Points& scratch) {
+  if (admissible(forces, x)) return;
   scratch = x - x_start;
   for (const NodeConstraint& c : fixed) scratch.row(c.node).setZero();
   const Points held = x;
@@ -180,7 +176,7 @@ void retreat_to_admissible(const Points& x_start, const NodeConstraints& fixed, 
     scratch *= 0.5;
     x = x_start + scratch;  // free rows: x(n) + 2^-(k+1) (x0 - x(n))
     for (const NodeConstraint& c : fixed) x.row(c.node) = held.row(c.node);
-    if (admits(x)) return;
+    if (admissible(forces, x)) return;
   }
 }
 
@@ -616,38 +612,16 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   // The normal force a new contact's friction is lagged on [N]: the force that stops its approach
   // [m/s] within the step, plus gravity's share.
   auto stopping_force = [&](int node, double approach) { return body.mass(node) * (approach / h + g_scale); };
-
-  // The object's contact with itself: the first iterate, as every iterate after it, free of
-  // crossings (the step filter): where the prediction carries a pair through its separation, the
-  // free nodes go that fraction of the way only (before the retreat below, which shortens the
-  // same segment further).
-  if (contact) {
-    contact->begin_step(x_start, body.mass);
-    k.potential = contact;
-    ws.scratch = x - x_start;
-    const double alpha = contact->max_step(x_start, ws.scratch);
-    if (alpha < 1)
-      for (Eigen::Index i = 0; i < n; ++i)
-        if (!constrained[static_cast<std::size_t>(i)]) x.row(i) = x_start.row(i) + alpha * ws.scratch.row(i);
-  }
+  retreat_to_admissible(forces, x_start, k.fixed, x, ws.scratch);
 
   // Body contact as a barrier (body_barrier.hpp): the first iterate placed outside the bodies, and
   // the friction of the contacts it finds, lagged as the held contacts' below (their normal force:
   // the last step's, or for a new contact the barrier's at the placed iterate, at most the force
-  // that stops its approach plus gravity's share). No contact is held or caught in the loop. The
-  // prediction first retreats until it brings no node that was clear of the bodies close to one;
-  // place then moves out the nodes a body moved into.
+  // that stops its approach plus gravity's share). No contact is held or caught in the loop.
   const bool barrier_contact = collisions && settings.contact == BodyContact::Barrier;
   std::optional<BodyBarrier> barrier;
-  std::vector<char> clear;
   if (barrier_contact) {
     barrier.emplace(*collisions, body.mass, t_new, settings.barrier);
-    clear = barrier->clear_nodes(x_start);
-  }
-  retreat_to_admissible(x_start, k.fixed, x, ws.scratch, [&](const Points& y) {
-    return admissible(forces, y) && !(barrier && barrier->crowds(y, clear));
-  });
-  if (barrier_contact) {
     std::vector<char> free(static_cast<std::size_t>(n));
     for (std::size_t i = 0; i < free.size(); ++i) free[i] = !constrained[i];
     barrier->place(x, x_start, free);
@@ -663,6 +637,19 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
       k.sliding_friction.push_back(g.friction * lagged);
       k.sliding_last_slip.push_back(Vec3::Zero());
     }
+  }
+
+  // The object's contact with itself: the first iterate, as every iterate after it, free of
+  // crossings (the step filter): where the prediction carries a pair through its separation, the
+  // free nodes go that fraction of the way only.
+  if (contact) {
+    contact->begin_step(x_start, body.mass);
+    k.potential = contact;
+    ws.scratch = x - x_start;
+    const double alpha = contact->max_step(x_start, ws.scratch);
+    if (alpha < 1)
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (!constrained[static_cast<std::size_t>(i)]) x.row(i) = x_start.row(i) + alpha * ws.scratch.row(i);
   }
 
   // A new contact holds its normal velocity (the body's, or its own if leaving) and starts at its

@@ -45,14 +45,6 @@ class BodyBarrier {
   // moved a node.
   bool place(Points& x, const Points& x_start, const std::vector<char>& free);
   static constexpr double kFloor = 0.1;
-  // For the first iterate's retreat (implicit_step.cpp): per node, whether it is at least kFloor d
-  // from every body at x_start (the bodies at t); and whether x brings a node so marked within half
-  // that (half: a node just past kFloor d at x_start may not stop the whole retreat; place moves it
-  // out a little). A prediction that does is shortened as a whole, not node by node: place's return
-  // of one node to x_start, with its neighbours a step's motion away, stretches their triangles
-  // (h^2 g, 4 mm at h = 1/50 s, across a 1 cm triangle) past any strain limit.
-  std::vector<char> clear_nodes(const Points& x_start);
-  bool crowds(const Points& x, const std::vector<char>& clear);
   // The gaps at x (n x 3): what energy, add_gradient and the Hessian blocks then refer to.
   void evaluate(const Points& x);
   // Per-node bounds on a step dir from x (n x 3 each), in the spirit of Offset Geometric Contact's

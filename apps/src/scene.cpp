@@ -497,6 +497,10 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
             format_number(s.self_collision.ccd_distance) + (sc.has("ccd_distance") ? "" : " (its default)"));
   }
 
+  const Fields settle = root.object_or_empty("settle");
+  settle_fields().reject_unknown(settle);
+  settle_fields().read(settle, s);
+
   const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
   std::set<std::string> names;
   // Each name is checked where it is read (Fields::object_name), then for uniqueness here.
@@ -598,6 +602,14 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
       const Fields f(j["colliders"][i], fname, "$.colliders[" + std::to_string(i) + "]");
       ColliderSpec c = parse_collider(f, dir, check_files);
       unique_name(f, c.name);
+      // The world holds its kinematic bodies during a settle; an analytic collider's motion is
+      // queried by time inside the collision processing and the self-collision layer, and would
+      // not wait.
+      const bool analytic = c.type != "sequence" && c.type != "skinned" && c.type != "mesh" && c.type != "plane";
+      if (s.solver.settle.duration > 0 && analytic && c.motion.kind != MotionScript::Kind::Fixed)
+        f.fail("motion", "no motion with a settle phase (settle.duration " + format_number(s.solver.settle.duration) +
+                             " s): only mesh sequences and skinned characters wait for the settle's end",
+               "a " + c.type + " with a motion");
       s.colliders.push_back(std::move(c));
     }
   }
@@ -768,6 +780,7 @@ nlohmann::json to_json(const Scene& s) {
   j["gravity"] = s.gravity;
   j["solver"] = fields_json(solver_fields(), s);
   j["self_collision"] = fields_json(self_collision_fields(), s);
+  j["settle"] = fields_json(settle_fields(), s);
   j["solids"] = nlohmann::json::array();
   for (const auto& o : s.solids) j["solids"].push_back(solid_json(o));
   j["cloths"] = nlohmann::json::array();

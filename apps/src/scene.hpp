@@ -202,6 +202,7 @@ nlohmann::json to_json(const Scene& scene);
 // The tables of the sections whose fields fill a module's settings (scene_tables.cpp).
 const FieldTable<Scene>& solver_fields();           // Scene::solver, Scene::cfl
 const FieldTable<Scene>& self_collision_fields();   // Scene::self_collision(_enabled)
+const FieldTable<Scene>& settle_fields();           // Scene::solver.settle
 const FieldTable<PlasticParams>& plasticity_fields();
 const FieldTable<ClothSpec>& stitch_fields();        // ClothSpec::params.stitch, stitches_from_mesh
 const FieldTable<SolidSpec>& material_fields();      // SolidSpec::model, material

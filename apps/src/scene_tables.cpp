@@ -39,6 +39,7 @@ const FieldTable<Scene>& Scene::fields() {
       {.key = "gravity", .unit = "m/s²", .description = "acceleration of gravity", .default_text = "`[0, -9.81, 0]`"},
       {.key = "solver", .description = "time stepping", .default_text = "see below"},
       {.key = "self_collision", .description = "the self-collision layer", .default_text = "see below"},
+      {.key = "settle", .description = "a settling phase before the colliders move", .default_text = "none; see below"},
       {.key = "solids", .description = "volumetric objects (tetrahedra)", .default_text = "`[]`"},
       {.key = "cloths", .description = "cloth and shells (triangles)", .default_text = "`[]`"},
       {.key = "colliders", .description = "kinematic rigid bodies, mesh sequences and skinned characters", .default_text = "`[]`"},
@@ -151,6 +152,20 @@ const FieldTable<Scene>& self_collision_fields() {
        .description = "`implicit`: a cloth's contact with itself also inside the step, as a barrier on its pairs "
                       "closer than `thickness` with a CCD filter on Newton's line search; the layer stays after "
                       "the step as the fail-safe"},
+  });
+  return table;
+}
+
+// The settle phase's fields fill WorldSettings::settle.
+const FieldTable<Scene>& settle_fields() {
+  using S = Scene;
+  static const FieldTable<S> table({
+      {.key = "duration", .member = at<S>([](auto& s) -> auto& { return s.solver.settle.duration; }), .unit = "s", .range = {0, 1e5},
+       .description = "the first seconds of the run: every step starts from rest (the velocities zeroed at its "
+                      "start) and the colliders and moving pins hold their pose of time 0; after it they move, "
+                      "their animation this much behind the run's clock; 0: no settle"},
+      {.key = "gravity", .member = at<S>([](auto& s) -> auto& { return s.solver.settle.gravity; }),
+       .description = "false: no gravity during the settle"},
   });
   return table;
 }
@@ -595,6 +610,7 @@ std::vector<std::pair<std::string, std::string>> scene_field_tables() {
       {"scene", Scene::fields().markdown()},
       {"solver", solver_fields().markdown()},
       {"self_collision", self_collision_fields().markdown()},
+      {"settle", settle_fields().markdown()},
       {"solids", SolidSpec::fields().markdown()},
       {"material", material_fields().markdown()},
       {"plasticity", plasticity_fields().markdown()},

@@ -35,18 +35,25 @@ void AnimatedMeshBody::check_positions(const Points& x, const std::string& what)
 void AnimatedMeshBody::replace_animation() {
   const double t = time_;
   placed_ = false;
-  move_to(t);
+  place(t, held_);
 }
 
-void AnimatedMeshBody::move_to(double t) {
-  if (placed_ && t == time_) return;  // the World moves bodies to a step's end, then again to the frame's
+void AnimatedMeshBody::move_to(double t) { place(t, false); }
+
+void AnimatedMeshBody::hold_at(double t) { place(t, true); }
+
+void AnimatedMeshBody::place(double t, bool held) {
+  // The World moves bodies to a step's end, then again to the frame's.
+  if (placed_ && t == time_ && held == held_) return;
   Points x, v;
   evaluate(t, x, v);
+  if (held) v.setZero();
   mesh_->update(x, v);  // throws (and changes nothing) for a coordinate out of range
   surface_.x = std::move(x);
   velocity_ = std::move(v);
   time_ = t;
   placed_ = true;
+  held_ = held;
 }
 
 }  // namespace invfem

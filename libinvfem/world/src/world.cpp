@@ -18,11 +18,11 @@ std::vector<Force*> SimObject::force_pointers() const {
   return out;
 }
 
-NodeConstraints SimObject::pin_constraints(double t, double dt) const {
+NodeConstraints SimObject::pin_constraints(double t_pose, double dt) const {
   NodeConstraints out;
   for (const PinGroup& g : pins) {
     std::optional<RigidTransform> pose;
-    if (g.motion) pose = g.motion->body_to_world(t + dt);
+    if (g.motion) pose = g.motion->body_to_world(t_pose);
     for (std::size_t k = 0; k < g.nodes.size(); ++k) {
       NodeConstraint c;
       c.node = g.nodes[k];
@@ -92,6 +92,8 @@ World::World(WorldSettings settings, std::vector<SimObject> objects,
       objects_(std::move(objects)),
       kinematic_(std::move(kinematic)),
       collisions_(std::move(collisions)) {
+  if (!(settings_.settle.duration >= 0) || !std::isfinite(settings_.settle.duration))
+    throw std::invalid_argument("world: the settle duration must be a finite number >= 0 s");
   std::set<std::string> names;
   for (const SimObject& o : objects_) {
     if (!names.insert(o.name).second) throw std::invalid_argument("world: two objects are named \"" + o.name + "\"");
@@ -141,15 +143,34 @@ World::World(WorldSettings settings, std::vector<SimObject> objects,
   for (const auto& k : kinematic_)
     if (!names.insert(k->name()).second)
       throw std::invalid_argument("world: two objects or bodies are named \"" + k->name() + "\"");
-  for (const auto& k : kinematic_) k->move_to(time_);
+  place_bodies(time_, settling());
   for (SimObject& o : objects_) o.refresh_surface();
   implicit_.resize(objects_.size());
   newmark_.resize(objects_.size());
 }
 
+double World::script_time(double t) const {
+  const double d = settings_.settle.duration;
+  return d > 0 ? std::max(0.0, t - d) : t;
+}
+
+bool World::settling() const {
+  const double d = settings_.settle.duration;
+  return time_ < d - 1e-12 * std::max(1.0, d);
+}
+
+void World::place_bodies(double t, bool held) {
+  for (const auto& k : kinematic_) {
+    if (held)
+      k->hold_at(script_time(t));
+    else
+      k->move_to(script_time(t));
+  }
+}
+
 NodeConstraints World::constraints_of(std::size_t k, double dt) const {
   const SimObject& o = objects_[k];
-  NodeConstraints out = o.pin_constraints(time_, dt);
+  NodeConstraints out = o.pin_constraints(script_time(time_ + dt), dt);
   if (o.attachments.empty()) return out;
   // An attached node lands on its target in the solid at t + dt (the solids have stepped); a
   // node also pinned keeps its pin.
@@ -217,7 +238,7 @@ bool World::motion_bounded(double limit) const {
   return false;
 }
 
-StepMotion World::step_motion(double dt, double limit, const std::vector<Points>& kinematic_start) {
+StepMotion World::step_motion(double dt, double limit, const std::vector<Points>& kinematic_start, bool held) {
   StepMotion worst;
   auto consider = [&](double motion, double bound) {
     if (motion / bound > worst.ratio) worst = {motion / bound, motion, bound};
@@ -227,8 +248,8 @@ StepMotion World::step_motion(double dt, double limit, const std::vector<Points>
     const double speed = o.body.v.rows() > 0 ? o.body.v.rowwise().norm().maxCoeff() : 0.0;
     consider(speed * dt + 0.5 * o.body.gravity.norm() * dt * dt, node_limit);
   }
+  place_bodies(time_ + dt, held);
   for (std::size_t k = 0; k < kinematic_.size(); ++k) {
-    kinematic_[k]->move_to(time_ + dt);
     const TriangleSurface* s = kinematic_[k]->surface();
     if (s && s->x.rows() > 0 && s->x.rows() == kinematic_start[k].rows())
       consider((s->x - kinematic_start[k]).rowwise().norm().maxCoeff(),
@@ -236,6 +257,31 @@ StepMotion World::step_motion(double dt, double limit, const std::vector<Points>
   }
   return worst;
 }
+
+namespace {
+// The conditions of one settle step (WorldSettings::settle): every object starts it from rest,
+// and without gravity when the settle has none; each object's gravity comes back when the step is
+// done (the guard's end), whatever ends it.
+class SettleStep {
+ public:
+  SettleStep(std::vector<SimObject>& objects, const SettleSettings& settle) : objects_(objects) {
+    for (SimObject& o : objects_) {
+      o.body.v.setZero();
+      gravity_.push_back(o.body.gravity);
+      if (!settle.gravity) o.body.gravity.setZero();
+    }
+  }
+  ~SettleStep() {
+    for (std::size_t k = 0; k < objects_.size() && k < gravity_.size(); ++k) objects_[k].body.gravity = gravity_[k];
+  }
+  SettleStep(const SettleStep&) = delete;
+  SettleStep& operator=(const SettleStep&) = delete;
+
+ private:
+  std::vector<SimObject>& objects_;
+  std::vector<Vec3> gravity_;
+};
+}  // namespace
 
 void World::advance_to(double t_end, FrameReport& report) {
   const double motion_limit = step_motion_limit();
@@ -266,7 +312,13 @@ void World::advance_to(double t_end, FrameReport& report) {
   // Land exactly on t_end: the steps of a frame are equal, each within every object's stable
   // step (ITF04's scheme takes a variable dt).
   while (time_ < t_end - 1e-12 * std::max(1.0, t_end)) {
-    const double left = t_end - time_;
+    // A settle step (WorldSettings::settle) starts from rest, the bodies held; the frame's steps
+    // up to the settle's end are equal, and so are those after it.
+    const bool settle = settling();
+    std::optional<SettleStep> settle_step;
+    if (settle) settle_step.emplace(objects_, settings_.settle);
+    const double stop = settle ? std::min(t_end, settings_.settle.duration) : t_end;
+    const double left = stop - time_;
     double dt = equal_steps(left, std::min({step_size(), left, bounded_dt}));
     report.colliding_nodes = 0;
     if (!passes_.empty() || bounded) {
@@ -277,11 +329,11 @@ void World::advance_to(double t_end, FrameReport& report) {
       // Motion-bounded steps (WorldSettings::max_step_motion): equal shorter steps over what is
       // left of the frame, each moving at most the limit. A motion that does not shrink with the
       // step (a discontinuous body) stops at the substep limit, or after 32 tries (0.9^32 = 0.034).
-      const StepMotion first = step_motion(dt, motion_limit, kinematic_start);
+      const StepMotion first = step_motion(dt, motion_limit, kinematic_start, settle);
       StepMotion m = first;
       for (int tries = 0; m.ratio > 1 && tries < 32; ++tries) {
         dt = equal_steps(left, dt * std::min(0.9, 1 / m.ratio));
-        m = step_motion(dt, motion_limit, kinematic_start);
+        m = step_motion(dt, motion_limit, kinematic_start, settle);
       }
       if (first.ratio > 1) {
         bounded_dt = dt;  // the frame's later steps start from it (each is checked again)
@@ -306,7 +358,7 @@ void World::advance_to(double t_end, FrameReport& report) {
       for (const auto& o : objects_) x_start.push_back(o.body.x);
     }
     // 1. Kinematic bodies.
-    for (const auto& k : kinematic_) k->move_to(time_ + dt);
+    place_bodies(time_ + dt, settle);
     // 2. The objects, stage by stage.
     for (std::size_t stage = 0; stage < stages_.size(); ++stage) {
       if (stage > 0 && collisions_) {  // the earlier stages at t + dt, for this one (one-way coupling)
@@ -391,10 +443,11 @@ void World::advance_to(double t_end, FrameReport& report) {
       }
     }
     time_ += dt;
+    if (settle && std::abs(time_ - stop) <= 1e-12 * std::max(1.0, stop)) time_ = stop;  // the settle's end exactly
     ++report.substeps;
   }
   time_ = t_end;
-  for (const auto& k : kinematic_) k->move_to(time_);
+  place_bodies(time_, settling());
   for (auto& o : objects_) o.refresh_surface();
 }
 
@@ -464,7 +517,7 @@ void World::resynchronize(double time) {
     o.refresh_surface();
   }
   for (NewmarkWorkspace& ws : newmark_) ws.forces_changed();
-  for (const auto& k : kinematic_) k->move_to(time_);
+  place_bodies(time_, settling());
 }
 
 void World::save_state(StateWriter& out) const {

@@ -112,6 +112,31 @@ TEST(BodySequence, InterpolatesPositionsAndVelocitiesAtAndBetweenFrames) {
   EXPECT_LT((b.implicit()->velocity(top, 0.35) - (f.centres[2] - f.centres[1]) * 10).norm(), 1e-9);
 }
 
+// The World's settle phase holds a body at a pose at rest (KinematicBody::hold_at): the pose of
+// that time, and zero velocities for the output and for the collision surface; moved again to the
+// same time, it has the animation's velocity back.
+TEST(BodySequence, HeldAtATimeItKeepsThatPoseAtRest) {
+  Fixture f;
+  BodySequenceSettings s;
+  s.files = f.files;
+  s.fps = 10;
+  BodySequence b("box", s);
+  const Points X0 = box_at(f.h, f.centres[0]), X1 = box_at(f.h, f.centres[1]);
+  const Vec3 top = f.centres[0] + Vec3(0, f.h.y() + 0.01, 0);
+  b.hold_at(0.0);
+  EXPECT_EQ(b.surface()->x, X0);
+  EXPECT_TRUE(b.velocities().isZero(0));
+  EXPECT_TRUE(b.surface_velocities().isZero(0));
+  EXPECT_EQ(b.implicit()->velocity(top, 0.0), Vec3::Zero());
+  b.move_to(0.0);  // the same time, moving: frame 0 and the interval it starts
+  EXPECT_EQ(b.surface()->x, X0);
+  EXPECT_LT((b.velocities() - (X1 - X0) * 10).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((b.implicit()->velocity(top, 0.0) - (f.centres[1] - f.centres[0]) * 10).norm(), 1e-9);
+  b.hold_at(0.05);  // halfway to frame 1, at rest
+  EXPECT_LT((b.surface()->x - 0.5 * (X0 + X1)).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_TRUE(b.velocities().isZero(0));
+}
+
 TEST(BodySequence, LoopsBackToTheFirstFrameThroughAWrapInterval) {
   Fixture f;
   BodySequenceSettings s;

@@ -23,6 +23,8 @@ class AnimatedMeshBody : public KinematicBody {
   // Positions and velocities of the animation at t; refits the collision surface. An animation
   // that throws (a bad frame read now) leaves the body as it was.
   void move_to(double t) final;
+  // The positions of the animation at t, at rest: its velocities zero (the settle phase).
+  void hold_at(double t) final;
   const TriangleSurface* surface() const override { return &surface_; }
   bool surface_is_shape() const override { return true; }
   // query_radius - offset: a node the body passes deeper than that in a step reads as outside.
@@ -43,7 +45,7 @@ class AnimatedMeshBody : public KinematicBody {
   // moved to t = 0.
   void set_surface(TriangleSurface shape);
   // The animation changed (a new source of poses): the body is placed again at the time of its
-  // last move_to.
+  // last move_to (or hold_at, held again).
   void replace_animation();
   // The animation at time t: x and v (#V x 3, world frame).
   virtual void evaluate(double t, Points& x, Points& v) = 0;
@@ -61,6 +63,8 @@ class AnimatedMeshBody : public KinematicBody {
   Points velocity_;
   double time_ = 0;          // of the last move_to, once placed_
   bool placed_ = false;
+  bool held_ = false;        // placed by hold_at
+  void place(double t, bool held);
   std::shared_ptr<MeshSurface> mesh_;
 };
 

@@ -18,6 +18,8 @@
 //   3. after-step passes: every object's surface is refreshed from its nodes, then each StepPass
 //      runs in the order added (the BFA02 self-collision pass goes here). With no pass, surfaces
 //      are refreshed once, when advance_to returns.
+// During the settle phase (WorldSettings::settle) every step also starts from rest, and the
+// scripted motions wait (World::script_time).
 // dt is solver.max_dt, with the ITF04 step also the smallest stable step of every object,
 // shortened so the steps of a frame are equal and land exactly on the frame time. The implicit
 // step has no stability limit: its dt is max_dt (a frame or a fraction of one).
@@ -83,7 +85,7 @@ struct SimObject {
   Preconditioner auto_preconditioner = Preconditioner::Auto;
   Body body;
   std::vector<std::unique_ptr<Force>> forces;
-  std::vector<PinGroup> pins;
+  std::vector<PinGroup> pins;  // their motions run on the world's script clock (World::script_time)
   // What is written, rendered and collided: a volume's boundary, a sheet itself. Surface vertex s
   // is body node surface_nodes[s]; positions are refreshed before after-step passes and at the
   // end of every advance_to (refresh_surface).
@@ -106,8 +108,9 @@ struct SimObject {
   std::vector<AttachmentGroup> attachments;
 
   std::vector<Force*> force_pointers() const;
-  // Kind::Full constraints of every pinned node for a step of length dt from the current x.
-  NodeConstraints pin_constraints(double t, double dt) const;
+  // Kind::Full constraints of every pinned node for a step of length dt from the current x to the
+  // pins' pose at (script) time t_pose.
+  NodeConstraints pin_constraints(double t_pose, double dt) const;
   void refresh_surface();
   // The surface of the object's material: the embedded surface when there is one, else
   // `surface`. What the run writes and draws, and the collider a coupled cloth meets.
@@ -124,6 +127,10 @@ class KinematicBody {
   virtual const std::string& name() const = 0;
   // Puts the body at time t.
   virtual void move_to(double t) = 0;
+  // Puts the body at its pose of time t, at rest: the velocities it reports (surface_velocities,
+  // its collision surface's) are zero. The world's settle phase holds the bodies so
+  // (WorldSettings::settle). By default move_to(t), for a body whose pose does not change.
+  virtual void hold_at(double t) { move_to(t); }
   // Its triangle surface at the last move_to, in world coordinates; nullptr if it has none (an
   // infinite plane).
   virtual const TriangleSurface* surface() const = 0;
@@ -186,6 +193,19 @@ class StepPass {
   }
 };
 
+// The settle phase: a garment sewn or placed around a body finds its place before the body moves
+// (GarmentCode's and ppf's settling). For the world's first `duration` seconds every step is
+// quasi-static: it starts from rest (every object's velocities zeroed at its start, so no
+// momentum is carried from one step to the next), with gravity only when `gravity`, and the
+// scripted motions (kinematic bodies, moving pins) are held at their pose of time 0, at rest.
+// After it they play on a clock `duration` seconds behind the world's (World::script_time). No
+// step crosses the settle's end. Forces that change with time (a muscle's activation, a strength
+// track) keep the world's clock. duration 0: no settle.
+struct SettleSettings {
+  double duration = 0;  // [s]
+  bool gravity = true;
+};
+
 // itf04: ITF04 section 9 (explicit elasticity, implicit damping; CFL-limited), the reference.
 // implicit: backward Euler by Newton's method (implicit_step.hpp), steps of max_dt.
 enum class Integrator { ITF04, Implicit };
@@ -214,6 +234,7 @@ struct WorldSettings {
   // A shorter step gives the self-collision layer a smaller sweep to order, so a tangle from one
   // pinched step is met before it forms rather than frozen in a rigid zone. 0: never retried.
   int max_step_retries = 3;
+  SettleSettings settle;
 };
 
 // advance_to would take more than WorldSettings::max_substeps steps to reach its end time. Thrown
@@ -284,11 +305,16 @@ class World {
   // Objects are stepped by stage (SimObject::stage), in the given order within a stage. Throws
   // std::invalid_argument for two objects or bodies with one name, or an object whose surface map
   // or pins name a node it does not have, or an attachment naming no object of an earlier stage
-  // or a node outside either object.
+  // or a node outside either object, or a settle duration that is not a finite number >= 0.
   World(WorldSettings settings, std::vector<SimObject> objects,
         std::vector<std::shared_ptr<KinematicBody>> kinematic, std::unique_ptr<CollisionProcessor> collisions);
 
   double time() const { return time_; }
+  // The clock of the scripted motions (kinematic bodies, pins' motions) at world time t: t, or
+  // with a settle phase, t - settle.duration and 0 while settling (WorldSettings::settle).
+  double script_time(double t) const;
+  // The step from time() is one of the settle phase.
+  bool settling() const;
   const WorldSettings& settings() const { return settings_; }
   const std::vector<SimObject>& objects() const { return objects_; }
   const std::vector<std::shared_ptr<KinematicBody>>& kinematic_bodies() const { return kinematic_; }
@@ -335,7 +361,10 @@ class World {
   // nodes' |v| dt + |g| dt^2 / 2 against `limit` and the collision processor's; kinematic bodies,
   // moved to time_ + dt: their surfaces' vertices from `kinematic_start` against `limit` and their
   // own).
-  StepMotion step_motion(double dt, double limit, const std::vector<Points>& kinematic_start);
+  StepMotion step_motion(double dt, double limit, const std::vector<Points>& kinematic_start, bool held);
+  // Every kinematic body at world time t, on the script clock: held at rest when `held` (a settle
+  // step), else moved (KinematicBody::hold_at, move_to).
+  void place_bodies(double t, bool held);
   // Pins and attachments of object k for a step of length dt from the current state.
   NodeConstraints constraints_of(std::size_t k, double dt) const;
   // settings_.implicit for object o: ImplicitSettings::preconditioner Auto is the object's

@@ -10,27 +10,28 @@
 #include <stdexcept>
 #include <string>
 
+#include "implicit_step_parts.hpp"
 #include "invfem/core/integrate/body_barrier.hpp"
 #include "invfem/core/math/parallel.hpp"
 
 namespace invfem {
 
-namespace {
-
-constexpr std::size_t kGrain = 2048;
+using namespace implicit_detail;  // Contacts, the friction potential, the linear solve, ActiveSet
 
 // INVFEM_DEBUG_CONTACTS=1: each update of the contact set inside the Newton loop prints to stderr
 // the contacts held before it, those let go (with the median and largest pull, -f_N / (m g)), those
 // caught (and how many of them were let go earlier in the step, and in this same update), the
 // contacts held while pulling (let go once already: kMaxReleases), and each iterate's residual.
 // A diagnostic for the contact set's flipping (README, Benchmarks).
-bool debug_contacts() {
+bool implicit_detail::debug_contacts() {
   static const bool on = [] {
     const char* e = std::getenv("INVFEM_DEBUG_CONTACTS");
     return e && *e && *e != '0';
   }();
   return on;
 }
+
+namespace {
 
 // Builds the pattern of M + h^2 K + h C from every force's element lists (once per body).
 void prepare(ImplicitWorkspace& ws, const Body& body, const std::vector<Force*>& forces) {
@@ -53,87 +54,6 @@ void prepare(ImplicitWorkspace& ws, const Body& body, const std::vector<Force*>&
   for (Points* p : {&ws.x_hat, &ws.x_trial, &ws.grad, &ws.grad_trial, &ws.dir, &ws.rhs, &ws.scratch, &ws.product})
     p->resize(n, 3);
   ws.ready = true;
-}
-
-// The step's contacts: constraints (pins first, then contacts from `first_contact` on), the same
-// with zero values for the Newton increments, and per constraint the friction coefficient times
-// the lagged normal force, mu lambda [N] (0 for pins and frictionless contacts).
-struct Contacts {
-  NodeConstraints constraints, fixed;
-  std::vector<double> friction;
-  std::vector<Vec3> last_slip;  // per constraint: its slip at the last assembly (friction_hessian)
-  std::size_t first_contact = 0;
-  // Body contact as a barrier (ImplicitSettings::contact): the barrier, and the friction of its
-  // contacts, which no filter holds (node, normal, the body's velocity; mu lambda; last slip).
-  BodyBarrier* barrier = nullptr;
-  NodeConstraints sliding;
-  std::vector<double> sliding_friction;
-  std::vector<Vec3> sliding_last_slip;
-  // The object's contact with itself (contact_potential.hpp), or null.
-  ContactPotential* potential = nullptr;
-};
-
-// Every frictional contact of k: the held contacts', then the barrier contacts'.
-// visit(contact, mu lambda, its index j in its list, whether that list is k.sliding).
-template <class Visit> void for_each_friction(const Contacts& k, Visit&& visit) {
-  for (std::size_t j = k.first_contact; j < k.constraints.size(); ++j)
-    if (k.friction[j] > 0) visit(k.constraints[j], k.friction[j], j, false);
-  for (std::size_t j = 0; j < k.sliding.size(); ++j)
-    if (k.sliding_friction[j] > 0) visit(k.sliding[j], k.sliding_friction[j], j, true);
-}
-
-// Coulomb friction of a sliding contact as a smoothed, lagged potential (the IPC way: Li et al.
-// 2020): with the tangential slip s = T (x_i - x_i(n) - h u) relative to the body (u its velocity,
-// T = I - n n^T) and eps = kStickSpeed h,
-//   D = mu lambda f0(|s|),  f0(y) = y^2 / (2 eps) for y < eps, y - eps / 2 beyond,
-// whose force is mu lambda along -s once slipping and a stiff spring below eps: static friction
-// holds a contact to creep speeds below kStickSpeed. lambda, the normal force, is lagged (the
-// last step's contact force, or for a new contact the impulse that stops it and gravity's share).
-// 1e-3 m/s is IPC's usual eps_v: a much smaller eps makes the stick spring mu lambda / eps far
-// stiffer, and its kink at |s| = eps stalls Newton's line search.
-// Beyond eps the Newton system does not take D's exact Hessian mu lambda / |s| (T - s^ s^T), which
-// has no curvature along the slip: a resting node whose net tangential force is below mu lambda
-// must come back into the eps zone (2e-5 m at h = 1/50 s), but with only M / h^2 along s^ each
-// Newton step sends it about mu g h^2 (1 mm) past it to slide the other way, and with tens of such
-// nodes the one line search settles at a short step with the residual stuck. It takes
-// mu lambda / |s| T instead, the Hessian of the quadratic that
-// touches |s| at the iterate from above (iteratively reweighted least squares, Weiszfeld): each
-// step decreases D's majorizer, so full steps are taken and the slip shrinks geometrically into the
-// eps zone, where the Hessian is exact; it is continuous at |s| = eps. For a
-// node sliding steadily, friction_hessian takes the exact Hessian after all (the majorizer's rate
-// is slow where the slip is small).
-constexpr double kStickSpeed = 1e-3;  // [m/s]: creep allowed under static friction
-
-struct Slip {
-  Vec3 s;     // tangential slip [m]
-  Mat3 T;     // tangent projector
-  double eps;
-};
-Slip slip(const NodeConstraint& c, const Points& x, const Points& x_start, double h) {
-  const Mat3 T = Mat3::Identity() - c.normal * c.normal.transpose();
-  const Vec3 d = x.row(c.node).transpose() - x_start.row(c.node).transpose() - h * c.velocity;
-  return {T * d, T, kStickSpeed * h};
-}
-
-double friction_potential(const Contacts& k, const Points& x, const Points& x_start, double h) {
-  double sum = 0;  // sequential: reproducible
-  for_each_friction(k, [&](const NodeConstraint& c, double mu_lambda, std::size_t, bool) {
-    const Slip sl = slip(c, x, x_start, h);
-    const double y = sl.s.norm();
-    sum += mu_lambda * (y < sl.eps ? y * y / (2 * sl.eps) : y - sl.eps / 2);
-  });
-  return sum;
-}
-
-// grad += w dD/dx (w = h^2 in E's scaling).
-void add_friction_gradient(const Contacts& k, const Points& x, const Points& x_start, double h, double w,
-                           Points& grad) {
-  for_each_friction(k, [&](const NodeConstraint& c, double mu_lambda, std::size_t, bool) {
-    const Slip sl = slip(c, x, x_start, h);
-    const double y = sl.s.norm();
-    const double scale = y < sl.eps ? 1 / sl.eps : 1 / y;  // f0'(y) / y
-    grad.row(c.node) += (w * mu_lambda * scale) * sl.s.transpose();
-  });
 }
 
 // f = M g + the elastic forces at the forces' current evaluation.
@@ -212,33 +132,6 @@ void potential_gradient(const Body& body, const Contacts& k, const Points& x, co
   if (k.potential) k.potential->add_gradient(h * h, grad);
 }
 
-// The friction Hessian of one contact, mu lambda times this (see kStickSpeed for D): T / eps in
-// the stick zone (exact); beyond it, sliding, the majorizer T / |s| or the exact Hessian
-// (T - s^ s^T) / |s|, which has no curvature along the slip.
-// The majorizer is safe but slow where a node keeps sliding: in one dimension, with a the rest of
-// the system's curvature along s^ and b = mu lambda, it converges to the slip y at the rate
-// b / (a y + b) (b / a = mu g h^2), close to 1 for nodes that creep at a few eps, so Newton
-// reaches its cap on a body resting on the ground. The exact Hessian is the
-// Newton step there, but it sends a node whose slip should end inside the stick zone past it
-// (the kink at eps). So it is taken for a node sliding steadily only: the slip at the last
-// assembly of this step (last_slip) beyond eps, within 2x of this one in length and about 18
-// degrees in direction, and the node's own Newton step along s^ (-g . s^ / (s^ A_ii s^), A_ii its
-// diagonal block before friction, g the filtered grad E) leaving it beyond eps. Against the
-// majorizer everywhere this saves Newton and CG iterations where contacts slide, though a crushed,
-// stiff shell's CG prefers the majorizer's extra diagonal. Both
-// Hessians are positive semi-definite; A stays definite through M.
-Mat3 friction_hessian(const Slip& sl, const Vec3& last_slip, const Mat3& A_ii, const Vec3& g) {
-  const double y = sl.s.norm();
-  if (y <= sl.eps) return sl.T / sl.eps;
-  const Vec3 s_hat = sl.s / y;
-  const double y_last = last_slip.norm();
-  const bool steady =
-      y_last > sl.eps && last_slip.dot(sl.s) > 0.95 * y_last * y && y < 2 * y_last && y_last < 2 * y;
-  const double dy = -g.dot(s_hat) / s_hat.dot(A_ii * s_hat);
-  if (steady && y + dy > sl.eps) return (sl.T - s_hat * s_hat.transpose()) / y;
-  return sl.T / y;
-}
-
 // A = M + h^2 (K(x) + hess D) + h C and its block-Jacobi inverse (friction_hessian: hess D).
 // reuse: M + h^2 K + h C stay as the last assembly left them (the stiffness of an earlier iterate:
 // kReuseContraction); only the friction blocks are formed again at x, on the diagonal blocks as they
@@ -304,123 +197,6 @@ void assemble(const Body& body, const std::vector<Force*>& forces, Contacts& k, 
 // across those too raises the worst capped residual where the contact set changes at every iterate.
 constexpr double kReuseContraction = 0.25;
 
-// The multigrid hierarchy (Preconditioner::Amg) is built at the first step after
-// restart_preconditioner() (the World calls it every frame) and rebuilt at the start of a step when
-// it is kAmgMaxAge steps old or the last step's CG needed more than kAmgStale times (plus 2) the
-// iterations per solve of the first step after the setup; at every other Newton iteration only its
-// finest level is refreshed (amg.hpp). A setup costs about as much as a few dozen V-cycles (a
-// Galerkin product per level) and the hierarchy changes slowly, so setting up more often than
-// every 16 steps costs more than the CG iterations it saves.
-constexpr int kAmgMaxAge = 16;
-constexpr double kAmgStale = 2;
-
-// Preconditioner::Auto: block Jacobi, until a solve it does not finish within this many iterations;
-// that solve goes on from where it stopped, and the rest of the frame runs, under the multigrid. A
-// V-cycle costs about 6 products with A and a setup a few dozen, so the multigrid pays where block
-// Jacobi needs more than about a hundred iterations a solve: the Buddha under its cape engages it,
-// the 111K-tet torus of `invfem bench` (where the multigrid is slower) does not.
-constexpr int kAutoProbeIterations = 100;
-
-// Prepares the multigrid for a solve (above: build, rebuild or refresh).
-void prepare_multigrid(const NodeConstraints& fixed, const Points& x, bool first_iteration, ImplicitWorkspace& ws) {
-  // amg_age: the steps solved with this hierarchy so far. At a step's start, the last step's CG
-  // iterations per solve are compared with the first step's after the setup.
-  bool rebuild = !ws.amg.ready_for(ws.A) || ws.amg_rebuild;
-  if (first_iteration) {
-    rebuild = rebuild || ws.amg_age >= kAmgMaxAge;
-    if (ws.amg_solves > 0) {
-      const double rate = static_cast<double>(ws.amg_cg) / static_cast<double>(ws.amg_solves);
-      if (ws.amg_age == 1) ws.amg_baseline = rate;
-      rebuild = rebuild || rate > kAmgStale * ws.amg_baseline + 2;
-    }
-    ws.amg_cg = ws.amg_solves = 0;
-  }
-  if (rebuild) {
-    ws.amg.setup(ws.A, fixed, x);
-    ws.amg_age = 0;
-    ws.amg_rebuild = false;
-  } else {
-    ws.amg.refresh(ws.A, fixed);
-  }
-  if (first_iteration || rebuild) ++ws.amg_age;
-}
-
-// Ap = A p with the contact pairs' off-diagonal blocks (their diagonal ones are in A).
-void apply_system(ImplicitWorkspace& ws, const Points& p, Points& Ap) {
-  ws.A.multiply(p, Ap);
-  for (const auto& [nodes, H] : ws.contact_hessians)  // sequential: reproducible
-    for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b)
-        if (a != b)
-          Ap.row(nodes[static_cast<std::size_t>(a)]).noalias() +=
-              (H.block<3, 3>(3 * a, 3 * b) * p.row(nodes[static_cast<std::size_t>(b)]).transpose()).transpose();
-}
-
-// CG on the filtered Newton system from ws.dir, preconditioned by the multigrid (prepared) or by
-// block Jacobi.
-CGResult run_cg(const NodeConstraints& fixed, bool multigrid, const CGSettings& cg, ImplicitWorkspace& ws) {
-  auto precondition = [&](const Points& r, Points& z) {
-    if (multigrid) {
-      ws.amg.apply(r, z);
-      return;
-    }
-    parallel_for_each(ws.block_inverse.size(), kGrain, [&](std::size_t i) {
-      const auto k = static_cast<Eigen::Index>(i);
-      z.row(k).noalias() = (ws.block_inverse[i] * r.row(k).transpose()).transpose();
-    });
-    project_free(fixed, z);
-  };
-  auto apply_A = [&](const Points& p, Points& Ap) { apply_system(ws, p, Ap); };
-  return projected_pcg(apply_A, precondition, ws.rhs, fixed, ws.dir, cg, ws.cg);
-}
-
-// The Newton direction: ws.dir = d with S A S d = S rhs on the free subspace of `fixed`, by the
-// settings' linear solver (ws.A assembled). CG starts from zero and stops at the Eisenstat-Walker
-// forcing term min(0.1, sqrt(|g| / |g_0|)) (floored by cg.relative_tolerance): the square root
-// keeps the superlinear rate of an inexact Newton method (Eisenstat-Walker 1996) at half the CG of
-// |g| / |g_0|, whose tight solves are wasted where contacts and friction make Newton linear (fewer
-// CG iterations for the same Newton count); the direct solve is exact
-// and falls back to CG when the filtered matrix is found not definite. Adds its CG iterations.
-void solve_newton_system(const NodeConstraints& fixed, const Points& x, bool first_iteration, double g_norm, double g0,
-                         const ImplicitSettings& settings, ImplicitWorkspace& ws, StepStats& stats) {
-  if (settings.linear == LinearSolver::Direct && ws.contact_hessians.empty()) {  // pairs: CG (A lacks them)
-    if (!ws.direct.analyzed_for(ws.A)) ws.direct.analyze(ws.A);
-    if (ws.direct.factorize(ws.A, fixed)) {
-      ws.direct.solve(ws.rhs, ws.dir);
-      return;
-    }
-  }
-  ws.dir.setZero();
-  CGSettings cg = settings.cg;
-  cg.relative_tolerance = std::max(settings.cg.relative_tolerance, std::min(0.1, std::sqrt(g_norm / g0)));
-  bool multigrid = settings.preconditioner == Preconditioner::Amg ||
-                   (settings.preconditioner == Preconditioner::Auto && ws.amg_engaged);
-  int iterations = 0;
-  if (settings.preconditioner == Preconditioner::Auto && !multigrid && cg.max_iterations > kAutoProbeIterations) {
-    CGSettings probe = cg;
-    probe.max_iterations = kAutoProbeIterations;
-    const CGResult res = run_cg(fixed, false, probe, ws);
-    iterations = res.iterations;
-    if (res.converged) {
-      stats.cg_iterations += iterations;
-      stats.cg_condition = std::max(stats.cg_condition, res.condition);
-      return;
-    }
-    ws.amg_engaged = multigrid = true;  // on from ws.dir under the multigrid, within the same cap
-    cg.max_iterations -= res.iterations;
-  }
-  if (multigrid) prepare_multigrid(fixed, x, first_iteration, ws);
-  const CGResult res = run_cg(fixed, multigrid, cg, ws);
-  iterations += res.iterations;
-  stats.cg_iterations += iterations;
-  stats.cg_converged = stats.cg_converged && res.converged;
-  stats.cg_condition = std::max(stats.cg_condition, res.condition);
-  if (multigrid) {  // prepare_multigrid's staleness figures
-    ws.amg_cg += res.iterations;
-    ++ws.amg_solves;
-  }
-}
-
 // Newton's method on E from the iterate x under the filter k.fixed, no contact held yet.
 // At x and after every accepted iterate, update_contacts(grad) (grad: the unfiltered grad E at x)
 // may change the contact set, moving x and x^ rows (see the header); when it moved x, the forces are
@@ -429,11 +205,6 @@ void solve_newton_system(const NodeConstraints& fixed, const Points& x, bool fir
 // which is then at x after the catches (the same bits as evaluating them before too). Converged:
 // the residual under the tolerance with an unchanged set. Adds its iterations to stats; leaves the
 // forces evaluated at the final x and f = the total force.
-// What update_contacts did: changed the set, and moved x (caught nodes projected onto the body;
-// letting go only moves x^ rows).
-struct ContactUpdate {
-  bool changed = false, moved = false;
-};
 
 template <class UpdateContacts>
 void newton_solve(const Body& body, const std::vector<Force*>& forces, const Points& x_start, Contacts& k,
@@ -560,12 +331,24 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
   }
 }
 
-// A node let go this many times in one step stays held the next time it comes back, for the rest
-// of the step: the guard of primal-dual active-set methods against cycling. A node resting on the
-// body with a force near zero otherwise flips between "pulled off" and "pushed in" from iterate to
-// iterate; with a second release allowed many more nodes still flip at the last iterate and the
-// residual where Newton stops is larger.
-constexpr int kMaxReleases = 1;
+
+// The friction of the body barrier's contacts at the placed first iterate, lagged as the held
+// contacts' (their normal force: the last step's, or for a new contact the barrier's there, at most
+// the force that stops its approach plus gravity's share), appended to k.sliding.
+void add_barrier_friction(const BodyBarrier& barrier, const Body& body, const std::vector<char>& constrained,
+                          const ImplicitWorkspace& ws, double h, Contacts& k) {
+  for (const BodyGap& g : barrier.gaps()) {
+    if (g.friction <= 0 || barrier.left_out(g.node) || constrained[static_cast<std::size_t>(g.node)]) continue;
+    const double approach = std::max(0.0, (g.velocity - body.v.row(g.node).transpose()).dot(g.normal));
+    const double lagged = ws.normal_force(g.node) > 0
+                              ? ws.normal_force(g.node)
+                              : std::min(barrier.normal_force(g), stopping_force(body, g.node, approach, h));
+    NodeConstraint c{g.node, NodeConstraint::Kind::Normal, g.normal, g.velocity, g.friction};
+    k.sliding.push_back(c);
+    k.sliding_friction.push_back(g.friction * lagged);
+    k.sliding_last_slip.push_back(Vec3::Zero());
+  }
+}
 
 }  // namespace
 
@@ -608,10 +391,6 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   std::vector<char> constrained(static_cast<std::size_t>(n), 0);
   for (const NodeConstraint& c : pinned) constrained[static_cast<std::size_t>(c.node)] = 1;
   Points v_tilde = body.v;
-  const double g_scale = body.gravity.norm();
-  // The normal force a new contact's friction is lagged on [N]: the force that stops its approach
-  // [m/s] within the step, plus gravity's share.
-  auto stopping_force = [&](int node, double approach) { return body.mass(node) * (approach / h + g_scale); };
   retreat_to_admissible(forces, x_start, k.fixed, x, ws.scratch);
 
   // Body contact as a barrier (body_barrier.hpp): the first iterate placed outside the bodies, and
@@ -626,17 +405,7 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
     for (std::size_t i = 0; i < free.size(); ++i) free[i] = !constrained[i];
     barrier->place(x, x_start, free);
     k.barrier = &*barrier;
-    for (const BodyGap& g : barrier->gaps()) {
-      if (g.friction <= 0 || barrier->left_out(g.node) || constrained[static_cast<std::size_t>(g.node)]) continue;
-      const double approach = std::max(0.0, (g.velocity - body.v.row(g.node).transpose()).dot(g.normal));
-      const double lagged = ws.normal_force(g.node) > 0
-                                ? ws.normal_force(g.node)
-                                : std::min(barrier->normal_force(g), stopping_force(g.node, approach));
-      NodeConstraint c{g.node, NodeConstraint::Kind::Normal, g.normal, g.velocity, g.friction};
-      k.sliding.push_back(c);
-      k.sliding_friction.push_back(g.friction * lagged);
-      k.sliding_last_slip.push_back(Vec3::Zero());
-    }
+    add_barrier_friction(*barrier, body, constrained, ws, h, k);
   }
 
   // The object's contact with itself: the first iterate, as every iterate after it, free of
@@ -652,115 +421,18 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
         if (!constrained[static_cast<std::size_t>(i)]) x.row(i) = x_start.row(i) + alpha * ws.scratch.row(i);
   }
 
-  // A new contact holds its normal velocity (the body's, or its own if leaving) and starts at its
-  // projected position; its friction's lagged normal force is the last step's contact force, or
-  // for a node that was not in contact the force that stops its approach plus gravity's share.
-  auto add_contacts = [&](const Points& x_proj, const NodeConstraints& found) {
-    bool added = false;
-    for (NodeConstraint c : found) {
-      auto& flag = constrained[static_cast<std::size_t>(c.node)];
-      if (flag) continue;
-      flag = added = true;
-      const Vec3 vn = body.v.row(c.node).transpose();
-      const double approach = std::max(0.0, c.velocity.dot(c.normal) - vn.dot(c.normal));
-      const double lagged = ws.normal_force(c.node) > 0 ? ws.normal_force(c.node) : stopping_force(c.node, approach);
-      c.friction_charged = 0;
-      x.row(c.node) = x_proj.row(c.node);
-      v_tilde.row(c.node) = (vn + (c.velocity.dot(c.normal) - vn.dot(c.normal)) * c.normal).transpose();
-      ws.x_hat.row(c.node) = x_start.row(c.node) + h * v_tilde.row(c.node);
-      k.friction.push_back(c.friction * lagged);
-      k.last_slip.push_back(Vec3::Zero());
-      k.constraints.push_back(c);
-      k.fixed.push_back(c);
-      k.fixed.back().velocity.setZero();
-      ++stats.colliding_nodes;
-    }
-    return added;
-  };
-  // A contact whose constraint force pulls it off the body (f_N < 0, f_N = grad E . n / h^2, with
-  // grad the unfiltered gradient at x) lets go, unless it was let go kMaxReleases times already:
-  // the first iterate's h^2 g puts every resting node inside, and only this lets an element lying
-  // on the ground lift.
-  std::vector<int> releases(static_cast<std::size_t>(n), 0);
-  std::vector<double> pulls;  // INVFEM_DEBUG_CONTACTS: -f_N / (m g) of the contacts let go
-  int held_pulling = 0;
-  auto let_go = [&](const Points& grad) {
-    bool released = false;
-    std::size_t kept = k.first_contact;
-    pulls.clear();
-    held_pulling = 0;
-    for (std::size_t j = k.first_contact; j < k.constraints.size(); ++j) {
-      const NodeConstraint& c = k.constraints[j];
-      auto& count = releases[static_cast<std::size_t>(c.node)];
-      const double g_n = grad.row(c.node).dot(c.normal.transpose());
-      if (count >= kMaxReleases && g_n < 0) ++held_pulling;
-      if (count < kMaxReleases && g_n < 0) {
-        if (debug_contacts()) pulls.push_back(-g_n / (h * h) / (body.mass(c.node) * g_scale));
-        released = true;
-        ++count;
-        constrained[static_cast<std::size_t>(c.node)] = 0;
-        v_tilde.row(c.node) = body.v.row(c.node);
-        ws.x_hat.row(c.node) = x_start.row(c.node) + h * v_tilde.row(c.node);
-        continue;
-      }
-      k.constraints[kept] = k.constraints[j];
-      k.fixed[kept] = k.fixed[j];
-      k.friction[kept] = k.friction[j];
-      k.last_slip[kept] = k.last_slip[j];
-      ++kept;
-    }
-    k.constraints.resize(kept);
-    k.fixed.resize(kept);
-    k.friction.resize(kept);
-    k.last_slip.resize(kept);
-    return released;
-  };
-  // The collision processing on x, for the nodes not held already (a held node's answer is never
-  // used: add_contacts and the fail-safe skip it). Within the step it repeats, after each
-  // iterate, on nodes that moved little: the processor skips the queries it can (clearances).
-  Points x_proj, v_proc;
-  auto detect = [&](NodeConstraints& found) {
-    x_proj = x;
-    v_proc = v_tilde;
-    collisions->process(x_start, x_proj, v_proc, t_new, dt, found, &constrained);
-  };
-
   // One Newton loop whose contact set follows its iterates (the header): at the first iterate
   // x(n) + h v(n) + h^2 a (as the ITF04 step on its x~(n+1), with a = g) and after each accepted iterate,
-  // contacts pulled off let go and nodes now inside the body are projected and held.
+  // contacts pulled off let go and nodes now inside the body are projected and held (ActiveSet).
   ws.x_hat = x_start + h * v_tilde;
+  std::optional<ActiveSet> held;
+  if (collisions) held.emplace(ActiveSet::Step{body, *collisions, x_start, h, t_new}, k, constrained, v_tilde, ws, stats);
   auto update_contacts = [&](const Points& grad) {
-    ContactUpdate u;
-    if (!collisions || barrier_contact) return u;
-    const std::size_t held = k.constraints.size() - k.first_contact;
-    const bool released = let_go(grad);
-    const std::size_t after_let_go = k.constraints.size();
-    NodeConstraints found;
-    detect(found);
-    u.moved = add_contacts(x_proj, found);
-    u.changed = u.moved || released;
-    if (debug_contacts()) {
-      int again = 0;
-      for (std::size_t j = after_let_go; j < k.constraints.size(); ++j)
-        again += releases[static_cast<std::size_t>(k.constraints[j].node)] > 0;
-      std::sort(pulls.begin(), pulls.end());
-      std::fprintf(stderr,
-                   "implicit contacts: %zu held, %zu let go (pull/mg median %.3g, max %.3g), %zu caught (%d of them let go "
-                   "before in this step), %d held while pulling\n",
-                   held, held + k.first_contact - after_let_go, pulls.empty() ? 0.0 : pulls[pulls.size() / 2],
-                   pulls.empty() ? 0.0 : pulls.back(), k.constraints.size() - after_let_go, again, held_pulling);
-    }
-    return u;
+    return held && !barrier_contact ? held->update(grad, x) : ContactUpdate{};
   };
   Points f;
   newton_solve(body, forces, x_start, k, h, t_new, settings, ws, x, f, stats, update_contacts);
-  if (collisions) {  // the fail-safe: what is still inside is projected out
-    NodeConstraints found;
-    detect(found);
-    for (const NodeConstraint& c : found)
-      if (!constrained[static_cast<std::size_t>(c.node)]) x.row(c.node) = x_proj.row(c.node);
-    add_contacts(x_proj, found);
-  }
+  if (held) held->project_remaining(x);  // the fail-safe: what is still inside is projected out
 
   // v(n+1) = (x(n+1) - x(n)) / h; contacts keep their prescribed normal velocity (the projection
   // onto the body is a position fix, not a velocity). Their constraint forces are kept as the

@@ -231,6 +231,9 @@ const FieldTable<SolidSpec>& material_fields() {
                       "state (see below)"},
       {.key = "compression_limit", .member = at<S>([](auto& s) -> auto& { return s.model.compression_limit; }), .range = {0, 1, true, true},
        .description = "`neo_hookean`, `stvk`: singular value below which the model is extended"},
+      {.key = "compression_stiffness", .member = at<S>([](auto& s) -> auto& { return s.model.compression_stiffness; }), .range = {0, 1, true, false},
+       .description = "`rotated_linear`, `corotated`: the modulus where a principal strain is negative, as a fraction of "
+                      "that where it is positive (1: ITF04's model)"},
       {.key = "hardening_deformation", .member = at<S>([](auto& s) -> auto& { return s.model.hardening_deformation; }), .range = {0, 1, true, true},
        .description = "`spline`: strain where stiffening ends"},
       {.key = "hardening_strength", .member = at<S>([](auto& s) -> auto& { return s.model.hardening_strength; }), .range = {1, 1e3},
@@ -442,6 +445,8 @@ const FieldTable<ClothSpec>& cloth_material_fields() {
        .expected = "a Poisson's ratio in (-1, 0.5)", .description = "in-plane Poisson's ratio"},
       {.key = "compression_limit", .member = at<S>([](auto& s) -> auto& { return s.model.compression_limit; }), .range = {0, 1, true, true},
        .description = "`neo_hookean`, `stvk`: as for solids"},
+      {.key = "compression_stiffness", .member = at<S>([](auto& s) -> auto& { return s.model.compression_stiffness; }), .range = {0, 1, true, false},
+       .description = "`rotated_linear`, `corotated`: as for solids; cloth buckles rather than shortens, so garments take about 0.01-0.1"},
       {.key = "hardening_deformation", .member = at<S>([](auto& s) -> auto& { return s.model.hardening_deformation; }), .range = {0, 1, true, true},
        .description = "`spline`: as for solids"},
       {.key = "hardening_strength", .member = at<S>([](auto& s) -> auto& { return s.model.hardening_strength; }), .range = {1, 1e3},

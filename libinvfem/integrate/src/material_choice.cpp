@@ -21,7 +21,8 @@ const char* model_kind_name(ModelKind kind) {
 
 IsotropicModel make_isotropic_model(const MaterialChoice& c) {
   const Lame lame = lame_from_young_poisson(c.young, c.poisson);
-  IsotropicModel model = RotatedLinear{lame.mu, lame.lambda};
+  const RotatedLinear rotated{lame.mu, lame.lambda, c.compression_stiffness};
+  IsotropicModel model = rotated;
   switch (c.model) {
     case ModelKind::RotatedLinear:
       break;
@@ -45,7 +46,7 @@ IsotropicModel make_isotropic_model(const MaterialChoice& c) {
       break;
     }
     case ModelKind::Corotated:
-      model = Corotated{{lame.mu, lame.lambda}};
+      model = Corotated{rotated};
       break;
     case ModelKind::MassSpring:
       throw std::invalid_argument("the mass_spring baseline has no isotropic model (its springs are built instead)");

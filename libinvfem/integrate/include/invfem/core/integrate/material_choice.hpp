@@ -14,6 +14,7 @@ struct MaterialChoice {
   double young = 1e5;  // [Pa]
   double poisson = 0.3;
   double compression_limit = NeoHookean{}.compression_limit;  // NeoHookean, StVK: extension threshold
+  double compression_stiffness = RotatedLinear{}.compression;  // RotatedLinear, Corotated: c
   double hardening_deformation = SplineModel{}.t;             // Spline: t
   double hardening_strength = SplineModel{}.r;                // Spline: r
 };

@@ -337,12 +337,13 @@ void newton_solve(const Body& body, const std::vector<Force*>& forces, const Poi
 // the force that stops its approach plus gravity's share), appended to k.sliding.
 void add_barrier_friction(const BodyBarrier& barrier, const Body& body, const std::vector<char>& constrained,
                           const ImplicitWorkspace& ws, double h, Contacts& k) {
+  const double gravity = body.gravity.norm();
   for (const BodyGap& g : barrier.gaps()) {
     if (g.friction <= 0 || barrier.left_out(g.node) || constrained[static_cast<std::size_t>(g.node)]) continue;
     const double approach = std::max(0.0, (g.velocity - body.v.row(g.node).transpose()).dot(g.normal));
     const double lagged = ws.normal_force(g.node) > 0
                               ? ws.normal_force(g.node)
-                              : std::min(barrier.normal_force(g), stopping_force(body, g.node, approach, h));
+                              : std::min(barrier.normal_force(g), stopping_force(body, g.node, approach, h, gravity));
     NodeConstraint c{g.node, NodeConstraint::Kind::Normal, g.normal, g.velocity, g.friction};
     k.sliding.push_back(c);
     k.sliding_friction.push_back(g.friction * lagged);
@@ -426,7 +427,9 @@ StepStats implicit_step(Body& body, const std::vector<Force*>& forces, Collision
   // contacts pulled off let go and nodes now inside the body are projected and held (ActiveSet).
   ws.x_hat = x_start + h * v_tilde;
   std::optional<ActiveSet> held;
-  if (collisions) held.emplace(ActiveSet::Step{body, *collisions, x_start, h, t_new}, k, constrained, v_tilde, ws, stats);
+  if (collisions)
+    held.emplace(ActiveSet::Step{body, *collisions, x_start, h, t_new, body.gravity.norm()}, k, constrained, v_tilde,
+                 ws, stats);
   auto update_contacts = [&](const Points& grad) {
     return held && !barrier_contact ? held->update(grad, x) : ContactUpdate{};
   };

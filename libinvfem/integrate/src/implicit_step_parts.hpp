@@ -45,9 +45,9 @@ template <class Visit> void for_each_friction(const Contacts& k, Visit&& visit) 
 bool debug_contacts();
 
 // The normal force a new contact's friction is lagged on [N]: the force that stops its approach
-// [m/s] within the step of length h, plus gravity's share.
-inline double stopping_force(const Body& body, int node, double approach, double h) {
-  return body.mass(node) * (approach / h + body.gravity.norm());
+// [m/s] within the step of length h, plus gravity's share (gravity: |g| [m/s^2]).
+inline double stopping_force(const Body& body, int node, double approach, double h, double gravity) {
+  return body.mass(node) * (approach / h + gravity);
 }
 
 // What an update of the contact set did: changed the set, and moved x (caught nodes projected onto
@@ -69,6 +69,7 @@ class ActiveSet {
     CollisionProcessor& collisions;
     const Points& x_start;
     double h, t_new;
+    double gravity;  // |g| [m/s^2]
   };
   ActiveSet(const Step& step, Contacts& k, std::vector<char>& constrained, Points& v_tilde, ImplicitWorkspace& ws,
             StepStats& stats);

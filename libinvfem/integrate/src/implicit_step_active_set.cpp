@@ -33,7 +33,8 @@ bool ActiveSet::add(const NodeConstraints& found, Points& x) {
     const Vec3 vn = body.v.row(c.node).transpose();
     const double approach = std::max(0.0, c.velocity.dot(c.normal) - vn.dot(c.normal));
     const double lagged =
-        ws_.normal_force(c.node) > 0 ? ws_.normal_force(c.node) : stopping_force(body, c.node, approach, step_.h);
+        ws_.normal_force(c.node) > 0 ? ws_.normal_force(c.node)
+                                     : stopping_force(body, c.node, approach, step_.h, step_.gravity);
     c.friction_charged = 0;
     x.row(c.node) = x_proj_.row(c.node);
     v_tilde_.row(c.node) = (vn + (c.velocity.dot(c.normal) - vn.dot(c.normal)) * c.normal).transpose();
@@ -65,7 +66,7 @@ bool ActiveSet::let_go(const Points& grad) {
     const double g_n = grad.row(c.node).dot(c.normal.transpose());
     if (count >= kMaxReleases && g_n < 0) ++held_pulling_;
     if (count < kMaxReleases && g_n < 0) {
-      if (debug_contacts()) pulls_.push_back(-g_n / (h * h) / (body.mass(c.node) * body.gravity.norm()));
+      if (debug_contacts()) pulls_.push_back(-g_n / (h * h) / (body.mass(c.node) * step_.gravity));
       released = true;
       ++count;
       constrained_[static_cast<std::size_t>(c.node)] = 0;

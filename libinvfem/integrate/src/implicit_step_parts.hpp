@@ -1,7 +1,8 @@
 #pragma once
-// The implicit step's parts shared by its files (implicit_step.cpp: the step and its Newton loop;
-// implicit_step_friction.cpp: the friction potential; implicit_step_linear_solve.cpp: the Newton
-// system's solve; implicit_step_active_set.cpp: the held body contacts). Internal to the
+// The implicit step's parts shared by its files (implicit_step.cpp: the step;
+// implicit_step_newton.cpp: its Newton loop; implicit_step_potential.cpp: E, its gradient and
+// Hessian; implicit_step_friction.cpp: the friction potential; implicit_step_linear_solve.cpp: the
+// Newton system's solve; implicit_step_active_set.cpp: the held body contacts). Internal to the
 // integrate part: no header outside src/ includes it.
 #include <cstddef>
 #include <vector>
@@ -45,9 +46,9 @@ template <class Visit> void for_each_friction(const Contacts& k, Visit&& visit) 
 bool debug_contacts();
 
 // The normal force a new contact's friction is lagged on [N]: the force that stops its approach
-// [m/s] within the step of length h, plus gravity's share.
-inline double stopping_force(const Body& body, int node, double approach, double h) {
-  return body.mass(node) * (approach / h + body.gravity.norm());
+// [m/s] within the step of length h, plus gravity's share (gravity: |g| [m/s^2]).
+inline double stopping_force(const Body& body, int node, double approach, double h, double gravity) {
+  return body.mass(node) * (approach / h + gravity);
 }
 
 // What an update of the contact set did: changed the set, and moved x (caught nodes projected onto
@@ -69,6 +70,7 @@ class ActiveSet {
     CollisionProcessor& collisions;
     const Points& x_start;
     double h, t_new;
+    double gravity;  // |g| [m/s^2]
   };
   ActiveSet(const Step& step, Contacts& k, std::vector<char>& constrained, Points& v_tilde, ImplicitWorkspace& ws,
             StepStats& stats);
@@ -110,10 +112,46 @@ void add_friction_gradient(const Contacts& k, const Points& x, const Points& x_s
 // The friction Hessian of one contact, divided by mu lambda (see the definition).
 Mat3 friction_hessian(const Slip& sl, const Vec3& last_slip, const Mat3& A_ii, const Vec3& g);
 
+// The incremental potential (implicit_step_potential.cpp). f = M g + the elastic forces at the
+// forces' current evaluation.
+void total_force(const Body& body, const std::vector<Force*>& forces, Points& f);
+// The forces, the body barrier and the contact potential at x.
+void evaluate(const std::vector<Force*>& forces, const Contacts& k, const Points& x, double t);
+// x was placed outside the line search (the first iterate, caught contacts): the barrier forces
+// admit it (Force::admit) before it is evaluated.
+void admit_and_evaluate(const std::vector<Force*>& forces, const Contacts& k, const Points& x, double t);
+// E(x) of the header (plus h^2 times the friction potential) at the forces' current evaluation
+// (they must be evaluated at x).
+double incremental_potential(const Body& body, const std::vector<Force*>& forces, const Contacts& k,
+                             const Points& x, const Points& x_start, double h, ImplicitWorkspace& ws);
+// grad E = M (x - x^) - h^2 f + h C (x - x(n)) + h^2 grad D, with f = M g + elastic forces at x.
+void potential_gradient(const Body& body, const Contacts& k, const Points& x, const Points& x_start, const Points& f,
+                        double h, ImplicitWorkspace& ws, Points& grad);
+// A = M + h^2 (K(x) + hess D) + h C and its block-Jacobi inverse (see the definition); reuse: the
+// stiffness of the last assembly, only the friction blocks formed again at x.
+void assemble(const Body& body, const std::vector<Force*>& forces, Contacts& k, const Points& x,
+              const Points& x_start, double h, bool reuse, ImplicitWorkspace& ws);
+
 // The Newton direction: ws.dir = d with S A S d = S rhs on the free subspace of `fixed`, by the
 // settings' linear solver (ws.A, ws.contact_hessians and ws.block_inverse assembled); adds its CG
 // iterations to stats (implicit_step_linear_solve.cpp).
 void solve_newton_system(const NodeConstraints& fixed, const Points& x, bool first_iteration, double g_norm, double g0,
                          const ImplicitSettings& settings, ImplicitWorkspace& ws, StepStats& stats);
+
+// What the Newton loop reads of the step: the body and its forces, x(n), the contacts (k.fixed
+// follows the set's updates), h and the step's end time, the workspace (ws.x_hat set).
+struct NewtonStep {
+  const Body& body;
+  const std::vector<Force*>& forces;
+  const Points& x_start;
+  Contacts& k;
+  double h, t_new;
+  ImplicitWorkspace& ws;
+};
+// Newton's method on E from the iterate x (implicit_step_newton.cpp). `held`: the held contacts,
+// updated in the loop, or null. Adds its iterations to stats; leaves the forces evaluated at the
+// final x and f = the total force.
+void newton_solve(const NewtonStep& s, const ImplicitSettings& settings, ActiveSet* held, Points& x, Points& f,
+                  StepStats& stats);
 
 }  // namespace invfem::implicit_detail

@@ -1,10 +1,8 @@
 #include "invfem/core/world/world.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <limits>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <utility>
@@ -154,10 +152,17 @@ double World::script_time(double t) const {
   return d > 0 ? std::max(0.0, t - d) : t;
 }
 
-bool World::settling() const {
-  const double d = settings_.settle.duration;
-  return time_ < d - 1e-12 * std::max(1.0, d);
-}
+namespace {
+// Times within the rounding of a sum of steps of `end` are at `end` (the frame's or the settle's
+// end): 1e-12 relative, absolute below 1 s.
+double rounding(double end) { return 1e-12 * std::max(1.0, end); }
+// t is before `end` by more than rounding.
+bool before(double t, double end) { return t < end - rounding(end); }
+// t is at `end` within rounding.
+bool lands_on(double t, double end) { return std::abs(t - end) <= rounding(end); }
+}  // namespace
+
+bool World::settling() const { return before(time_, settings_.settle.duration); }
 
 void World::place_bodies(double t, bool held) {
   for (const auto& k : kinematic_) {
@@ -166,96 +171,6 @@ void World::place_bodies(double t, bool held) {
     else
       k->move_to(script_time(t));
   }
-}
-
-NodeConstraints World::constraints_of(std::size_t k, double dt) const {
-  const SimObject& o = objects_[k];
-  NodeConstraints out = o.pin_constraints(script_time(time_ + dt), dt);
-  if (o.attachments.empty()) return out;
-  // An attached node lands on its target in the solid at t + dt (the solids have stepped); a
-  // node also pinned keeps its pin.
-  std::vector<char> held(static_cast<std::size_t>(o.body.x.rows()), 0);
-  for (const NodeConstraint& c : out) held[static_cast<std::size_t>(c.node)] = 1;
-  for (std::size_t g = 0; g < o.attachments.size(); ++g) {
-    const Points& xs = objects_[static_cast<std::size_t>(attached_to_[k][g])].body.x;
-    for (const Attachment& a : o.attachments[g].vertices) {
-      if (held[static_cast<std::size_t>(a.node)]) continue;
-      held[static_cast<std::size_t>(a.node)] = 1;
-      NodeConstraint c;
-      c.node = a.node;
-      c.kind = NodeConstraint::Kind::Full;
-      c.velocity = (attachment_target(a, xs) - o.body.x.row(a.node).transpose()) / dt;
-      out.push_back(c);
-    }
-  }
-  return out;
-}
-
-namespace {
-std::string substep_message(double dt, double substeps, long long limit) {
-  char buf[200];
-  std::snprintf(buf, sizeof buf, "about %.3g steps of %.3g s, more than the limit of %lld", substeps, dt, limit);
-  return buf;
-}
-}  // namespace
-
-SubstepLimitError::SubstepLimitError(double dt_, double substeps_, long long limit_)
-    : std::runtime_error(substep_message(dt_, substeps_, limit_)), dt(dt_), substeps(substeps_), limit(limit_) {}
-
-double World::step_size() const {
-  double dt = settings_.max_dt;
-  if (settings_.integrator == Integrator::ITF04)
-    for (const auto& o : objects_) dt = std::min(dt, stable_time_step(o.body, o.force_pointers()));
-  return dt;
-}
-
-double World::substeps_for(double duration) const {
-  return std::max(1.0, std::ceil(duration / step_size() - 1e-9));
-}
-
-ContactPotential* World::contact_potential(std::size_t k) {
-  for (const auto& p : passes_)
-    if (ContactPotential* c = p->contact_potential(objects_[k], k)) return c;
-  return nullptr;
-}
-
-ImplicitSettings World::implicit_settings(const SimObject& o) const {
-  ImplicitSettings s = settings_.implicit;
-  if (s.preconditioner == Preconditioner::Auto) s.preconditioner = o.auto_preconditioner;
-  return s;
-}
-
-double World::step_motion_limit() const {
-  double limit = settings_.max_step_motion;
-  for (const auto& p : passes_) limit = std::min(limit, p->step_motion_limit(objects_));
-  return limit;
-}
-
-bool World::motion_bounded(double limit) const {
-  if (std::isfinite(limit) || (collisions_ && std::isfinite(collisions_->step_motion_limit()))) return true;
-  for (const auto& k : kinematic_)
-    if (std::isfinite(k->step_motion_limit())) return true;
-  return false;
-}
-
-StepMotion World::step_motion(double dt, double limit, const std::vector<Points>& kinematic_start, bool held) {
-  StepMotion worst;
-  auto consider = [&](double motion, double bound) {
-    if (motion / bound > worst.ratio) worst = {motion / bound, motion, bound};
-  };
-  const double node_limit = collisions_ ? std::min(limit, collisions_->step_motion_limit()) : limit;
-  for (const SimObject& o : objects_) {
-    const double speed = o.body.v.rows() > 0 ? o.body.v.rowwise().norm().maxCoeff() : 0.0;
-    consider(speed * dt + 0.5 * o.body.gravity.norm() * dt * dt, node_limit);
-  }
-  place_bodies(time_ + dt, held);
-  for (std::size_t k = 0; k < kinematic_.size(); ++k) {
-    const TriangleSurface* s = kinematic_[k]->surface();
-    if (s && s->x.rows() > 0 && s->x.rows() == kinematic_start[k].rows())
-      consider((s->x - kinematic_start[k]).rowwise().norm().maxCoeff(),
-               std::min(limit, kinematic_[k]->step_motion_limit()));
-  }
-  return worst;
 }
 
 namespace {
@@ -284,34 +199,14 @@ class SettleStep {
 }  // namespace
 
 void World::advance_to(double t_end, FrameReport& report) {
-  const double motion_limit = step_motion_limit();
-  const bool bounded = motion_bounded(motion_limit);
-  double bounded_dt = std::numeric_limits<double>::infinity();  // the frame's shortened step, once one was
-  std::vector<Points> x_start, kinematic_start, x_before_passes;
-  long long taken = 0;
-  int halvings = 0;  // the frame's retried steps so far (WorldSettings::max_step_retries)
+  FrameSteps frame;
+  frame.motion_limit = step_motion_limit();
+  frame.bounded = motion_bounded(frame.motion_limit);
   for (ImplicitWorkspace& ws : implicit_) ws.restart_preconditioner();
   report.object_seconds.resize(objects_.size(), 0.0);
-  auto since = [](std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  };
-  // The number of equal steps of at most dt over what is `left` of the frame (+inf for dt = 0),
-  // and whether `steps` more after `before` taken stay within the substep limit.
-  auto steps_over = [](double left, double dt) { return std::ceil(left / dt - 1e-9); };
-  auto within_limit = [&](long long before, double steps) {
-    return settings_.max_substeps <= 0 ||
-           static_cast<double>(before) + steps <= static_cast<double>(settings_.max_substeps);
-  };
-  // The length of equal steps of at most dt over what is `left` of the frame; SubstepLimitError
-  // (before any of them is taken) when they would pass the substep limit.
-  auto equal_steps = [&](double left, double dt) {
-    const double steps = steps_over(left, dt);
-    if (!within_limit(taken, steps)) throw SubstepLimitError(dt, static_cast<double>(taken) + steps, settings_.max_substeps);
-    return left / steps;
-  };
   // Land exactly on t_end: the steps of a frame are equal, each within every object's stable
   // step (ITF04's scheme takes a variable dt).
-  while (time_ < t_end - 1e-12 * std::max(1.0, t_end)) {
+  while (before(time_, t_end)) {
     // A settle step (WorldSettings::settle) starts from rest, the bodies held; the frame's steps
     // up to the settle's end are equal, and so are those after it.
     const bool settle = settling();
@@ -319,131 +214,26 @@ void World::advance_to(double t_end, FrameReport& report) {
     if (settle) settle_step.emplace(objects_, settings_.settle);
     const double stop = settle ? std::min(t_end, settings_.settle.duration) : t_end;
     const double left = stop - time_;
-    double dt = equal_steps(left, std::min({step_size(), left, bounded_dt}));
+    double dt = equal_steps(frame, left, std::min({step_size(), left, frame.bounded_dt}));
     report.colliding_nodes = 0;
-    if (!passes_.empty() || bounded) {
-      kinematic_start.clear();
-      for (const auto& k : kinematic_) kinematic_start.push_back(k->surface() ? k->surface()->x : Points());
-    }
-    if (bounded) {
-      // Motion-bounded steps (WorldSettings::max_step_motion): equal shorter steps over what is
-      // left of the frame, each moving at most the limit. A motion that does not shrink with the
-      // step (a discontinuous body) stops at the substep limit, or after 32 tries (0.9^32 = 0.034).
-      const StepMotion first = step_motion(dt, motion_limit, kinematic_start, settle);
-      StepMotion m = first;
-      for (int tries = 0; m.ratio > 1 && tries < 32; ++tries) {
-        dt = equal_steps(left, dt * std::min(0.9, 1 / m.ratio));
-        m = step_motion(dt, motion_limit, kinematic_start, settle);
-      }
-      if (first.ratio > 1) {
-        bounded_dt = dt;  // the frame's later steps start from it (each is checked again)
-        ++report.motion_limited_steps;
-        if (report.step_motion_limit == 0 || first.ratio > report.largest_step_motion / report.step_motion_limit) {
-          report.largest_step_motion = first.motion;
-          report.step_motion_limit = first.limit;
-        }
-      }
-    }
-    ++taken;
-    // A step that may be retried starts from a snapshot of the world and of the report.
-    const bool may_retry = !passes_.empty() && halvings < settings_.max_step_retries;
-    StateWriter before;
-    FrameReport report_before;
-    if (may_retry) {
-      save_state(before);
-      report_before = report;
-    }
-    if (!passes_.empty()) {
-      x_start.clear();
-      for (const auto& o : objects_) x_start.push_back(o.body.x);
-    }
+    std::vector<Points> kinematic_start;
+    if (!passes_.empty() || frame.bounded) kinematic_start = kinematic_surfaces();
+    if (frame.bounded) dt = bound_step_motion(frame, left, dt, kinematic_start, settle, report);
+    ++frame.taken;
+    StepStart start = start_step(frame, report);
     // 1. Kinematic bodies.
     place_bodies(time_ + dt, settle);
     // 2. The objects, stage by stage.
-    for (std::size_t stage = 0; stage < stages_.size(); ++stage) {
-      if (stage > 0 && collisions_) {  // the earlier stages at t + dt, for this one (one-way coupling)
-        const auto t0 = std::chrono::steady_clock::now();
-        for (auto& o : objects_)
-          if (o.stage < stages_[stage]) o.refresh_surface();
-        collisions_->earlier_stages_stepped(objects_, stages_[stage], time_ + dt, dt);
-        report.coupling_seconds += since(t0);
-      }
-      for (std::size_t k = 0; k < objects_.size(); ++k) {
-        SimObject& o = objects_[k];
-        if (o.stage != stages_[stage]) continue;
-        const auto t0 = std::chrono::steady_clock::now();
-        if (collisions_) collisions_->begin_object(o);
-        const NodeConstraints held = constraints_of(k, dt);
-        const StepStats s =
-            settings_.integrator == Integrator::ITF04
-                ? newmark_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, settings_.cg,
-                               newmark_[k])
-                : implicit_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, implicit_settings(o),
-                                implicit_[k], contact_potential(k));
-        report.object_seconds[k] += since(t0);
-        report.cg_iterations += s.cg_iterations;
-        report.cg_all_converged = report.cg_all_converged && s.cg_converged;
-        report.cg_condition = std::max(report.cg_condition, s.cg_condition);
-        report.colliding_nodes += s.colliding_nodes;
-        report.newton_iterations += s.newton_iterations;
-        if (!s.newton_converged) {
-          ++report.newton_capped;
-          report.newton_worst_residual = std::max(report.newton_worst_residual, s.newton_residual);
-        }
-      }
-    }
+    step_objects(dt, report);
     // 3. After-step passes, on refreshed surfaces (without passes nothing reads the surfaces
-    // until the frame is done: they are refreshed once, below).
+    // until the frame is done: they are refreshed once, below); a step they leave unresolved is
+    // taken again.
     if (!passes_.empty()) {
-      for (auto& o : objects_) o.refresh_surface();
-      const StepPassInput input{x_start, kinematic_, kinematic_start, time_, dt};
-      x_before_passes.clear();
-      for (const auto& o : objects_) x_before_passes.push_back(o.body.x);
-      for (const auto& p : passes_) p->after_step(objects_, input, report);
-      // The forces were evaluated at the step's end (plastic flow included); an object the
-      // passes moved is evaluated again where it now is, as a checkpoint's restore would
-      // (resumed runs stay bit-identical).
-      // An object whose topology a pass changed (fracture) counts as moved; its implicit
-      // workspace forgets its per-node state (lagged contact forces, accelerations) now, so a
-      // checkpoint taken before the next step holds none, and rebuilds itself at that step, as the
-      // node count differs (implicit_step.cpp).
-      for (std::size_t k = 0; k < objects_.size(); ++k) {
-        const bool renumbered = objects_[k].body.x.rows() != x_before_passes[k].rows();
-        if (renumbered) {
-          implicit_[k].forget_nodes();
-          newmark_[k] = NewmarkWorkspace{};  // its pattern was the old nodes'
-        }
-        if (renumbered || objects_[k].body.x != x_before_passes[k]) {
-          for (auto& f : objects_[k].forces) f->update_positions(objects_[k].body.x, time_ + dt);
-          newmark_[k].forces_changed();
-        }
-      }
-      // Retried steps: back to the step's start, the rest of the frame in steps of half this one
-      // (within the substep limit); the report keeps the failed try's seconds only.
-      const double half = dt / 2;
-      if (may_retry && within_limit(taken - 1, steps_over(left, half)) &&
-          report.unresolved_steps > report_before.unresolved_steps) {
-        report_before.object_seconds = report.object_seconds;
-        report_before.coupling_seconds = report.coupling_seconds;
-        for (const PassRecord& p : report.passes) {
-          const bool had = report_before.find_pass(p.name) != nullptr;
-          PassRecord& kept = report_before.pass(p.name);
-          if (!had)  // the record's figures in their order, the failed try's counts dropped
-            for (const auto& [key, value] : p.figures) kept.figure(key) = 0;
-          if (p.find_figure("seconds")) kept.figure("seconds") = p.value("seconds");
-        }
-        report = std::move(report_before);
-        ++report.retried_steps;
-        StateReader back(before.bytes());
-        restore_state(back, time_);
-        --taken;
-        ++halvings;
-        bounded_dt = half;
-        continue;
-      }
+      run_passes(start.x, kinematic_start, dt, report);
+      if (retry_step(frame, start, left, dt, report)) continue;
     }
     time_ += dt;
-    if (settle && std::abs(time_ - stop) <= 1e-12 * std::max(1.0, stop)) time_ = stop;  // the settle's end exactly
+    if (settle && lands_on(time_, stop)) time_ = stop;  // the settle's end exactly
     ++report.substeps;
   }
   time_ = t_end;

@@ -201,10 +201,10 @@ TEST(Contact, BlockOnInclineSticksWhenFrictionExceedsTangent) {
     const SlopeRun r = run_incline(theta, 1.5 * std::tan(theta), 1.0, implicit);
     // Free sliding would cover g sin(theta) / 2 ~ 1.7-2.8 m in 1 s; landing and elastic shear
     // settle the block by ~1e-4 m at 35 deg.
-    // The implicit step's smoothed static friction (implicit_step.cpp, kStickSpeed = 1e-3 m/s,
-    // IPC's usual eps_v) with lagged normal forces lets the edge nodes of the elastic block creep
-    // below that speed: observed up to 1.2 mm in 1 s and 0.33 mm in the last half second (about
-    // 1e-3 of free sliding). A known gap: the ITF04 step holds it to 1e-4 m and 1e-5 m.
+    // The implicit step's smoothed static friction (implicit_step_friction.cpp, kStickSpeed =
+    // 1e-3 m/s, IPC's usual eps_v) with lagged normal forces lets the edge nodes of the elastic
+    // block creep below that speed: observed up to 1.2 mm in 1 s and 0.33 mm in the last half
+    // second (about 1e-3 of free sliding). A known gap: the ITF04 step holds it to 1e-4 m and 1e-5 m.
     RecordProperty(std::string(implicit ? "implicit_" : "itf04_") + "slip_" + std::to_string(static_cast<int>(deg)) + "deg",
                    sci(r.s.back()) + " m, last half " + sci(r.s.back() - r.s[r.s.size() / 2]) + " m");
     EXPECT_LT(std::abs(r.s.back()), implicit ? 5e-3 : 1e-3) << deg << " deg";
@@ -240,7 +240,7 @@ TEST(Contact, BlockOnInclineSlidesWithCoulombAcceleration) {
 }
 
 // A block creeping down a slope (mu just under tan(theta)): Newton converges because friction's
-// sliding Hessian is the exact one for nodes sliding steadily (implicit_step.cpp,
+// sliding Hessian is the exact one for nodes sliding steadily (implicit_step_friction.cpp,
 // friction_hessian); with the majorizer T / |s| for every sliding node the steps at
 // mu = 0.97 tan(theta) reach the cap of 12. Near the threshold the count follows round-off (the
 // batched SVD's reciprocal square roots, diagonalize_batch.cpp): observed up to 11, hence the

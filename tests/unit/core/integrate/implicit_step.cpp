@@ -110,7 +110,7 @@ TEST(ImplicitStep, StretchedBarConvergesAndReturnsToRest) {
 // The multigrid preconditioner (amg.hpp) changes how each Newton system is solved, not what: a
 // finer stretched bar (16 x 4 x 4 cells, 425 nodes: two levels) takes the same steps as under
 // block Jacobi, in a fraction of the CG iterations, its hierarchy built at the first step, refreshed
-// at each Newton iteration and rebuilt when stale or restarted (implicit_step.cpp).
+// at each Newton iteration and rebuilt when stale or restarted (implicit_step_linear_solve.cpp).
 TEST(ImplicitStep, MultigridPreconditionerTakesTheSameSteps) {
   TetMesh bar = cube_cells_mesh({16, 4, 4}, 0.025);
   Points x0 = bar.X;

@@ -1,7 +1,7 @@
 #pragma once
 // Coulomb friction for the normal impulse that velocity constraints absorbed in an implicit
 // solve (time-integration.md section 2, step 8), for the ITF04 step (the implicit step takes
-// friction as a potential inside its Newton solve instead, implicit_step.cpp).
+// friction as a potential inside its Newton solve instead, implicit_step_friction.cpp).
 //
 // For each Kind::Normal constraint c with friction mu > 0 and absorbed normal impulse J_N
 // [kg m/s] (> 0: pushing the node out of the body), the normal velocity change J_N / m less what

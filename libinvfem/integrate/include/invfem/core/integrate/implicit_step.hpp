@@ -89,10 +89,10 @@ namespace invfem {
 enum class LinearSolver { CG, Direct };
 
 // CG's preconditioner: block Jacobi (the inverse 3x3 diagonal blocks), or one V-cycle of the
-// smoothed-aggregation multigrid of amg.hpp (its reuse: implicit_step.cpp, kAmgMaxAge), or Auto:
-// block Jacobi until a solve needs more than kAutoProbeIterations, then the multigrid for the rest of
-// the frame (until restart_preconditioner). The World gives Auto to solids only: on cloth the
-// multigrid loses (world.hpp).
+// smoothed-aggregation multigrid of amg.hpp (its reuse: implicit_step_linear_solve.cpp,
+// kAmgMaxAge), or Auto: block Jacobi until a solve needs more than kAutoProbeIterations, then the
+// multigrid for the rest of the frame (until restart_preconditioner). The World gives Auto to
+// solids only: on cloth the multigrid loses (world.hpp).
 enum class Preconditioner { BlockJacobi, Amg, Auto };
 
 // How body contact enters the step: held nodes, the active set of constraints described above
@@ -133,7 +133,7 @@ struct ImplicitWorkspace {
   FilteredDirectSolver direct;      // LinearSolver::Direct: analyzed at its first use on this pattern
   Points x_hat, x_trial, grad, grad_trial, dir, rhs, scratch, product;
   AmgPreconditioner amg;            // Preconditioner::Amg
-  bool amg_rebuild = true;          // build the hierarchy at the next step (implicit_step.cpp)
+  bool amg_rebuild = true;          // build the hierarchy at the next step (implicit_step_linear_solve.cpp)
   bool amg_engaged = false;         // Preconditioner::Auto has switched to the multigrid
   int amg_age = 0;                  // steps solved with the hierarchy
   long amg_cg = 0, amg_solves = 0;  // this step's CG iterations and solves

@@ -7,7 +7,8 @@
 // order as each range is formed (the in-order plan); its set holds node lists only
 // (Force::stiffness_pattern, damping_pattern), so its 720 bytes a tet of element matrices are never
 // held, not even once to learn the pattern. The others form their whole set, which is gathered.
-// The implicit step assembles K and C with it (implicit_step.cpp), the ITF04 step C (newmark_step.cpp).
+// The implicit step assembles K and C with it (implicit_step_potential.cpp, implicit_step.cpp),
+// the ITF04 step C (newmark_step.cpp).
 #include <vector>
 
 #include "invfem/core/solve/block_sparse.hpp"

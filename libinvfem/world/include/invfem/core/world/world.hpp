@@ -354,7 +354,39 @@ class World {
   void restore_state(StateReader& in, double time);
 
  private:
-  void resynchronize(double time);
+  // advance_to is a loop of the stages below, one step of it at a time.
+
+  // What one advance_to call keeps from step to step.
+  struct FrameSteps {
+    double motion_limit = 0;  // step_motion_limit()
+    bool bounded = false;     // motion_bounded(motion_limit)
+    double bounded_dt = std::numeric_limits<double>::infinity();  // the frame's shortened step, once one was
+    long long taken = 0;      // the frame's steps so far (WorldSettings::max_substeps)
+    int halvings = 0;         // the frame's retried steps so far (WorldSettings::max_step_retries)
+  };
+  // What a step starts from: with after-step passes, the objects' node positions (StepPassInput);
+  // when the step may be retried, a snapshot of the world and of the frame's report.
+  struct StepStart {
+    std::vector<Points> x;
+    bool may_retry = false;
+    StateWriter state;
+    FrameReport report;
+  };
+
+  // The step's length (world_step_length.cpp). The number of equal steps of at most dt over what
+  // is `left` of the frame (+inf for dt = 0), and whether `steps` more after `before` taken stay
+  // within the substep limit.
+  static double steps_over(double left, double dt);
+  bool within_substep_limit(long long before, double steps) const;
+  // The length of equal steps of at most dt over what is `left` of the frame; SubstepLimitError
+  // (before any of them is taken) when they would pass the substep limit.
+  double equal_steps(const FrameSteps& frame, double left, double dt) const;
+  // Every kinematic body's surface vertices now (empty for a body without a surface).
+  std::vector<Points> kinematic_surfaces() const;
+  // dt shortened into equal steps over what is `left` of the frame, each moving at most its limit
+  // (WorldSettings::max_step_motion); counted in the report. Moves the bodies (step_motion).
+  double bound_step_motion(FrameSteps& frame, double left, double dt, const std::vector<Points>& kinematic_start,
+                           bool held, FrameReport& report);
   // True when some limit of the motion-bounded steps is finite (`limit`: step_motion_limit()).
   bool motion_bounded(double limit) const;
   // What would move furthest past its limit in a step of length dt from time_ (objects: their
@@ -362,9 +394,21 @@ class World {
   // moved to time_ + dt: their surfaces' vertices from `kinematic_start` against `limit` and their
   // own).
   StepMotion step_motion(double dt, double limit, const std::vector<Points>& kinematic_start, bool held);
+
+  // A retried step (world_retry.cpp): the step's start, and the retry after a pass left the
+  // step unresolved: back to that start, the frame's later steps half as long. True when retried.
+  StepStart start_step(const FrameSteps& frame, const FrameReport& report) const;
+  bool retry_step(FrameSteps& frame, StepStart& start, double left, double dt, FrameReport& report);
+
   // Every kinematic body at world time t, on the script clock: held at rest when `held` (a settle
   // step), else moved (KinematicBody::hold_at, move_to).
   void place_bodies(double t, bool held);
+
+  // The objects' steps (world_step_objects.cpp), stage 2: every stage's objects, after the
+  // earlier stages were handed to the collision processor as colliders (one-way coupling).
+  void step_objects(double dt, FrameReport& report);
+  void couple_earlier_stages(int stage, double dt, FrameReport& report);
+  void step_object(std::size_t k, double dt, FrameReport& report);
   // Pins and attachments of object k for a step of length dt from the current state.
   NodeConstraints constraints_of(std::size_t k, double dt) const;
   // settings_.implicit for object o: ImplicitSettings::preconditioner Auto is the object's
@@ -372,6 +416,14 @@ class World {
   ImplicitSettings implicit_settings(const SimObject& o) const;
   // The first pass's contact potential for object k's implicit step (StepPass::contact_potential).
   ContactPotential* contact_potential(std::size_t k);
+
+  // The after-step passes (world_after_step.cpp), stage 3, on refreshed surfaces; then the objects
+  // they moved are evaluated again at t (evaluate_moved; x_before: their positions before).
+  void run_passes(const std::vector<Points>& x_start, const std::vector<Points>& kinematic_start, double dt,
+                  FrameReport& report);
+  void evaluate_moved(const std::vector<Points>& x_before, double t);
+
+  void resynchronize(double time);
   void apply_state(StateReader& in);
 
   WorldSettings settings_;

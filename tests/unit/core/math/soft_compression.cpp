@@ -7,6 +7,8 @@
 
 #include <Eigen/Geometry>
 #include <random>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include "fd_check.hpp"
@@ -93,10 +95,18 @@ TEST(SoftCompression, PairTermMatchesDividedDifferenceAndItsLimit) {
   EXPECT_NEAR(dm, 1.3 * (1 + kC), 1e-9);
 }
 
-Eigen::VectorXd vec(const Mat32& F) { return Eigen::Map<const Eigen::VectorXd>(F.data(), 6); }
-Mat32 unvec32(const Eigen::VectorXd& x) { return Eigen::Map<const Mat32>(x.data()); }
-Eigen::VectorXd vec(const Mat3& F) { return Eigen::Map<const Eigen::VectorXd>(F.data(), 9); }
-Mat3 unvec3(const Eigen::VectorXd& x) { return Eigen::Map<const Mat3>(x.data()); }
+// P(F) and dP/dF (F a 3x3 or 3x2 matrix, vec column-major) against finite differences at F.
+template <class FMat> void check_stress_and_derivative(const RotatedLinear& m, const FMat& F, const std::string& what) {
+  const auto unvec = [](const Eigen::VectorXd& x) { return FMat(Eigen::Map<const FMat>(x.data())); };
+  const auto vec = [](const FMat& X) { return Eigen::VectorXd(X.reshaped()); };
+  auto e = [&](const Eigen::VectorXd& x) { return energy(m, unvec(x)); };
+  auto P = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return vec(energy_gradient(m, unvec(x))); };
+  auto dP = [&](const Eigen::VectorXd& x) -> Eigen::MatrixXd { return energy_hessian(m, unvec(x)); };
+  const auto rg = fd::check_gradient(e, P, vec(F));
+  EXPECT_TRUE(rg.pass) << "P(F), " << what << "\n" << rg.report;
+  const auto rh = fd::check_jacobian(P, dP, vec(F));
+  EXPECT_TRUE(rh.pass) << "dP/dF, " << what << "\n" << rh.report;
+}
 
 Mat3 random_rotation(std::mt19937& rng) {
   std::normal_distribution<double> n;
@@ -127,13 +137,9 @@ TEST(SoftCompression, TriangleStressAndDerivativeMatchFiniteDifferences) {
     Mat2 V;
     V << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
     const Mat32 F = random_rotation(rng).leftCols<2>() * s.asDiagonal() * V.transpose();
-    auto e = [&](const Eigen::VectorXd& x) { return energy(m, unvec32(x)); };
-    auto P = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return vec(energy_gradient(m, unvec32(x))); };
-    auto dP = [&](const Eigen::VectorXd& x) -> Eigen::MatrixXd { return energy_hessian(m, unvec32(x)); };
-    const auto rg = fd::check_gradient(e, P, vec(F));
-    EXPECT_TRUE(rg.pass) << "P(F) 3x2, s = " << s.transpose() << "\n" << rg.report;
-    const auto rh = fd::check_jacobian(P, dP, vec(F));
-    EXPECT_TRUE(rh.pass) << "dP/dF 3x2, s = " << s.transpose() << "\n" << rh.report;
+    std::ostringstream what;
+    what << "3x2, s = " << s.transpose();
+    check_stress_and_derivative(m, F, what.str());
     Eigen::SelfAdjointEigenSolver<Mat6x6> ep(energy_hessian(m, F, true));
     EXPECT_GE(ep.eigenvalues().minCoeff(), -1e-10);
   }
@@ -145,13 +151,9 @@ TEST(SoftCompression, TetStressAndDerivativeMatchFiniteDifferencesIncludingInver
   for (bool inverted : {false, true})
     for (const Vec3& s : spread_states<3>(10, inverted ? 31 : 32, inverted)) {
       const Mat3 F = random_rotation(rng) * s.asDiagonal() * random_rotation(rng).transpose();
-      auto e = [&](const Eigen::VectorXd& x) { return energy(m, unvec3(x)); };
-      auto P = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return vec(energy_gradient(m, unvec3(x))); };
-      auto dP = [&](const Eigen::VectorXd& x) -> Eigen::MatrixXd { return energy_hessian(m, unvec3(x)); };
-      const auto rg = fd::check_gradient(e, P, vec(F));
-      EXPECT_TRUE(rg.pass) << "P(F), s = " << s.transpose() << "\n" << rg.report;
-      const auto rh = fd::check_jacobian(P, dP, vec(F));
-      EXPECT_TRUE(rh.pass) << "dP/dF, s = " << s.transpose() << "\n" << rh.report;
+      std::ostringstream what;
+      what << "3x3, s = " << s.transpose();
+      check_stress_and_derivative(m, F, what.str());
       // An inverted or compressed element is still pushed back: P^ < 0 on the negative s.
       if (inverted) EXPECT_LT(m.psi_gradient<3>(s)(2), 0.0);
     }

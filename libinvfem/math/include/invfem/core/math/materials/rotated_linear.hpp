@@ -31,7 +31,8 @@ struct RotatedLinear {
   double lambda = 0;
   double compression = 1;  // c in (0, 1]: the modulus of a negative strain over that of a positive one
 
-  // k(e): the weight of a strain's square term.
+  // k(e): the weight of a strain's square term. With c = 1 each function below takes ITF04's
+  // formula as it was written, so scenes without the field keep their bits.
   double weight(double e) const { return e < 0 ? compression : 1.0; }
 
   template <int D> double psi(const VecD<D>& s) const {

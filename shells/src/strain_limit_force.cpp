@@ -30,6 +30,15 @@ StrainLimitForce::StrainLimitForce(TriangleRest rest, const StrainLimitParams& p
   psi_.assign(m, 0.0);
 }
 
+StrainLimit StrainLimitForce::model_of(std::size_t e) const {
+  StrainLimit m{stiffness_, admitted_[e], width_};
+  if (admitted_[e] > limit_) {
+    m.goal = limit_;
+    m.pull = kAdmittedPull * stiffness_;
+  }
+  return m;
+}
+
 void StrainLimitForce::update_positions(const Points& x, double time) {
   std::fill(admitted_.begin(), admitted_.end(), limit_);
   admit(x);
@@ -57,8 +66,9 @@ void StrainLimitForce::evaluate_at(const Points& x, double /*time*/) {
                                 std::to_string(rest_.node_area.size()) + " nodes");
   parallel_for_each(admitted_.size(), kGrain, [&](std::size_t e) {
     const Mat32 F = deformation_gradient(rest_, static_cast<int>(e), x);
-    const StrainLimit model{stiffness_, admitted_[e], width_};
-    active_[e] = largest_singular_value(F) > admitted_[e] - width_;
+    const StrainLimit model = model_of(e);
+    // An admitted triangle (its own limit past L) also feels the pull from L on.
+    active_[e] = largest_singular_value(F) > std::min(admitted_[e] - width_, limit_);
     if (!active_[e]) {
       psi_[e] = 0;
       G_[e].setZero();
@@ -91,7 +101,7 @@ bool StrainLimitForce::stiffness_matrices(ElementMatrices& out) const {
       out.set_upper<9>(k, Eigen::Matrix<double, 9, 9>::Zero());
       return;
     }
-    const StrainLimit model{stiffness_, admitted_[e], width_};
+    const StrainLimit model = model_of(e);
     const Mat6x6 H = energy_hessian(model, diag_[e], /*project_psd=*/true);
     out.set_upper<9>(k, element_matrix_from_dPdF<2>(H, shape_gradients<2>(rest_.Dm_inv[e]), rest_.area[e] * thickness_));
   });

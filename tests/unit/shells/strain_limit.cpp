@@ -53,14 +53,15 @@ TEST(StrainLimit, LogBarrierDerivativesMatchFiniteDifferencesAndVanishWhereItSta
   EXPECT_TRUE(std::isinf(log_barrier(-1e-3, gh)));
 }
 
-template <int D> void expect_model_derivatives_match_finite_differences(const std::vector<VecD<D>>& states) {
-  const StrainLimit m{1e5, kLimit, kWidth};
+template <int D>
+void expect_model_derivatives_match_finite_differences(const std::vector<VecD<D>>& states,
+                                                       const StrainLimit& m = StrainLimit{1e5, kLimit, kWidth}) {
   for (const VecD<D>& s : states) {
     auto f = [&](const Eigen::VectorXd& x) { return m.template psi<D>(VecD<D>(x)); };
     auto g = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return m.template psi_gradient<D>(VecD<D>(x)); };
     auto H = [&](const Eigen::VectorXd& x) -> Eigen::MatrixXd { return m.template psi_hessian<D>(VecD<D>(x)); };
     fd::Options o;
-    o.step_scale = 1e-3;  // every sample is at least 5e-3 from the limit and from L - width
+    o.step_scale = 1e-3;  // every sample is at least 5e-3 from the limit, from L - width and from the goal
     o.value_scale = 1.0;
     const fd::Result rg = fd::check_gradient(f, g, s, o), rh = fd::check_jacobian(g, H, s, o);
     EXPECT_TRUE(rg.pass) << s.transpose() << "\n" << rg.report;
@@ -71,6 +72,20 @@ template <int D> void expect_model_derivatives_match_finite_differences(const st
 TEST(StrainLimit, ModelDerivativesMatchFiniteDifferences) {
   expect_model_derivatives_match_finite_differences<2>({Vec2(1.08, 1.0), Vec2(1.09, 1.06), Vec2(1.07, 1.07), Vec2(1.095, 0.5)});
   expect_model_derivatives_match_finite_differences<3>({Vec3(1.08, 1.0, 0.9), Vec3(1.09, 1.06, 1.07)});
+}
+
+// An admitted stretch: its own limit 1.35, pulled back to L = 1.1 (the pull alone below 1.3, both
+// above; one and two stretches past the goal).
+TEST(StrainLimit, PulledModelDerivativesMatchFiniteDifferences) {
+  StrainLimit m{1e5, 1.35, kWidth};
+  m.goal = kLimit;
+  m.pull = 3e6;
+  expect_model_derivatives_match_finite_differences<2>({Vec2(1.2, 1.0), Vec2(1.25, 1.15), Vec2(1.32, 1.2)}, m);
+  expect_model_derivatives_match_finite_differences<3>({Vec3(1.2, 1.05, 0.9), Vec3(1.32, 1.15, 1.12)}, m);
+  EXPECT_EQ(m.psi<2>(Vec2(1.09, 1.0)), 0) << "nothing below the goal";
+  EXPECT_NEAR(m.psi<2>(Vec2(1.2, 1.0)), 0.5 * 3e6 * 0.1 * 0.1, 1e-6);
+  EXPECT_GT(m.psi_gradient<2>(Vec2(1.2, 1.0))(0), 0) << "P^ pulls the stretch back to the goal";
+  EXPECT_TRUE(std::isinf(m.psi<2>(Vec2(1.35, 1.0)))) << "and the admitted limit still holds";
 }
 
 TEST(StrainLimit, ModelIsZeroBelowItsWidthAndInfiniteAtTheLimit) {
@@ -119,7 +134,11 @@ TEST(StrainLimit, PastTheLimitTheEnergyIsInfiniteUntilAdmitted) {
   f.evaluate_at(x, 0);
   f.admit(x);  // the step placed it there itself: held from stretching further
   f.evaluate_at(x, 0);
-  EXPECT_EQ(f.elastic_energy(), 0) << "admitted a width below its own limit: no force yet";
+  EXPECT_TRUE(std::isfinite(f.elastic_energy())) << "admitted a width below its own limit";
+  EXPECT_GT(f.elastic_energy(), 0) << "and pulled back towards L";
+  const Points pull = elastic_forces_at(f, x);
+  EXPECT_LT(pull.col(0).dot(x.col(0) - x.col(0).mean() * Eigen::VectorXd::Ones(x.rows())), 0)
+      << "the pull shortens the stretched direction";
   for (double lim : f.admitted_limits()) EXPECT_NEAR(lim, 1.3 + kWidth, 1e-9);
   Points further = grid.x;
   further.col(0) *= 1.3 + kWidth;
@@ -147,10 +166,15 @@ struct HangingStrip {
   double worst_stretch = 0;
   int converged = 0, steps = 50;
 
-  explicit HangingStrip(bool limited) {
+  double start_stretch = 0, final_stretch = 0;
+
+  // start: the strip's initial stretch along its length (1: at rest).
+  explicit HangingStrip(bool limited, double start = 1.0) {
+    grid.x.col(1) *= start;
     const Lame l = lame_from_young_poisson(5e3, 0.3);
     MembraneParams mp{RotatedLinear{l.mu, l.lambda}, 1e-3, 0.01};
-    MembraneForce membrane(grid.x, grid.tris, mp);
+    const TriangleSurface rest = make_grid(0.2, 0.5, 4, 10, Vec3::Zero(), Vec3::UnitX(), -Vec3::UnitY());
+    MembraneForce membrane(rest.x, rest.tris, mp);
     StrainLimitForce limit(membrane.rest(), StrainLimitParams{kLimit, wave_modulus(plane_stress(mp.model)), 1e-3});
     Body body{grid.x, Points::Zero(grid.x.rows(), 3), lumped_triangle_masses(membrane.rest(), 0.3)};
     NodeConstraints pins;
@@ -164,6 +188,7 @@ struct HangingStrip {
     std::vector<Force*> forces = {&membrane};
     if (limited) forces.push_back(&limit);
     for (Force* f : forces) f->update_positions(body.x, 0);
+    start_stretch = largest_stretch(membrane.rest(), body.x);
     ImplicitSettings settings;
     settings.max_newton_iterations = 30;
     ImplicitWorkspace ws;
@@ -172,6 +197,7 @@ struct HangingStrip {
       converged += st.newton_converged;
       worst_stretch = std::max(worst_stretch, largest_stretch(membrane.rest(), body.x));
     }
+    final_stretch = largest_stretch(membrane.rest(), body.x);
   }
 };
 
@@ -183,6 +209,16 @@ TEST(StrainLimit, AHeavyHangingClothStopsBelowTheLimit) {
   EXPECT_EQ(limited.converged, limited.steps) << "Newton converges on the barrier";
   RecordProperty("stretch_free", std::to_string(free.worst_stretch));
   RecordProperty("stretch_limited", std::to_string(limited.worst_stretch));
+}
+
+// The same strip starting 30% stretched, where its membrane alone would hold it against gravity (a
+// state the step did not make: admitted), limited: the pull takes it back under the limit, where
+// the barrier then holds it.
+TEST(StrainLimit, AClothAdmittedPastTheLimitIsPulledBackUnderIt) {
+  const HangingStrip limited(true, 1.3);
+  EXPECT_GT(limited.start_stretch, 1.25) << "it starts past the limit";
+  EXPECT_LT(limited.final_stretch, kLimit);
+  RecordProperty("stretch_final", std::to_string(limited.final_stretch));
 }
 
 }  // namespace

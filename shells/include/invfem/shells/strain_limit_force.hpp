@@ -6,9 +6,10 @@
 //
 // A triangle found at or past its limit where the step places nodes itself (its first iterate, a
 // pin pulled it; contacts caught; the after-step collision layer stretched it) is held below its
-// own limit s + kAdmitMargin width (admit): it may not stretch much further, and its membrane pulls
-// it back. update_positions, at the step's end, sets every limit back to L before admitting, so the
-// limits follow from the positions and the force has no state to save.
+// own limit s + kAdmitMargin width (admit): it may not stretch much further, and a stiff quadratic
+// pull on its stretches above L (kAdmittedPull) draws it back under L, where the barrier alone
+// holds it again. update_positions, at the step's end, sets every limit back to L before admitting,
+// so the limits follow from the positions and the force has no state to save.
 //
 // Only the implicit integrator may take this force (its line search rejects +inf energies); a
 // triangle below L - width costs one 2x2 eigenvalue and nothing more.
@@ -17,6 +18,7 @@
 
 #include "invfem/core/integrate/force.hpp"
 #include "invfem/core/math/diagonalize.hpp"
+#include "invfem/core/math/materials/strain_limit.hpp"
 #include "invfem/core/math/triangle_kernel.hpp"
 
 namespace invfem {
@@ -59,8 +61,18 @@ class StrainLimitForce : public Force {
   // width, where the barrier starts, so that admitting it adds no force (a closer limit starts it
   // with the barrier's steepest stresses, which Newton's line search then spends its steps on).
   static constexpr double kAdmitMargin = 1.0;
+  // [kappa] the stiffness of an admitted triangle's pull back to L, k = kAdmittedPull kappa on
+  // (s_i - L)^2 / 2. Without it an admitted triangle feels nothing below its own limit, and each
+  // step's end admits it a width further (a ratchet: garments on moving bodies, whose contacts and
+  // after-step layer place nodes every step, crept to rubber). Tens of kappa outweigh a membrane
+  // and contact friction within a few steps; hundreds make the pulled triangles much stiffer than
+  // their neighbours, and Newton's iterations on the cloth then multiply.
+  static constexpr double kAdmittedPull = 30.0;
 
  private:
+  // Triangle e's model: the barrier at its admitted limit, with the pull to L when that is past L.
+  StrainLimit model_of(std::size_t e) const;
+
   std::string what_;
   TriangleRest rest_;
   double limit_, width_, stiffness_, thickness_;

@@ -5,9 +5,9 @@
 //
 //   Psi(s) = kappa sum_i b(L - s_i),   P^_i = -kappa b'(L - s_i) >= 0,   H = diag(kappa b''(L - s_i))
 //
-// zero for every s_i <= L - width and +inf from s_i = L on. P^ grows with s_i, so the pair blocks'
-// d_minus and d_plus and the out-of-plane terms P^_k / s_k are all >= 0: dP/dF is positive
-// semidefinite without clamping. Not a material: it has no rest stiffness and no finite wave speed
+// zero for every s_i <= L - width and +inf from s_i = L on (plus the pull below, where set). P^
+// grows with s_i, so the pair blocks' d_minus and d_plus and the out-of-plane terms P^_k / s_k are
+// all >= 0: dP/dF is positive semidefinite without clamping. Not a material: it has no rest stiffness and no finite wave speed
 // (wave_modulus is +inf), so only the implicit step, whose line search rejects a state past the
 // limit, may take it.
 #include <cmath>
@@ -24,20 +24,35 @@ struct StrainLimit {
   double stiffness = 0;  // kappa [Pa]
   double limit = 1.1;    // L: no principal stretch reaches it
   double width = 0.05;   // the barrier acts on stretches above L - width
+  // A pull back to a lower bound (a stretch admitted past the bound L0 it should keep, its own
+  // limit then above L0): pull/2 (s_i - L0)^2 for each s_i above goal = L0, none when goal is 0.
+  // Convex, C1 at L0, its P^_i >= 0 nondecreasing in s_i as the barrier's: dP/dF stays
+  // semidefinite without clamping.
+  double goal = 0;  // L0, or 0: no pull
+  double pull = 0;  // k [Pa]
 
   template <int D> double psi(const VecD<D>& s) const {
-    double sum = 0;
-    for (int i = 0; i < D; ++i) sum += log_barrier(limit - s(i), width);
-    return stiffness * sum;
+    double sum = 0, excess = 0;
+    for (int i = 0; i < D; ++i) {
+      sum += log_barrier(limit - s(i), width);
+      if (goal > 0 && s(i) > goal) excess += (s(i) - goal) * (s(i) - goal);
+    }
+    return stiffness * sum + 0.5 * pull * excess;
   }
   template <int D> VecD<D> psi_gradient(const VecD<D>& s) const {
     VecD<D> p;
-    for (int i = 0; i < D; ++i) p(i) = -stiffness * log_barrier_gradient(limit - s(i), width);
+    for (int i = 0; i < D; ++i) {
+      p(i) = -stiffness * log_barrier_gradient(limit - s(i), width);
+      if (goal > 0 && s(i) > goal) p(i) += pull * (s(i) - goal);
+    }
     return p;
   }
   template <int D> MatD<D> psi_hessian(const VecD<D>& s) const {
     MatD<D> H = MatD<D>::Zero();
-    for (int i = 0; i < D; ++i) H(i, i) = stiffness * log_barrier_hessian(limit - s(i), width);
+    for (int i = 0; i < D; ++i) {
+      H(i, i) = stiffness * log_barrier_hessian(limit - s(i), width);
+      if (goal > 0 && s(i) > goal) H(i, i) += pull;
+    }
     return H;
   }
   double wave_modulus() const { return std::numeric_limits<double>::infinity(); }

@@ -2,6 +2,7 @@
 // iterate's gradient after the contact set's update, the residual and its stopping rule (the
 // header's), the Newton direction, and the line search on E with the contact potential's step
 // filter.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -21,6 +22,21 @@ namespace {
 // A change that catches nodes moves them onto the body and reassembles: keeping the stiffness
 // across those too raises the worst capped residual where the contact set changes at every iterate.
 constexpr double kReuseContraction = 0.25;
+
+// The contact set settles near the end of a step: in the last fifth of its iterations (at least
+// its last), once an iterate's residual is within kSettledResidual tolerances, nothing more is
+// caught or let go, and Newton converges on the set it has. A set that still gains or loses a node
+// at every iterate (a node grazing the body, caught again after its one release elsewhere) would
+// otherwise keep a step from ever meeting the stopping rule, whose residual may already be under
+// the tolerance. What the settled set leaves inside a body is projected out after the loop
+// (ActiveSet::project_remaining), as at any cap. Settling at any residual leaves more to that
+// projection, which moves nodes without their friction: a cloth carried by a moving body then
+// slips on it.
+constexpr double kSettledResidual = 10;
+int settled_from(const ImplicitSettings& settings) {
+  const int n = settings.max_newton_iterations;
+  return std::max(1, n - std::max(1, n / 5));
+}
 
 // The update of the contact set at iterate `it`, x, and then the unfiltered grad E at x in ws.grad
 // and the total force in f. At the first x the forces are not evaluated yet, and the update
@@ -145,7 +161,10 @@ void newton_solve(const NewtonStep& s, const ImplicitSettings& settings, ActiveS
   double E_x = 0;
   bool E_x_known = false;
   for (int it = 0;; ++it) {
-    const ContactUpdate update = update_iterate(s, it, held, x, f);
+    // stats.newton_residual: the last iterate's (none at the first)
+    const bool settled =
+        it >= settled_from(settings) && stats.newton_residual <= kSettledResidual * settings.tolerance;
+    const ContactUpdate update = update_iterate(s, it, settled ? nullptr : held, x, f);
     if (update.changed) E_x_known = false;
     project_free(s.k.fixed, ws.grad);
     const double g_norm = std::sqrt(points_dot(ws.grad, ws.grad));

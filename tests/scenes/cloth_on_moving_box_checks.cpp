@@ -28,6 +28,20 @@ TEST(ClothOnMovingBox, RanFiniteWithoutFailSafeFailures) {
   for (std::size_t f = 0; f < unresolved.size(); ++f) EXPECT_EQ(unresolved[f], 0) << "frame " << f;
 }
 
+// The box's contacts come and go at every step (it slides, rises and turns under the cloth):
+// Newton's contact set settles near the end of a step (implicit_step_newton.cpp, settled_from), so
+// that most steps still converge. A set that changes to the last iterate leaves 18% of them capped.
+TEST(ClothOnMovingBox, MostStepsConverge) {
+  const std::vector<double> capped = stats_column(kOut / "stats.jsonl", "newton_capped");
+  const std::vector<double> steps = stats_column(kOut / "stats.jsonl", "substeps");
+  double c = 0, n = 0;
+  for (double v : capped) c += v;
+  for (double v : steps) n += v;
+  ASSERT_GT(n, 0);
+  EXPECT_LE(c, 0.15 * n) << c << " of " << n << " steps capped";
+  RecordProperty("capped_steps", std::to_string(c) + " of " + std::to_string(n));
+}
+
 TEST(ClothOnMovingBox, TheBodyIsWrittenAtItsInterpolatedPose) {
   // 30 fps output, 2 fps sequence: output frame 15 k shows key k exactly; frame 38 (t = 1.2667 s)
   // is at sequence time s = 2.5333, between keys 2 and 3.

@@ -24,11 +24,10 @@ namespace {
 constexpr double kReuseContraction = 0.25;
 
 // The contact set settles near the end of a step: in the last fifth of its iterations (at least
-// its last), once an iterate's residual is within kSettledResidual tolerances, nothing more is
+// its last), while the last iterate's residual is within kSettledResidual tolerances, nothing is
 // caught or let go, and Newton converges on the set it has. A set that still gains or loses a node
-// at every iterate (a node grazing the body, caught again after its one release elsewhere) would
-// otherwise keep a step from ever meeting the stopping rule, whose residual may already be under
-// the tolerance. What the settled set leaves inside a body is projected out after the loop
+// at every iterate (nodes grazing the body) would otherwise keep a step from ever meeting the
+// stopping rule, whose residual may already be under the tolerance. What the settled set leaves inside a body is projected out after the loop
 // (ActiveSet::project_remaining), as at any cap. Settling at any residual leaves more to that
 // projection, which moves nodes without their friction: a cloth carried by a moving body then
 // slips on it.

@@ -44,10 +44,10 @@
 // line search decreases). Converged: the stopping rule below met by an iterate whose update
 // changed nothing. A node let go once in a step stays held the next time it comes back
 // (kMaxReleases in the .cpp), so the set cannot cycle; in the last fifth of the allowed
-// iterations, once the residual is near the tolerance (settled_from, kSettledResidual in the
-// .cpp), it no longer changes at all, so a set still gaining a node at every iterate does not keep
-// Newton from converging. What is still inside when Newton stops is
-// projected out (positions only), as the ITF04 step does.
+// iterations, while the residual is near the tolerance (settled_from, kSettledResidual in the
+// .cpp), it does not change at all, so a set still gaining a node at every iterate does not keep
+// Newton from converging. What is still inside when Newton stops is projected out (positions
+// only), as the ITF04 step does.
 //
 // Barrier forces (a cloth's strain limit: Force::admissible, admit) have +inf energy outside their
 // admissible set. The first iterate moves its unconstrained nodes back towards x(n), halving, until

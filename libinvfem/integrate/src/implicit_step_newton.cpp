@@ -27,10 +27,10 @@ constexpr double kReuseContraction = 0.25;
 // its last), while the last iterate's residual is within kSettledResidual tolerances, nothing is
 // caught or let go, and Newton converges on the set it has. A set that still gains or loses a node
 // at every iterate (nodes grazing the body) would otherwise keep a step from ever meeting the
-// stopping rule, whose residual may already be under the tolerance. What the settled set leaves inside a body is projected out after the loop
-// (ActiveSet::project_remaining), as at any cap. Settling at any residual leaves more to that
-// projection, which moves nodes without their friction: a cloth carried by a moving body then
-// slips on it.
+// stopping rule, whose residual may already be under the tolerance. What the settled set leaves
+// inside a body is projected out after the loop (ActiveSet::project_remaining), as at any cap.
+// Settling at any residual leaves more to that projection, which moves nodes without their
+// friction: a cloth carried by a moving body then slips on it.
 constexpr double kSettledResidual = 10;
 int settled_from(const ImplicitSettings& settings) {
   const int n = settings.max_newton_iterations;

@@ -7,9 +7,9 @@
 //
 // zero for every s_i <= L - width and +inf from s_i = L on (plus the pull below, where set). P^
 // grows with s_i, so the pair blocks' d_minus and d_plus and the out-of-plane terms P^_k / s_k are
-// all >= 0: dP/dF is positive semidefinite without clamping. Not a material: it has no rest stiffness and no finite wave speed
-// (wave_modulus is +inf), so only the implicit step, whose line search rejects a state past the
-// limit, may take it.
+// all >= 0: dP/dF is positive semidefinite without clamping. Not a material: it has no rest
+// stiffness and no finite wave speed (wave_modulus is +inf), so only the implicit step, whose line
+// search rejects a state past the limit, may take it.
 #include <cmath>
 #include <limits>
 #include <stdexcept>

@@ -162,21 +162,19 @@ double largest_stretch(const TriangleRest& rest, const Points& x) {
 
 // A soft, heavy strip (rho g L / E = 30%) hanging from its top edge, 1 s at 50 steps a second.
 struct HangingStrip {
-  TriangleSurface grid = make_grid(0.2, 0.5, 4, 10, Vec3::Zero(), Vec3::UnitX(), -Vec3::UnitY());
-  double worst_stretch = 0;
+  TriangleSurface grid = make_grid(0.2, 0.5, 4, 10, Vec3::Zero(), Vec3::UnitX(), -Vec3::UnitY());  // rest shape
+  double worst_stretch = 0, start_stretch = 0, final_stretch = 0;
   int converged = 0, steps = 50;
-
-  double start_stretch = 0, final_stretch = 0;
 
   // start: the strip's initial stretch along its length (1: at rest).
   explicit HangingStrip(bool limited, double start = 1.0) {
-    grid.x.col(1) *= start;
     const Lame l = lame_from_young_poisson(5e3, 0.3);
     MembraneParams mp{RotatedLinear{l.mu, l.lambda}, 1e-3, 0.01};
-    const TriangleSurface rest = make_grid(0.2, 0.5, 4, 10, Vec3::Zero(), Vec3::UnitX(), -Vec3::UnitY());
-    MembraneForce membrane(rest.x, rest.tris, mp);
+    MembraneForce membrane(grid.x, grid.tris, mp);
     StrainLimitForce limit(membrane.rest(), StrainLimitParams{kLimit, wave_modulus(plane_stress(mp.model)), 1e-3});
-    Body body{grid.x, Points::Zero(grid.x.rows(), 3), lumped_triangle_masses(membrane.rest(), 0.3)};
+    Points x0 = grid.x;
+    x0.col(1) *= start;  // the top edge (y = 0) stays where it is pinned
+    Body body{x0, Points::Zero(grid.x.rows(), 3), lumped_triangle_masses(membrane.rest(), 0.3)};
     NodeConstraints pins;
     for (Eigen::Index i = 0; i < grid.x.rows(); ++i)
       if (grid.x(i, 1) > -1e-9) {

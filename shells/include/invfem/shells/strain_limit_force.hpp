@@ -58,8 +58,9 @@ class StrainLimitForce : public Force {
   // Per triangle: L, or s + kAdmitMargin width where admit found it at s past its limit.
   const std::vector<double>& admitted_limits() const { return admitted_; }
   // [width] how far below its own limit admit places a triangle found at or past its limit: a whole
-  // width, where the barrier starts, so that admitting it adds no force (a closer limit starts it
-  // with the barrier's steepest stresses, which Newton's line search then spends its steps on).
+  // width, where the barrier starts, so that admitting it adds no barrier force, only the pull
+  // below (a closer limit starts it with the barrier's steepest stresses, which Newton's line
+  // search then spends its steps on).
   static constexpr double kAdmitMargin = 1.0;
   // [kappa] the stiffness of an admitted triangle's pull back to L, k = kAdmittedPull kappa on
   // (s_i - L)^2 / 2. Without it an admitted triangle feels nothing below its own limit, and each

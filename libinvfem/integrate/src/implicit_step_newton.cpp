@@ -189,8 +189,10 @@ void newton_solve(const NewtonStep& s, const ImplicitSettings& settings, ActiveS
     const double slope = points_dot(ws.grad, ws.dir);
     if (!(slope < 0)) return;  // no descent left: stop, reported as not converged
     const double E0 = E_x_known ? E_x : incremental_potential(s.body, s.forces, s.k, x, s.x_start, h, ws);
-    // The step filter: no trial carries a contact pair through its separation.
-    const double alpha = s.k.potential ? s.k.potential->max_step(x, ws.dir) : 1.0;
+    // The step filter: no trial carries a contact pair through its separation, nor a force past
+    // its barrier (a strain limit).
+    double alpha = s.k.potential ? s.k.potential->max_step(x, ws.dir) : 1.0;
+    for (const Force* force : s.forces) alpha = std::min(alpha, force->max_step(x, ws.dir));
     if (!(alpha > 0)) return;  // a pair at its separation and closing: the fail-safe's
     const LineSearch ls = line_search(s, x, E0, slope, alpha, g_norm, settings, f);
     if (!ls.accepted && !ls.admissible) {  // even the smallest step crosses a barrier: stay at x

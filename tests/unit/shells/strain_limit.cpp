@@ -199,6 +199,44 @@ struct HangingStrip {
   }
 };
 
+// The step filter on random directions (stretching, shearing, rotating the grid's nodes): every
+// point of the segment up to the bound keeps every triangle under s0 + 0.9 (L - s0) (so inside
+// the limit), and the bound is not much shorter than the true first crossing of the limit.
+TEST(StrainLimit, StepFilterKeepsTheWholeSegmentInsideAndIsNotFarShort) {
+  std::mt19937 rng(7);
+  const TriangleSurface grid = make_grid(0.2, 0.2, 4, 4);
+  StrainLimitForce f = limit_on(grid);
+  Points x = grid.x;
+  x.col(0) *= 1.06;
+  x += random_points(x.rows(), 2e-4, rng);
+  f.update_positions(x, 0);
+  for (double lim : f.admitted_limits()) ASSERT_EQ(lim, kLimit) << "every triangle within the limit at the start";
+  const TriangleRest rest = make_triangle_rest(grid.x, grid.tris);
+  auto stretch = [&](const Points& y) { return largest_stretch(rest, y); };
+  int cut = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const Points dir = random_points(x.rows(), 0.01 * (1 + trial % 5), rng);
+    const double alpha = f.max_step(x, dir);
+    ASSERT_GE(alpha, 0);
+    ASSERT_LE(alpha, 1);
+    for (int k = 1; k <= 50; ++k) EXPECT_TRUE(f.admissible(x + (alpha * k / 50.0) * dir)) << trial << " " << k;
+    // Each triangle stays under its own target, so the largest stretch under the largest target.
+    EXPECT_LE(stretch(x + alpha * dir), stretch(x) + 0.9 * (kLimit - stretch(x)) + 1e-12);
+    if (alpha < 1) {
+      ++cut;
+      // The first crossing of the limit itself lies past the bound, and not by much: the bound
+      // stops at 90% of the gap, so at most about a tenth (the chords' shortfall adds a little).
+      double a = alpha, past = 1;  // the admissible part of the segment is an interval [0, a*)
+      for (int k = 0; k < 50; ++k) (f.admissible(x + (0.5 * (a + past)) * dir) ? a : past) = 0.5 * (a + past);
+      EXPECT_GT(a, alpha);
+      EXPECT_GT(alpha, 0.7 * a) << "trial " << trial;
+    }
+  }
+  EXPECT_GT(cut, 10) << "the directions reach the limit";
+  Points none = Points::Zero(x.rows(), 3);
+  EXPECT_EQ(f.max_step(x, none), 1.0) << "no motion: the whole step";
+}
+
 TEST(StrainLimit, AHeavyHangingClothStopsBelowTheLimit) {
   const HangingStrip free(false), limited(true);
   EXPECT_GT(free.worst_stretch, 1.2) << "the test's cloth must stretch past the limit without it";

@@ -41,6 +41,10 @@ class StrainLimitForce : public Force {
   void evaluate_at(const Points& x, double time) override;
   // Every triangle below its limit (a cheap 2x2 eigenvalue each).
   bool admissible(const Points& x) const override;
+  // The step filter: no triangle's largest stretch passes s0 + (1 - kFilterMargin)(limit - s0)
+  // along the segment (s0 its stretch at x), found per triangle from the convexity of the largest
+  // singular value of F(x + alpha dir), affine in alpha (stretch_step_bound).
+  double max_step(const Points& x, const Points& dir) const override;
   void admit(const Points& x) override;
   void add_elastic_forces(Points& f) const override { scatter_triangle_forces(rest_.tris, G_, f); }
   void add_damping_forces(const Points&, Points&) const override {}
@@ -69,6 +73,9 @@ class StrainLimitForce : public Force {
   // and contact friction within a few steps; hundreds make the pulled triangles much stiffer than
   // their neighbours, and Newton's iterations on the cloth then multiply.
   static constexpr double kAdmittedPull = 30.0;
+  // [gap] the share of a triangle's gap to its limit that the step filter leaves: a trial landing
+  // closer has the barrier's steepest energies, which the line search halves away again.
+  static constexpr double kFilterMargin = 0.1;
 
  private:
   // Triangle e's model: the barrier at its admitted limit, with the pull to L when that is past L.

@@ -118,6 +118,14 @@ class Force {
     return true;
   }
   virtual void admit(const Points& x) { (void)x; }
+  // The step filter of such a force: the largest fraction alpha in [0, 1] of dir such that every
+  // point of the segment from x (admissible) to x + alpha dir is admissible, with a margin, so that
+  // Newton's line search starts inside (a conservative bound; it may be shorter than the largest).
+  // 1 by default.
+  virtual double max_step(const Points& x, const Points& dir) const {
+    (void)x, (void)dir;
+    return 1.0;
+  }
 
   // Element matrices at the last update_positions / evaluate_at (element_matrices.hpp):
   // stiffness_matrices writes K_e, positive semidefinite, approximating -d f_e/d x (exact where no

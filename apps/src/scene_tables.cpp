@@ -129,9 +129,9 @@ const FieldTable<Scene>& self_collision_fields() {
   static const FieldTable<S> table({
       {.key = "enabled", .member = &S::self_collision_enabled, .description = "false: no self-collision pass at all"},
       {.key = "thickness", .member = at<S>([](auto& s) -> auto& { return s.self_collision.thickness; }), .unit = "m", .range = {1e-9, 1},
-       .description = "repulsion thickness: pairs closer than it at a step's start are pushed apart; below the "
-                      "rest distance of non-neighbouring parts, and below every surface's median edge length "
-                      "(checked at load)"},
+       .description = "repulsion thickness: pairs closer than it at a step's start are pushed apart (a cloth and "
+                      "a body's triangles: closer than half of it); below the rest distance of non-neighbouring "
+                      "parts, and below every surface's median edge length (checked at load)"},
       {.key = "ccd_distance", .member = at<S>([](auto& s) -> auto& { return s.self_collision.ccd_distance; }), .unit = "m", .range = {0, 1},
        .description = "the separation the CCD impulses and the impact zones keep, below `thickness`"},
       {.key = "friction", .member = at<S>([](auto& s) -> auto& { return s.self_collision.friction; }), .range = {0, 10},
@@ -460,8 +460,8 @@ const FieldTable<ClothSpec>& cloth_material_fields() {
       {.key = "damping", .member = at<S>([](auto& s) -> auto& { return s.params.damping; }), .unit = "s", .range = {0, 10},
        .description = "in-plane rotated damping"},
       {.key = "strain_limit", .member = at<S>([](auto& s) -> auto& { return s.params.strain_limit; }), .range = {1, 100},
-       .description = "no triangle stretches past this against its rest shape (pattern) within an implicit step; "
-                      "1: no limit; the `itf04` integrator takes none"},
+       .description = "no triangle stretches past this against its rest shape (pattern) within an implicit step "
+                      "(C-IPC's garments use 1.10); 1: no limit; the `itf04` integrator takes none"},
       {.key = "bending_stiffness", .member = at<S>([](auto& s) -> auto& { return s.params.bending.stiffness; }), .unit = "N m", .range = {0, 1e6},
        .description = "BMF03 hinge bending stiffness"},
       {.key = "bending_damping", .member = at<S>([](auto& s) -> auto& { return s.params.bending.damping; }), .unit = "N m s", .range = {0, 1e6},

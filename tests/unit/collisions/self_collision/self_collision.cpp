@@ -497,6 +497,28 @@ TEST(Repulsion, PushesCloseApproachingPairsApartAndLeavesFarOnesAlone) {
   EXPECT_LT((p1 - p0).norm(), 1e-12);
 }
 
+// Against a kinematic body's triangles a pair repels within kinematic_share h only: a cloth
+// 0.7 h above a body, sinking, is left alone with the share 0.5 (the step holds it at the body's
+// offset) and stopped with the share 1; the same cloth 0.3 h above is stopped either way.
+TEST(Repulsion, AgainstAKinematicBodyActsWithinItsShareOfTheThickness) {
+  const double dt = 0.01, h = 1e-3;
+  auto repulsions = [&](double height, double share) {
+    CollisionMesh m;
+    append_grid(m, "body", 2, 1.0, 0.0, Vec3::Zero(), true);
+    append_grid(m, "cloth", 2, 0.6, height, Vec3(0, -0.01, 0));
+    BroadPhase bp;
+    Candidates c;
+    bp.find(m, dt, h, c);
+    Points v = m.v;
+    const long long n = apply_repulsion(m, c, dt, {h, 0.0, share}, v);
+    for (int i = 0; i < 9; ++i) EXPECT_EQ(v.row(i), m.v.row(i)) << "the body's vertices keep their motion";
+    return n;
+  };
+  EXPECT_EQ(repulsions(0.7 * h, 0.5), 0);
+  EXPECT_GT(repulsions(0.7 * h, 1.0), 0);
+  EXPECT_GT(repulsions(0.3 * h, 0.5), 0);
+}
+
 TEST(Seams, HoldSeamsUndoesWhatOpensAStitchAndConservesMomentum) {
   // Three triangles; 3 held on the edge (6, 7) at r = 0.25, 1 held at 8; vertex 8 is kinematic.
   CollisionMesh m;

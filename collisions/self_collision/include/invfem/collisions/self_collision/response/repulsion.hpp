@@ -8,6 +8,12 @@
 // 0.1 d / dt (d = h - distance, the overlap), so a repulsion removes at most a tenth of the
 // overlap per step and never throws cloth apart, whatever the step (the limiter, not k, binds
 // for steps above a few milliseconds with any stiffness that keeps thin cloth from bouncing).
+//
+// Against a kinematic body (a collider's triangles) the thickness is kinematic_share h: the
+// implicit step holds cloth pressed on a body at the body's offset, which scenes set to h, and a
+// repulsion within the whole h acted on every resting node at every step, against the step's own
+// contact (thousands of impulses a step on a dress, each moving one node: stretch, and friction
+// counted twice).
 #include "invfem/collisions/self_collision/candidates/candidates.hpp"
 #include "invfem/collisions/self_collision/collision_mesh.hpp"
 
@@ -16,6 +22,7 @@ namespace invfem::collisions {
 struct RepulsionSettings {
   double thickness = 1e-3;  // h [m]
   double friction = 0.3;    // mu
+  double kinematic_share = 1.0;  // a pair with a kinematic body's side repels within kinematic_share h
 };
 
 // Applies the impulses in candidate order (vertex-face pairs, then edge-edge pairs), each on the

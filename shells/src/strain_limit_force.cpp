@@ -16,16 +16,16 @@ namespace {
 constexpr std::size_t kGrain = 1024;
 
 // The largest alpha in [0, 1] (a lower bound of it) with sigma(F0 + alpha dF) <= t, where
-// sigma(F0) < t: the largest singular value is a norm, so sigma(alpha) is convex and its sublevel
-// set is an interval holding 0; on [lo, 1] it lies under the chord from (lo, sigma(lo)) to
-// (1, sigma(1)), so the chord's crossing of t is again a valid lo. Four chords bring lo within a
+// s0 = sigma(F0) < t: the largest singular value is a norm, so sigma(alpha) is convex and its
+// sublevel set is an interval holding 0; on [lo, 1] it lies under the chord from (lo, sigma(lo))
+// to (1, sigma(1)), so the chord's crossing of t is again a valid lo. Four chords bring lo within a
 // few percent of the crossing on the curved (rotating) directions; a stretching direction is
 // nearly affine, and the first chord is nearly exact.
-double stretch_step_bound(const Mat32& F0, const Mat32& dF, double t) {
+double stretch_step_bound(const Mat32& F0, double s0, const Mat32& dF, double t) {
   const double s1 = largest_singular_value(F0 + dF);
   if (s1 <= t) return 1.0;
-  double lo = 0, s_lo = largest_singular_value(F0);
-  if (!(s_lo < t)) return 0.0;
+  if (!(s0 < t)) return 0.0;
+  double lo = 0, s_lo = s0;
   for (int k = 0; k < 4; ++k) {
     const double next = lo + (t - s_lo) * (1 - lo) / (s1 - s_lo);
     const double s_next = largest_singular_value(F0 + next * dF);
@@ -80,7 +80,7 @@ double StrainLimitForce::max_step(const Points& x, const Points& dir) const {
     const int k = static_cast<int>(e);
     const Mat32 F0 = deformation_gradient(rest_, k, x);
     const double s0 = largest_singular_value(F0);
-    alpha[e] = stretch_step_bound(F0, deformation_gradient(rest_, k, dir),
+    alpha[e] = stretch_step_bound(F0, s0, deformation_gradient(rest_, k, dir),
                                   s0 + (1 - kFilterMargin) * (admitted_[e] - s0));
   });
   return alpha.empty() ? 1.0 : *std::min_element(alpha.begin(), alpha.end());

@@ -45,6 +45,7 @@ StrainLimitForce::StrainLimitForce(TriangleRest rest, const StrainLimitParams& p
     throw std::invalid_argument(what_ + ": thickness must be finite and > 0, got " + std::to_string(thickness_));
   const std::size_t m = rest_.area.size();
   admitted_.assign(m, limit_);
+  kappa_.assign(m, stiffness_);
   active_.assign(m, 0);
   diag_.assign(m, Diagonalization32{Mat32::Identity(), Vec2::Ones(), Mat2::Identity()});
   G_.assign(m, Mat32::Zero());
@@ -52,7 +53,7 @@ StrainLimitForce::StrainLimitForce(TriangleRest rest, const StrainLimitParams& p
 }
 
 StrainLimit StrainLimitForce::model_of(std::size_t e) const {
-  StrainLimit m{stiffness_, admitted_[e], width_};
+  StrainLimit m{kappa_[e], admitted_[e], width_};
   if (admitted_[e] > limit_) {
     m.goal = limit_;
     m.pull = kAdmittedPull * stiffness_;
@@ -62,6 +63,7 @@ StrainLimit StrainLimitForce::model_of(std::size_t e) const {
 
 void StrainLimitForce::update_positions(const Points& x, double time) {
   std::fill(admitted_.begin(), admitted_.end(), limit_);
+  std::fill(kappa_.begin(), kappa_.end(), stiffness_);
   admit(x);
   evaluate_at(x, time);
 }
@@ -86,11 +88,22 @@ double StrainLimitForce::max_step(const Points& x, const Points& dir) const {
   return alpha.empty() ? 1.0 : *std::min_element(alpha.begin(), alpha.end());
 }
 
-void StrainLimitForce::admit(const Points& x) {
+bool StrainLimitForce::admit(const Points& x) {
+  std::vector<char> changed(admitted_.size(), 0);
   parallel_for_each(admitted_.size(), kGrain, [&](std::size_t e) {
     const double s = largest_singular_value(deformation_gradient(rest_, static_cast<int>(e), x));
-    if (s >= admitted_[e]) admitted_[e] = s + kAdmitMargin * width_;
+    if (s >= admitted_[e]) {
+      admitted_[e] = s + kAdmitMargin * width_;
+      changed[e] = 1;
+    }
+    const double gap = std::max(admitted_[e] - s, kMinGapShare * width_);
+    const double kappa = stiffness_ * (width_ / gap) * (width_ / gap);
+    if (kappa > kappa_[e]) {
+      kappa_[e] = kappa;
+      changed[e] = 1;
+    }
   });
+  return std::find(changed.begin(), changed.end(), 1) != changed.end();
 }
 
 void StrainLimitForce::evaluate_at(const Points& x, double /*time*/) {

@@ -35,14 +35,22 @@ inline Points elastic_forces_at(Force& f, const Points& x, double t = 0.0) {
 
 // The shared FD check of a force's elastic forces against its energy at x: elastic_energy and
 // -forces both through update_positions(y, t). A force whose update flows plastically must have
-// its plasticity off (its Fp then stays as set).
+// its plasticity off (its Fp then stays as set). frozen: both through evaluate_at(y, t) instead,
+// from the state update_positions(x, t) leaves (a strain limit's stiffness, frozen per step).
 inline fd::Result check_force_is_minus_energy_gradient(Force& f, const Points& x, const fd::Options& o,
-                                                       double t = 0.0) {
+                                                       double t = 0.0, bool frozen = false) {
+  if (frozen) f.update_positions(x, t);
+  auto place = [&](const Eigen::VectorXd& y) { frozen ? f.evaluate_at(unflat(y), t) : f.update_positions(unflat(y), t); };
   auto energy = [&](const Eigen::VectorXd& y) {
-    f.update_positions(unflat(y), t);
+    place(y);
     return f.elastic_energy();
   };
-  auto minus_force = [&](const Eigen::VectorXd& y) -> Eigen::VectorXd { return -flat(elastic_forces_at(f, unflat(y), t)); };
+  auto minus_force = [&](const Eigen::VectorXd& y) -> Eigen::VectorXd {
+    place(y);
+    Points out = Points::Zero(x.rows(), 3);
+    f.add_elastic_forces(out);
+    return -flat(out);
+  };
   return fd::check_gradient(energy, minus_force, flat(x), o);
 }
 

@@ -58,8 +58,10 @@ bool admissible(const std::vector<Force*>& forces, const Points& x) {
 // The first iterate x(n) + h v(n) + h^2 a predicts where momentum and gravity take the nodes; past
 // a barrier (a falling cloth stretched past its strain limit) its nodes that no constraint holds go
 // back towards x(n), halving, until every force admits it: the barrier then acts on the step. (An
-// admitted prediction would widen the limit by a step's motion at every step.) What remains past it
-// after kRetreats halvings (pins pulled it there) is admitted by the caller.
+// admitted prediction would widen the limit by a step's motion at every step.) After kRetreats
+// halvings they are at x(n) itself, which the last step's end admitted: a cloth held at its limit
+// (where the cubic strain limit holds it, a hair below) is past it after any share of a motion
+// that stretches it. What remains past it there (pins pulled it) is admitted by the caller.
 constexpr int kRetreats = 8;
 void retreat_to_admissible(const std::vector<Force*>& forces, const Points& x_start, const NodeConstraints& fixed,
                            Points& x, Points& scratch) {
@@ -73,6 +75,8 @@ void retreat_to_admissible(const std::vector<Force*>& forces, const Points& x_st
     for (const NodeConstraint& c : fixed) x.row(c.node) = held.row(c.node);
     if (admissible(forces, x)) return;
   }
+  for (Eigen::Index i = 0; i < x.rows(); ++i) x.row(i) = x_start.row(i);
+  for (const NodeConstraint& c : fixed) x.row(c.node) = held.row(c.node);
 }
 
 // The friction of the body barrier's contacts at the placed first iterate, lagged as the held

@@ -37,6 +37,18 @@ int settled_from(const ImplicitSettings& settings) {
   return std::max(1, n - std::max(1, n / 5));
 }
 
+// Each accepted iterate admitted by the forces (Force::admit): a barrier that stiffened at x (a
+// strain limit's dynamic stiffness) is evaluated there again. True where one did: E at x changed.
+bool admit_iterate(const NewtonStep& s, const Points& x) {
+  bool changed = false;
+  for (Force* force : s.forces)
+    if (force->admit(x)) {
+      force->evaluate_at(x, s.t_new);
+      changed = true;
+    }
+  return changed;
+}
+
 // The update of the contact set at iterate `it`, x, and then the unfiltered grad E at x in ws.grad
 // and the total force in f. At the first x the forces are not evaluated yet, and the update
 // (catches only) reads no gradient.
@@ -142,7 +154,8 @@ LineSearch line_search(const NewtonStep& s, const Points& x, double E0, double s
 
 }  // namespace
 
-// From the iterate x under the filter k.fixed, no contact held yet. At x and after every accepted
+// From the iterate x under the filter k.fixed, no contact held yet. After every accepted iterate
+// the forces admit it (admit_iterate: a barrier may stiffen). At x and after every accepted
 // iterate, the held contacts' update (ActiveSet::update, with the unfiltered grad E at x) may
 // change the contact set, moving x and x^ rows (see the header); when it moved x, the forces are
 // evaluated again at x, and the loop goes on from there. At the first x no contact is held, so the
@@ -163,6 +176,7 @@ void newton_solve(const NewtonStep& s, const ImplicitSettings& settings, ActiveS
     // stats.newton_residual: the last iterate's (none at the first)
     const bool settled =
         it >= settled_from(settings) && stats.newton_residual <= kSettledResidual * settings.tolerance;
+    if (it > 0 && admit_iterate(s, x)) E_x_known = false;
     const ContactUpdate update = update_iterate(s, it, settled ? nullptr : held, x, f);
     if (update.changed) E_x_known = false;
     project_free(s.k.fixed, ws.grad);

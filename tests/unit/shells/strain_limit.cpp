@@ -1,7 +1,8 @@
 // The strain limit of cloth (materials/strain_limit.hpp, shells/strain_limit_force.hpp): the log
-// barrier and the model's derivatives against finite differences (the activation boundary
-// included), the force as minus its energy's gradient, +inf past the limit until admitted, and a
-// heavy hanging cloth that stretches 30% without the limit and stays below it with it.
+// and cubic barriers and the model's derivatives against finite differences (the activation
+// boundary included), the force as minus its energy's gradient, +inf past the limit until
+// admitted, the dynamic stiffness, and a heavy hanging cloth that stretches 30% without the limit
+// and stays below it with it, also from a start at its limit.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -51,6 +52,33 @@ TEST(StrainLimit, LogBarrierDerivativesMatchFiniteDifferencesAndVanishWhereItSta
   EXPECT_EQ(log_barrier_gradient(2 * gh, gh), 0);
   EXPECT_TRUE(std::isinf(log_barrier(0, gh)));
   EXPECT_TRUE(std::isinf(log_barrier(-1e-3, gh)));
+}
+
+TEST(StrainLimit, CubicBarrierDerivativesMatchFiniteDifferencesAndVanishWhereItStarts) {
+  const double gh = 0.05;
+  for (double g : {1e-4, 1e-3, 0.01, 0.025, 0.049}) {
+    auto f = [&](const Eigen::VectorXd& x) { return cubic_barrier(x(0), gh); };
+    auto df = [&](const Eigen::VectorXd& x) { return Eigen::VectorXd::Constant(1, cubic_barrier_gradient(x(0), gh)); };
+    auto d2f = [&](const Eigen::VectorXd& x) { return Eigen::MatrixXd::Constant(1, 1, cubic_barrier_hessian(x(0), gh)); };
+    fd::Options o;
+    o.step_scale = 0.1 * std::min(g, gh - g);
+    const Eigen::VectorXd x = Eigen::VectorXd::Constant(1, g);
+    const fd::Result rg = fd::check_gradient(f, df, x, o), rh = fd::check_jacobian(df, d2f, x, o);
+    EXPECT_TRUE(rg.pass) << "g = " << g << "\n" << rg.report;
+    EXPECT_TRUE(rh.pass) << "g = " << g << "\n" << rh.report;
+    EXPECT_GT(cubic_barrier(g, gh), 0);
+    EXPECT_LT(cubic_barrier_gradient(g, gh), 0) << "it pushes the gap open";
+    EXPECT_GT(cubic_barrier_hessian(g, gh), 0) << "convex";
+    EXPECT_LE(cubic_barrier_hessian(g, gh), 4) << "its curvature is bounded";
+  }
+  const double d = 1e-6;
+  EXPECT_LT(cubic_barrier(gh - d, gh), 1e-15);
+  EXPECT_LT(std::abs(cubic_barrier_gradient(gh - d, gh)), 1e-9);
+  EXPECT_LT(cubic_barrier_hessian(gh - d, gh), 1e-3);
+  EXPECT_EQ(cubic_barrier(gh, gh), 0);
+  EXPECT_EQ(cubic_barrier_gradient(2 * gh, gh), 0);
+  EXPECT_NEAR(cubic_barrier(0, gh), 2 * gh * gh / 3, 1e-15) << "finite at the wall: the caller keeps it";
+  EXPECT_NEAR(cubic_barrier_hessian(0, gh), 4, 1e-12);
 }
 
 template <int D>
@@ -116,7 +144,8 @@ TEST(StrainLimit, ForceIsMinusEnergyGradientWithinTheBarrier) {
   fd::Options o;
   o.step_scale = 1e-4;
   o.value_scale = 1e-6;
-  const fd::Result r = check_force_is_minus_energy_gradient(f, x, o);
+  // Frozen: the barrier's stiffness is fixed where the step places x (admit), as within a step.
+  const fd::Result r = check_force_is_minus_energy_gradient(f, x, o, 0.0, /*frozen=*/true);
   EXPECT_TRUE(r.pass) << r.report;
   expect_zero_net_force_and_torque(x, elastic_forces_at(f, x), 1e-9);
 }
@@ -150,6 +179,24 @@ TEST(StrainLimit, PastTheLimitTheEnergyIsInfiniteUntilAdmitted) {
                std::invalid_argument);
   EXPECT_THROW(StrainLimitForce(make_triangle_rest(grid.x, grid.tris), StrainLimitParams{kLimit, 1e5, 0}),
                std::invalid_argument);
+}
+
+// A triangle's barrier stiffness is frozen where the step places it: kappa away from the limit,
+// kappa (width / gap)^2 near it, at most 1e4 kappa; back to kappa when a step ends away again.
+TEST(StrainLimit, DynamicStiffnessGrowsAsTheGapToTheLimitCloses) {
+  const TriangleSurface grid = make_grid(0.2, 0.2, 3, 3);
+  StrainLimitForce f = limit_on(grid);
+  f.update_positions(grid.x, 0);
+  for (double k : f.barrier_stiffness()) EXPECT_EQ(k, 1e5) << "at rest: the modulus";
+  for (double stretch : {1.09, 1.099, 1.0999999}) {
+    Points x = grid.x;
+    x.col(0) *= stretch;  // every triangle's largest stretch is `stretch` (a uniform stretch)
+    f.update_positions(x, 0);
+    const double gap = std::max(kLimit - stretch, StrainLimitForce::kMinGapShare * kWidth);
+    for (double k : f.barrier_stiffness()) EXPECT_NEAR(k, 1e5 * (kWidth / gap) * (kWidth / gap), 1e-6 * k);
+  }
+  f.update_positions(grid.x, 0);
+  for (double k : f.barrier_stiffness()) EXPECT_EQ(k, 1e5) << "a step's end away from the limit: kappa again";
 }
 
 // Largest principal stretch of every triangle against the grid's rest shape.
@@ -245,6 +292,16 @@ TEST(StrainLimit, AHeavyHangingClothStopsBelowTheLimit) {
   EXPECT_EQ(limited.converged, limited.steps) << "Newton converges on the barrier";
   RecordProperty("stretch_free", std::to_string(free.worst_stretch));
   RecordProperty("stretch_limited", std::to_string(limited.worst_stretch));
+}
+
+// The same strip starting a hair below its limit (a drape made under the same limit, C-IPC's): its
+// barrier is at its steepest from the first iterate, and Newton still converges in every step.
+TEST(StrainLimit, AClothStartingAtItsLimitConvergesAndStaysBelowIt) {
+  const HangingStrip limited(true, 1.0995);
+  EXPECT_GT(limited.start_stretch, 1.099) << "it starts at its limit";
+  EXPECT_LT(limited.worst_stretch, kLimit);
+  EXPECT_EQ(limited.converged, limited.steps);
+  RecordProperty("stretch_worst", std::to_string(limited.worst_stretch));
 }
 
 // The same strip starting 30% stretched, where its membrane alone would hold it against gravity (a

@@ -112,12 +112,17 @@ class Force {
   // moves its first iterate back towards x(n) until it is admissible, then admits it (a pin may
   // have pulled it out); it admits again wherever it moves nodes outside its line search (contacts
   // caught), before evaluate_at; its line search keeps every other iterate inside. Every x by
-  // default.
+  // default. admit may also stiffen the barrier where x came close to the set's boundary (a
+  // dynamic stiffness, raised only), and says whether its energy changed: the step admits every
+  // accepted iterate too, and evaluates a force again at x where it did.
   virtual bool admissible(const Points& x) const {
     (void)x;
     return true;
   }
-  virtual void admit(const Points& x) { (void)x; }
+  virtual bool admit(const Points& x) {
+    (void)x;
+    return false;
+  }
   // The step filter of such a force: the largest fraction alpha in [0, 1] of dir such that every
   // point of the segment from x (admissible) to x + alpha dir is admissible, with a margin, so that
   // Newton's line search starts inside (a conservative bound; it may be shorter than the largest).

@@ -32,4 +32,32 @@ inline double log_barrier_hessian(double g, double gh) {
   return -2 * std::log(g / gh) - 4 * r + r * r;
 }
 
+// The cubic barrier of Ando 2024 ("A Cubic Barrier with Elasticity-Inclusive Dynamic Stiffness",
+// eq. 1) with unit stiffness, on the same gap g and width gh:
+//
+//   c(g)   = 2 (gh - g)^3 / (3 gh)     g < gh; 0 for g >= gh
+//   c'(g)  = -2 (gh - g)^2 / gh        <= 0: pushes g up
+//   c''(g) = 4 (gh - g) / gh           >= 0: convex, at most 4 (at g = 0)
+//
+// C2 where it starts acting and finite at g = 0: no wall of its own. Its caller keeps g > 0 by a
+// step filter and says +inf past it, and makes the stiffness grow as a gap closes between iterates
+// (the dynamic stiffness), so Newton's quadratic model holds within a step where the log barrier's
+// curvature (1/g^2) stalls it next to the wall. Units as the log barrier's.
+inline double cubic_barrier(double g, double gh) {
+  if (g >= gh) return 0;
+  const double d = gh - g;
+  return 2 * d * d * d / (3 * gh);
+}
+
+inline double cubic_barrier_gradient(double g, double gh) {
+  if (g >= gh) return 0;
+  const double d = gh - g;
+  return -2 * d * d / gh;
+}
+
+inline double cubic_barrier_hessian(double g, double gh) {
+  if (g >= gh) return 0;
+  return 4 * (gh - g) / gh;
+}
+
 }  // namespace invfem

@@ -1,15 +1,17 @@
 #pragma once
 // A strain limit in the diagonal space: a barrier on each principal stretch s_i against a limit L,
-// as C-IPC bounds the stretch of cloth (Li, Kaufman, Jiang 2021, section 5), with the log barrier of
-// barrier.hpp on the gap L - s_i:
+// as C-IPC bounds the stretch of cloth (Li, Kaufman, Jiang 2021, section 5), with the cubic barrier
+// of barrier.hpp (as Ando 2024 limits strain) on the gap L - s_i:
 //
-//   Psi(s) = kappa sum_i b(L - s_i),   P^_i = -kappa b'(L - s_i) >= 0,   H = diag(kappa b''(L - s_i))
+//   Psi(s) = kappa sum_i c(L - s_i),   P^_i = -kappa c'(L - s_i) >= 0,   H = diag(kappa c''(L - s_i))
 //
-// zero for every s_i <= L - width and +inf from s_i = L on (plus the pull below, where set). P^
-// grows with s_i, so the pair blocks' d_minus and d_plus and the out-of-plane terms P^_k / s_k are
-// all >= 0: dP/dF is positive semidefinite without clamping. Not a material: it has no rest
-// stiffness and no finite wave speed (wave_modulus is +inf), so only the implicit step, whose line
-// search rejects a state past the limit, may take it.
+// zero for every s_i <= L - width, finite below L and +inf from s_i = L on (plus the pull below,
+// where set): the wall is the caller's step filter's and line search's to keep. kappa is the
+// caller's, per element (a dynamic stiffness: strain_limit_force.hpp). P^ grows with s_i, so the
+// pair blocks' d_minus and d_plus and the out-of-plane terms P^_k / s_k are all >= 0: dP/dF is
+// positive semidefinite without clamping. Not a material: it has no rest stiffness and no finite
+// wave speed (wave_modulus is +inf), so only the implicit step, whose line search rejects a state
+// past the limit, may take it.
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -34,7 +36,8 @@ struct StrainLimit {
   template <int D> double psi(const VecD<D>& s) const {
     double sum = 0, excess = 0;
     for (int i = 0; i < D; ++i) {
-      sum += log_barrier(limit - s(i), width);
+      if (!(s(i) < limit)) return std::numeric_limits<double>::infinity();
+      sum += cubic_barrier(limit - s(i), width);
       if (goal > 0 && s(i) > goal) excess += (s(i) - goal) * (s(i) - goal);
     }
     return stiffness * sum + 0.5 * pull * excess;
@@ -42,7 +45,7 @@ struct StrainLimit {
   template <int D> VecD<D> psi_gradient(const VecD<D>& s) const {
     VecD<D> p;
     for (int i = 0; i < D; ++i) {
-      p(i) = -stiffness * log_barrier_gradient(limit - s(i), width);
+      p(i) = s(i) < limit ? -stiffness * cubic_barrier_gradient(limit - s(i), width) : 0.0;
       if (goal > 0 && s(i) > goal) p(i) += pull * (s(i) - goal);
     }
     return p;
@@ -50,7 +53,7 @@ struct StrainLimit {
   template <int D> MatD<D> psi_hessian(const VecD<D>& s) const {
     MatD<D> H = MatD<D>::Zero();
     for (int i = 0; i < D; ++i) {
-      H(i, i) = stiffness * log_barrier_hessian(limit - s(i), width);
+      H(i, i) = s(i) < limit ? stiffness * cubic_barrier_hessian(limit - s(i), width) : 0.0;
       if (goal > 0 && s(i) > goal) H(i, i) += pull;
     }
     return H;

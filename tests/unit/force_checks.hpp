@@ -26,8 +26,17 @@ inline Points random_points(Eigen::Index n, double scale, std::mt19937& rng) {
 }
 
 // The elastic forces (n x 3) of `f` at positions x and time t (updates the force's state to x).
-inline Points elastic_forces_at(Force& f, const Points& x, double t = 0.0) {
-  f.update_positions(x, t);
+// The force at x: update_positions(x, t), or frozen: evaluate_at(x, t), from the state the last
+// update_positions left (a strain limit's stiffness, frozen within a step).
+inline void place_at(Force& f, const Points& x, double t, bool frozen) {
+  if (frozen)
+    f.evaluate_at(x, t);
+  else
+    f.update_positions(x, t);
+}
+
+inline Points elastic_forces_at(Force& f, const Points& x, double t = 0.0, bool frozen = false) {
+  place_at(f, x, t, frozen);
   Points out = Points::Zero(x.rows(), 3);
   f.add_elastic_forces(out);
   return out;
@@ -40,16 +49,12 @@ inline Points elastic_forces_at(Force& f, const Points& x, double t = 0.0) {
 inline fd::Result check_force_is_minus_energy_gradient(Force& f, const Points& x, const fd::Options& o,
                                                        double t = 0.0, bool frozen = false) {
   if (frozen) f.update_positions(x, t);
-  auto place = [&](const Eigen::VectorXd& y) { frozen ? f.evaluate_at(unflat(y), t) : f.update_positions(unflat(y), t); };
   auto energy = [&](const Eigen::VectorXd& y) {
-    place(y);
+    place_at(f, unflat(y), t, frozen);
     return f.elastic_energy();
   };
   auto minus_force = [&](const Eigen::VectorXd& y) -> Eigen::VectorXd {
-    place(y);
-    Points out = Points::Zero(x.rows(), 3);
-    f.add_elastic_forces(out);
-    return -flat(out);
+    return -flat(elastic_forces_at(f, unflat(y), t, frozen));
   };
   return fd::check_gradient(energy, minus_force, flat(x), o);
 }

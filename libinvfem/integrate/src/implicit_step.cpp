@@ -75,7 +75,7 @@ void retreat_to_admissible(const std::vector<Force*>& forces, const Points& x_st
     for (const NodeConstraint& c : fixed) x.row(c.node) = held.row(c.node);
     if (admissible(forces, x)) return;
   }
-  for (Eigen::Index i = 0; i < x.rows(); ++i) x.row(i) = x_start.row(i);
+  x = x_start;
   for (const NodeConstraint& c : fixed) x.row(c.node) = held.row(c.node);
 }
 

@@ -26,57 +26,48 @@ using namespace invfem::test;
 
 constexpr double kLimit = 1.1, kWidth = 0.05;
 
-TEST(StrainLimit, LogBarrierDerivativesMatchFiniteDifferencesAndVanishWhereItStarts) {
-  const double gh = 0.05;
+// A barrier b(g, gh) with its derivatives b1, b2 (barrier.hpp): against finite differences at gaps
+// from 1e-4 to just under gh, positive, pushing the gap open and convex there, and C2 where it
+// starts (value, slope and curvature all tend to 0 at gh: within O(d^2), O(d), O(d)), 0 from gh on.
+using BarrierFunction = double (*)(double, double);
+void expect_barrier_derivatives_match_and_vanish_where_it_starts(BarrierFunction b, BarrierFunction b1,
+                                                                 BarrierFunction b2, double gh) {
   for (double g : {1e-4, 1e-3, 0.01, 0.025, 0.049}) {
-    auto f = [&](const Eigen::VectorXd& x) { return log_barrier(x(0), gh); };
-    auto df = [&](const Eigen::VectorXd& x) { return Eigen::VectorXd::Constant(1, log_barrier_gradient(x(0), gh)); };
-    auto d2f = [&](const Eigen::VectorXd& x) { return Eigen::MatrixXd::Constant(1, 1, log_barrier_hessian(x(0), gh)); };
+    auto f = [&](const Eigen::VectorXd& x) { return b(x(0), gh); };
+    auto df = [&](const Eigen::VectorXd& x) { return Eigen::VectorXd::Constant(1, b1(x(0), gh)); };
+    auto d2f = [&](const Eigen::VectorXd& x) { return Eigen::MatrixXd::Constant(1, 1, b2(x(0), gh)); };
     fd::Options o;
     o.step_scale = 0.1 * std::min(g, gh - g);  // steps stay inside (0, gh)
     const Eigen::VectorXd x = Eigen::VectorXd::Constant(1, g);
     const fd::Result rg = fd::check_gradient(f, df, x, o), rh = fd::check_jacobian(df, d2f, x, o);
     EXPECT_TRUE(rg.pass) << "g = " << g << "\n" << rg.report;
     EXPECT_TRUE(rh.pass) << "g = " << g << "\n" << rh.report;
-    EXPECT_GT(log_barrier(g, gh), 0);
-    EXPECT_LT(log_barrier_gradient(g, gh), 0) << "it pushes the gap open";
-    EXPECT_GT(log_barrier_hessian(g, gh), 0) << "convex";
+    EXPECT_GT(b(g, gh), 0);
+    EXPECT_LT(b1(g, gh), 0) << "it pushes the gap open";
+    EXPECT_GT(b2(g, gh), 0) << "convex";
   }
-  // C2 where it starts: value, slope and curvature all tend to 0 at gh (within O(d^2), O(d), O(d)).
   const double d = 1e-6;
-  EXPECT_LT(log_barrier(gh - d, gh), 1e-15);
-  EXPECT_LT(std::abs(log_barrier_gradient(gh - d, gh)), 1e-9);
-  EXPECT_LT(log_barrier_hessian(gh - d, gh), 1e-3);
-  EXPECT_EQ(log_barrier(gh, gh), 0);
-  EXPECT_EQ(log_barrier(2 * gh, gh), 0);
-  EXPECT_EQ(log_barrier_gradient(2 * gh, gh), 0);
+  EXPECT_LT(b(gh - d, gh), 1e-15);
+  EXPECT_LT(std::abs(b1(gh - d, gh)), 1e-9);
+  EXPECT_LT(b2(gh - d, gh), 1e-3);
+  EXPECT_EQ(b(gh, gh), 0);
+  EXPECT_EQ(b(2 * gh, gh), 0);
+  EXPECT_EQ(b1(2 * gh, gh), 0);
+}
+
+TEST(StrainLimit, LogBarrierDerivativesMatchFiniteDifferencesAndVanishWhereItStarts) {
+  const double gh = 0.05;
+  expect_barrier_derivatives_match_and_vanish_where_it_starts(log_barrier, log_barrier_gradient, log_barrier_hessian, gh);
   EXPECT_TRUE(std::isinf(log_barrier(0, gh)));
   EXPECT_TRUE(std::isinf(log_barrier(-1e-3, gh)));
 }
 
 TEST(StrainLimit, CubicBarrierDerivativesMatchFiniteDifferencesAndVanishWhereItStarts) {
   const double gh = 0.05;
-  for (double g : {1e-4, 1e-3, 0.01, 0.025, 0.049}) {
-    auto f = [&](const Eigen::VectorXd& x) { return cubic_barrier(x(0), gh); };
-    auto df = [&](const Eigen::VectorXd& x) { return Eigen::VectorXd::Constant(1, cubic_barrier_gradient(x(0), gh)); };
-    auto d2f = [&](const Eigen::VectorXd& x) { return Eigen::MatrixXd::Constant(1, 1, cubic_barrier_hessian(x(0), gh)); };
-    fd::Options o;
-    o.step_scale = 0.1 * std::min(g, gh - g);
-    const Eigen::VectorXd x = Eigen::VectorXd::Constant(1, g);
-    const fd::Result rg = fd::check_gradient(f, df, x, o), rh = fd::check_jacobian(df, d2f, x, o);
-    EXPECT_TRUE(rg.pass) << "g = " << g << "\n" << rg.report;
-    EXPECT_TRUE(rh.pass) << "g = " << g << "\n" << rh.report;
-    EXPECT_GT(cubic_barrier(g, gh), 0);
-    EXPECT_LT(cubic_barrier_gradient(g, gh), 0) << "it pushes the gap open";
-    EXPECT_GT(cubic_barrier_hessian(g, gh), 0) << "convex";
+  expect_barrier_derivatives_match_and_vanish_where_it_starts(cubic_barrier, cubic_barrier_gradient,
+                                                              cubic_barrier_hessian, gh);
+  for (double g : {1e-4, 1e-3, 0.01, 0.025, 0.049})
     EXPECT_LE(cubic_barrier_hessian(g, gh), 4) << "its curvature is bounded";
-  }
-  const double d = 1e-6;
-  EXPECT_LT(cubic_barrier(gh - d, gh), 1e-15);
-  EXPECT_LT(std::abs(cubic_barrier_gradient(gh - d, gh)), 1e-9);
-  EXPECT_LT(cubic_barrier_hessian(gh - d, gh), 1e-3);
-  EXPECT_EQ(cubic_barrier(gh, gh), 0);
-  EXPECT_EQ(cubic_barrier_gradient(2 * gh, gh), 0);
   EXPECT_NEAR(cubic_barrier(0, gh), 2 * gh * gh / 3, 1e-15) << "finite at the wall: the caller keeps it";
   EXPECT_NEAR(cubic_barrier_hessian(0, gh), 4, 1e-12);
 }

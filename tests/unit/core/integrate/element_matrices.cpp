@@ -55,7 +55,7 @@ Eigen::MatrixXd dense(const ElementMatrices& em, Eigen::Index n) {
 // frozen: at evaluate_at(x) from the state the last update_positions left (a strain limit's
 // stiffness, frozen within a step), instead of update_positions(x).
 Eigen::MatrixXd stiffness_at(Force& f, const Points& x, bool frozen = false) {
-  frozen ? f.evaluate_at(x, 0) : f.update_positions(x, 0);
+  place_at(f, x, 0.0, frozen);
   ElementMatrices em;
   EXPECT_TRUE(f.stiffness_matrices(em));
   return dense(em, x.rows());
@@ -67,11 +67,7 @@ void expect_stiffness_is_minus_force_jacobian(Force& f, const Points& x, double 
                                               bool frozen = false) {
   if (frozen) f.update_positions(x, 0);
   auto minus_force = [&](const Eigen::VectorXd& y) -> Eigen::VectorXd {
-    if (!frozen) return -flat(elastic_forces_at(f, unflat(y)));
-    f.evaluate_at(unflat(y), 0);
-    Points out = Points::Zero(y.size() / 3, 3);
-    f.add_elastic_forces(out);
-    return -flat(out);
+    return -flat(elastic_forces_at(f, unflat(y), 0.0, frozen));
   };
   auto jacobian = [&](const Eigen::VectorXd& y) -> Eigen::MatrixXd { return stiffness_at(f, unflat(y), frozen); };
   fd::Options o;

@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "invfem/collisions/self_collision/response/collider_keep_out.hpp"
+#include "invfem/collisions/self_collision/response/pass_through.hpp"
 
 namespace invfem::collisions {
 
@@ -43,6 +44,7 @@ template <class Figures, class Visit> void visit_figures(Figures& f, Visit&& vis
   visit("unresolved_steps", f.unresolved_steps);
   visit("tangled_pairs", f.tangled_pairs);
   visit("body_crossings", f.body_crossings);
+  visit("cloth_crossings", f.cloth_crossings);
   visit("collider_projections", f.collider_projections);
   visit("seam_impulses", f.seam_impulses);
   visit("limited_vertices", f.limited_vertices);
@@ -244,16 +246,21 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
   const StartCrossings released = release_start_crossings(dt, r);
   const Points v_in = mesh_.v;
   Points v = mesh_.v;
+  Points kick;
+  if (!released.cloth.pushes.empty()) push_through(mesh_, released.cloth.pushes, dt, settings_.thickness, v, kick);
   std::vector<const ImplicitSurface*> bodies;
   for (const auto& c : analytic_colliders_) bodies.push_back(c.get());
   ColliderKeepOut keep_out(mesh_, std::move(bodies), v_in, dt, step.t + dt);
-  resolve(dt, r, v_in, v, released.tangles == 0 && released.crossings == 0, keep_out.constraint(r.collider_projections));
+  resolve(dt, r, v_in, v, released.tangles == 0 && released.crossings == 0 && released.cloth.pairs == 0,
+          keep_out.constraint(r.collider_projections));
   const bool unresolved = r.unresolved_steps > 0;
   if (unresolved) r.limited_vertices += limit_failed_step(mesh_, dt, settings_.thickness, v_in, v, keep_out.projected_at());
   // What the next step's start may hold (may_start_crossed): a crossing only where this step let
-  // pairs go (recovering tets, tangles, body crossings) or its fail-safe gave up.
-  left_crossable_ = released.recovering > 0 || released.tangles > 0 || released.crossings > 0 || unresolved;
-  write_back(objects, dt, v_in, v, keep_out);
+  // pairs go (recovering tets, tangles, body and cloth crossings) or its fail-safe gave up.
+  left_crossable_ = released.recovering > 0 || released.tangles > 0 || released.crossings > 0 ||
+                    released.cloth.pairs > 0 || unresolved;
+  write_back(objects, dt, v_in, v, kick, keep_out);
+  keep_passing();
   record_end(objects, step);
   r.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.add_to(report.pass(kSelfCollisionRecord));
@@ -272,12 +279,18 @@ void SelfCollisionPass::save_state(StateWriter& out) const {
   }
   out.count(recovering_tets_.size());
   for (char f : recovering_tets_) out.pod(static_cast<std::uint8_t>(f));
+  out.count(passing_.size());
+  for (const auto& object : passing_) {
+    out.count(object.size());
+    for (char f : object) out.pod(static_cast<std::uint8_t>(f));
+  }
 }
 
 void SelfCollisionPass::restore_state(StateReader& in, std::vector<SimObject>& objects) {
   (void)objects;  // the mesh is rebuilt from them at the next step
   built_ = false;
   resumed_.reset();
+  passing_.clear();
   if (in.at_end()) return;
   const std::string what = "the self-collision layer's state";
   Resumed r;
@@ -298,6 +311,16 @@ void SelfCollisionPass::restore_state(StateReader& in, std::vector<SimObject>& o
   }
   const std::uint64_t tets = in.count(what);
   for (std::uint64_t k = 0; k < tets; ++k) r.recovering_tets.push_back(static_cast<char>(in.pod<std::uint8_t>(what)));
+  // The passing regions, read straight into place: the first resumed step's potentials take them
+  // before the layer runs. Absent from a checkpoint written before they were kept: none.
+  if (!in.at_end()) {
+    const std::uint64_t objects_passing = in.count(what);
+    for (std::uint64_t o = 0; o < objects_passing; ++o) {
+      passing_.emplace_back();
+      const std::uint64_t vertices = in.count(what);
+      for (std::uint64_t k = 0; k < vertices; ++k) passing_.back().push_back(static_cast<char>(in.pod<std::uint8_t>(what)));
+    }
+  }
   resumed_ = std::move(r);
 }
 
@@ -315,7 +338,24 @@ ContactPotential* SelfCollisionPass::contact_potential(const SimObject& o, std::
     p = std::make_unique<ClothContactPotential>(o.name, o.surface.tris, o.surface_nodes, o.surface.x, object_seams(o), s);
     potential_versions_[index] = o.topology_version;
   }
+  static const std::vector<char> none;
+  const auto& passing = index < passing_.size() ? passing_[index] : none;
+  p->let_pass(passing.size() == static_cast<std::size_t>(o.surface.x.rows()) ? passing : none);
   return p.get();
+}
+
+void SelfCollisionPass::keep_passing() {
+  passing_.clear();
+  if (mesh_.passing.empty()) return;
+  for (std::size_t s = 0; s < mesh_.surfaces.size(); ++s) {
+    if (source_[s] < 0) continue;
+    const CollisionMesh::Range& range = mesh_.surfaces[s];
+    const auto first = mesh_.passing.begin() + range.first_vertex;
+    if (std::none_of(first, first + range.num_vertices, [](char c) { return c != 0; })) continue;
+    const auto k = static_cast<std::size_t>(source_[s]);
+    if (passing_.size() <= k) passing_.resize(k + 1);
+    passing_[k].assign(first, first + range.num_vertices);
+  }
 }
 
 }  // namespace invfem::collisions

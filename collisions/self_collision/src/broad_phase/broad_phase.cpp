@@ -244,7 +244,7 @@ bool keep_vf(const CollisionMesh& m, const std::vector<Box>& vertex_boxes, const
   if (m.is_node_only(i)) return false;  // a node under an embedded surface: not on it
   if (adjacent_as_one(m, &i, 1, tri, 3)) return false;  // a linked_only pair stays, for the CCD
   if (m.is_exempt(VertexFaceCandidate{i, f})) return false;
-  return !m.released_pair(&i, 1, tri, 3);
+  return !m.released_pair(&i, 1, tri, 3) && !m.passing_pair(&i, 1, tri, 3);
 }
 bool keep_ee(const CollisionMesh& m, const std::vector<Box>& edge_boxes, int a, int b) {
   if (!edge_boxes[static_cast<std::size_t>(a)].overlaps(edge_boxes[static_cast<std::size_t>(b)])) return false;
@@ -253,7 +253,7 @@ bool keep_ee(const CollisionMesh& m, const std::vector<Box>& edge_boxes, int a, 
   if (!m.movable(ea[0]) && !m.movable(ea[1]) && !m.movable(eb[0]) && !m.movable(eb[1])) return false;
   if (adjacent_as_one(m, ea, 2, eb, 2)) return false;  // also drops (a, a); a linked_only pair stays
   if (m.is_exempt(EdgeEdgeCandidate{std::min(a, b), std::max(a, b)})) return false;
-  return !m.released_pair(ea, 2, eb, 2);
+  return !m.released_pair(ea, 2, eb, 2) && !m.passing_pair(ea, 2, eb, 2);
 }
 
 // Sorted and without repeats: the candidates' order, whatever the threads reported first (a

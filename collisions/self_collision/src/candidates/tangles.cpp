@@ -6,6 +6,8 @@
 
 #include "invfem/core/math/parallel.hpp"
 
+#include "../union_find.hpp"
+
 namespace invfem::collisions {
 
 bool segment_crosses_triangle(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -118,6 +120,98 @@ int mark_body_crossings(CollisionMesh& m, const std::vector<std::pair<int, int>>
     for (int i : {m.edges(e, 0), m.edges(e, 1), m.tris(f, 0), m.tris(f, 1), m.tris(f, 2)})
       if (cloth(i) && m.movable(i)) m.released[static_cast<std::size_t>(i)] = 1;
   return static_cast<int>(crossing.size());
+}
+
+ClothCrossings find_cloth_crossings(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs) {
+  auto cloth = [&](int i) {
+    const auto& s = m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(i)])];
+    return !s.kinematic && !s.untangle;
+  };
+  const auto crossing = crossing_pairs(m, pairs, [&](int e, int f) { return cloth(m.edges(e, 0)) && cloth(m.tris(f, 0)); });
+  ClothCrossings out;
+  out.pairs = static_cast<int>(crossing.size());
+  m.passing.clear();
+  if (crossing.empty()) return out;
+  // The regions: cloth vertices joined by the edges that cross nothing and by the seams.
+  const auto n = static_cast<std::size_t>(m.num_vertices());
+  std::vector<char> cut(static_cast<std::size_t>(m.edges.rows()), 0);
+  for (const auto& [e, f] : crossing) cut[static_cast<std::size_t>(e)] = 1;
+  UnionFind regions(n);
+  for (Eigen::Index e = 0; e < m.edges.rows(); ++e)
+    if (!cut[static_cast<std::size_t>(e)] && cloth(m.edges(e, 0))) regions.unite(m.edges(e, 0), m.edges(e, 1));
+  for (const Weld& w : m.welds) {
+    regions.unite(w.i, w.j);
+    if (w.k >= 0) regions.unite(w.i, w.k);
+  }
+  std::vector<int> root(n, -1), size(n, 0);  // per cloth vertex its region's root; per root its size
+  for (std::size_t i = 0; i < n; ++i)
+    if (cloth(static_cast<int>(i))) ++size[static_cast<std::size_t>(root[i] = regions.find(static_cast<int>(i)))];
+  // The candidates to pass: per crossing edge whose ends lie in two regions, the smaller region
+  // (ties: the lower root), keyed by its size; where no edge separates anything, each crossing
+  // edge's end nearer to its triangle's plane on its own, keyed by that distance.
+  struct Candidate {
+    double key = 0;
+    int root = -1;    // a region's root, or
+    int vertex = -1;  // a single vertex
+    std::vector<std::pair<int, int>> pushes;
+  };
+  std::vector<Candidate> candidates;
+  std::vector<int> candidate_of(n, -1);  // per root or single vertex
+  auto add = [&](int id, double key, bool region, std::pair<int, int> push) {
+    int& c = candidate_of[static_cast<std::size_t>(id)];
+    if (c < 0) {
+      c = static_cast<int>(candidates.size());
+      candidates.push_back({key, region ? id : -1, region ? -1 : id, {}});
+    }
+    candidates[static_cast<std::size_t>(c)].pushes.push_back(push);
+  };
+  for (const auto& [e, f] : crossing) {
+    const int a = m.edges(e, 0), b = m.edges(e, 1);
+    const int ra = root[static_cast<std::size_t>(a)], rb = root[static_cast<std::size_t>(b)];
+    if (ra == rb) continue;
+    const int sa = size[static_cast<std::size_t>(ra)], sb = size[static_cast<std::size_t>(rb)];
+    const bool a_passes = sa < sb || (sa == sb && ra < rb);
+    add(a_passes ? ra : rb, a_passes ? sa : sb, true, {a_passes ? a : b, f});
+  }
+  if (candidates.empty())
+    for (const auto& [e, f] : crossing) {
+      const Vec3 t0 = m.start(m.tris(f, 0)), t1 = m.start(m.tris(f, 1)), t2 = m.start(m.tris(f, 2));
+      const Vec3 normal = (t1 - t0).cross(t2 - t0).normalized();
+      const int a = m.edges(e, 0), b = m.edges(e, 1);
+      const double da = std::abs(normal.dot(m.start(a) - t0)), db = std::abs(normal.dot(m.start(b) - t0));
+      add(da <= db ? a : b, std::min(da, db), false, {da <= db ? a : b, f});
+    }
+  // Smallest first, each unless it would pass through a region already passing or one already
+  // passing would pass through it (two sides of one loop: either passing undoes it); the others
+  // are found again at the next step's start, once these have passed.
+  std::vector<std::size_t> order(candidates.size());
+  for (std::size_t c = 0; c < order.size(); ++c) order[c] = c;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t x, std::size_t y) { return candidates[x].key < candidates[y].key; });
+  m.passing.assign(n, 0);
+  std::vector<char> crossed(n, 0);  // vertices of triangles a passing candidate passes through
+  std::vector<int> members;
+  for (std::size_t c : order) {
+    const Candidate& k = candidates[c];
+    members.clear();
+    if (k.vertex >= 0) {
+      members.push_back(k.vertex);
+    } else {
+      for (std::size_t i = 0; i < n; ++i)
+        if (root[i] == k.root) members.push_back(static_cast<int>(i));
+    }
+    bool free = std::none_of(members.begin(), members.end(), [&](int i) { return crossed[static_cast<std::size_t>(i)]; });
+    for (const auto& [p, f] : k.pushes)
+      for (int j = 0; j < 3; ++j) free = free && !m.passing[static_cast<std::size_t>(m.tris(f, j))];
+    if (!free) continue;
+    for (int i : members) m.passing[static_cast<std::size_t>(i)] = 1;
+    for (const auto& [p, f] : k.pushes) {
+      for (int j = 0; j < 3; ++j) crossed[static_cast<std::size_t>(m.tris(f, j))] = 1;
+      out.pushes.push_back({p, f});
+    }
+  }
+  sort_unique(out.pushes);
+  return out;
 }
 
 }  // namespace invfem::collisions

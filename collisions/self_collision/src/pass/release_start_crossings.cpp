@@ -29,12 +29,15 @@ SelfCollisionPass::StartCrossings SelfCollisionPass::release_start_crossings(dou
   // A cloth's crossings with a kinematic body at the step's start (left by a fail-safe failure
   // in an earlier step) are released for the step (candidates/tangles.hpp mark_body_crossings),
   // so the cloth can come out of the body instead of being held in it for ever.
-  // Both searches run only when the start can hold a crossing (may_start_crossed).
+  // Cloth through cloth (candidates/tangles.hpp find_cloth_crossings) marks the regions that pass
+  // back (mesh_.passing) and the pushes that carry them (response/pass_through.hpp).
+  // The searches run only when the start can hold a crossing (may_start_crossed).
   mesh_.exempt_vf.clear();
   mesh_.exempt_ee.clear();
   mesh_.stuck.clear();
   mesh_.loose.clear();
   mesh_.released.clear();
+  mesh_.passing.clear();
   StartCrossings found;
   // Before the candidates: it joins vertices.
   found.recovering = mark_recovering(!started_where_ended());
@@ -42,10 +45,11 @@ SelfCollisionPass::StartCrossings SelfCollisionPass::release_start_crossings(dou
   const bool search = may_start_crossed();
   const auto& surfaces = mesh_.surfaces;
   const bool solids = search && std::any_of(surfaces.begin(), surfaces.end(), [](const auto& s) { return s.untangle; });
+  const bool cloths =
+      search && std::any_of(surfaces.begin(), surfaces.end(), [](const auto& s) { return !s.kinematic && !s.untangle; });
   const bool cloth_and_body =
-      search && std::any_of(surfaces.begin(), surfaces.end(), [](const auto& s) { return s.kinematic; }) &&
-      std::any_of(surfaces.begin(), surfaces.end(), [](const auto& s) { return !s.kinematic && !s.untangle; });
-  if (solids || cloth_and_body) broad_phase_.edge_triangle_pairs(mesh_, edge_triangles_);
+      cloths && std::any_of(surfaces.begin(), surfaces.end(), [](const auto& s) { return s.kinematic; });
+  if (solids || cloths) broad_phase_.edge_triangle_pairs(mesh_, edge_triangles_);
   if (!solids) tangle_ages_.entries.clear();
   if (solids) {
     found.tangles = mark_tangles(mesh_, edge_triangles_, tangle_ages_, dt, settings_.tangle_patience);
@@ -54,6 +58,10 @@ SelfCollisionPass::StartCrossings SelfCollisionPass::release_start_crossings(dou
   if (cloth_and_body) {
     found.crossings = mark_body_crossings(mesh_, edge_triangles_);
     r.body_crossings += found.crossings;
+  }
+  if (cloths) {
+    found.cloth = find_cloth_crossings(mesh_, edge_triangles_);
+    r.cloth_crossings += found.cloth.pairs;
   }
   return found;
 }

@@ -137,6 +137,10 @@ struct CollisionMesh {
   std::vector<char> stuck;
   std::vector<char> loose;
   std::vector<char> released;
+  // Per vertex (#V, or empty: none): a cloth region that crosses cloth at the step's start and
+  // passes through it (candidates/tangles.hpp find_cloth_crossings): its pairs with the cloth
+  // outside the region are let go (passing_pair), so it can come back through.
+  std::vector<char> passing;
   std::vector<int> embed_offsets, embed_nodes;
   std::vector<double> embed_weights;
   std::vector<char> embed_on;  // per entry of embed_nodes: the vertex was made on that node
@@ -194,6 +198,20 @@ struct CollisionMesh {
     auto rel = [&](int i) { return is_released(i); };
     auto kin = [&](int i) { return on_kinematic(i); };
     return (any(a, na, rel) && any(b, nb, kin)) || (any(b, nb, rel) && any(a, na, kin));
+  }
+  bool is_passing(int i) const { return !passing.empty() && passing[static_cast<std::size_t>(i)]; }
+  // True when primitives a and b (vertex lists) are a passing pair: one holds a passing vertex, the
+  // other none and no kinematic body's vertex (a region passes through cloth, never a body).
+  bool passing_pair(const int* a, int na, const int* b, int nb) const {
+    if (passing.empty()) return false;
+    auto any = [](const int* ids, int n, auto&& test) {
+      for (int k = 0; k < n; ++k)
+        if (test(ids[k])) return true;
+      return false;
+    };
+    auto pass = [&](int i) { return is_passing(i); };
+    auto held = [&](int i) { return is_passing(i) || on_kinematic(i); };
+    return (any(a, na, pass) && !any(b, nb, held)) || (any(b, nb, pass) && !any(a, na, held));
   }
 };
 

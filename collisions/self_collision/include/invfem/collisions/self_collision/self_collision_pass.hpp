@@ -13,7 +13,9 @@
 // CollisionMesh::recovering), releasing the pairs that can undo each tangle at x0 (an edge through a face of a solid's boundary:
 // candidates/tangles.hpp), releasing a cloth's crossings with a kinematic body
 // at x0 from their pairs with the body (CollisionMesh::released, the recovery from an earlier
-// step's fail-safe failure; stats `body_crossings`) and holding those an analytic collider holds (infinite mass; a
+// step's fail-safe failure; stats `body_crossings`), passing back the smaller side of cloth that
+// crosses cloth at x0 (candidates/tangles.hpp find_cloth_crossings, moved by
+// response/pass_through.hpp; stats `cloth_crossings`) and holding those an analytic collider holds (infinite mass; a
 // vertex the layer would push into a collider is held too and the step's layer work redone):
 //   1. broad phase on the swept boxes (broad_phase/), giving candidates (candidates/)
 //   2. repulsion at x0 (response/repulsion.hpp): pairs closer than the thickness
@@ -27,7 +29,7 @@
 // interior, from crossing, and the elements invert and recover through the interior
 // (collision_mesh.hpp). The start state must be free of
 // intersections; then the end state is too (up to the fail-safe's iteration cap, reported).
-// Hence the tangle and body-crossing searches at x0 (edge-triangle tests over the whole surface,
+// Hence the tangle and crossing searches at x0 (edge-triangle tests over the whole surface,
 // most of the layer's cost on a scene without contact) run only when the last step let pairs go
 // (recovering tets, tangles, body crossings), left a step unresolved, or did not end where this step
 // starts (the first step, a rebuilt mesh, another pass moved the surfaces).
@@ -96,6 +98,7 @@ struct SelfCollisionFigures {
   int impact_zones = 0, largest_zone = 0, projected_zones = 0, rigid_zones = 0, unresolved_steps = 0;
   long long tangled_pairs = 0;         // a solid boundary's edge-triangle crossings at a step's start (exempted)
   long long body_crossings = 0;        // a cloth's edge-triangle crossings with a kinematic body at a step's start (released)
+  long long cloth_crossings = 0;       // cloth edge-triangle crossings of cloth at a step's start (passing back)
   long long collider_projections = 0;  // vertices the layer moved into an analytic collider, put back
   long long seam_impulses = 0;         // welds whose opening by the layer's impulses was undone (response/seams.hpp)
   long long limited_vertices = 0;      // vertices of unresolved steps put back to the step's own motion
@@ -153,6 +156,7 @@ class SelfCollisionPass final : public StepPass {
   // crossings with a kinematic body: the counts), and finds the repulsion's candidates.
   struct StartCrossings {
     int recovering = 0, tangles = 0, crossings = 0;
+    ClothCrossings cloth;  // cloth through cloth: the regions passing back (mesh_.passing), the pushes
   };
   StartCrossings release_start_crossings(double dt, SelfCollisionFigures& report);
   // Stages 1-4 on mesh_ (its inverse masses and exemptions as set), changing v. have_candidates:
@@ -166,8 +170,13 @@ class SelfCollisionPass final : public StepPass {
   bool ccd_impulse_passes(double dt, SelfCollisionFigures& report, const Points& v_in, Points& v, bool repelled,
                           const CcdSettings& ccd);
   // Stage 5: the objects' surface nodes from v (v_in: the velocities before the layer).
-  void write_back(std::vector<SimObject>& objects, double dt, const Points& v_in, const Points& v,
+  // kick: #V x 3 or empty, velocity in v - v_in that is a move only (push_through), not given to
+  // the nodes' velocities.
+  void write_back(std::vector<SimObject>& objects, double dt, const Points& v_in, const Points& v, const Points& kick,
                   const ColliderKeepOut& keep_out) const;
+  // Hands each cloth's contact potential its passing vertices (mesh_.passing, kept in passing_ for
+  // the next step and the checkpoint).
+  void keep_passing();
   // end_: where the surfaces ended the step, as the next step's gather will read them.
   void record_end(const std::vector<SimObject>& objects, const StepPassInput& step);
 
@@ -193,6 +202,9 @@ class SelfCollisionPass final : public StepPass {
   bool left_crossable_ = true;
   TangleAges tangle_ages_;  // the crossings at the last step's start and how long each has lasted
   Points end_;  // mesh_.x0 + dt v of the last step, #V x 3
+  // Per object index: its surface vertices passing back through cloth (mesh_.passing at the last
+  // step's start), which its contact potential lets pass in the next step; empty: none.
+  std::vector<std::vector<char>> passing_;
 
   // Per mesh surface: the object it comes from (or -1 - k for kinematic body k).
   std::vector<int> source_;

@@ -36,7 +36,7 @@ class BroadPhase {
   void find(const CollisionMesh& mesh, double dt, double margin, Candidates& out) { find(mesh, mesh.v, dt, margin, out); }
 
   // The same result as find(), for a mesh on which only velocities changed since the last find()
-  // (the caller's promise: same x0, topology, exempt and released flags), with the same margin or
+  // (the caller's promise: same x0, topology, exempt, released and passing flags), with the same margin or
   // a narrower one. Only the primitives whose box now reaches out of the box they were collided
   // with at the last find() are collided again (against the hierarchies of the last find() and
   // among themselves); the pairs of the last find() between the others are kept, re-checked on

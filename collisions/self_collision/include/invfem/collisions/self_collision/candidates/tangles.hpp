@@ -60,4 +60,24 @@ int mark_tangles(CollisionMesh& mesh, const std::vector<std::pair<int, int>>& pa
 // surface along the closest-point normal) and the layer keeps that.
 int mark_body_crossings(CollisionMesh& mesh, const std::vector<std::pair<int, int>>& pairs);
 
+// Cloth through cloth at x0 (a garment or a stack of sheets that starts crossing itself: a scene's
+// input, or a step the fail-safe could not finish), after the global intersection analysis of
+// Baraff, Witkin, Kass 2003 ("Untangling cloth", section 3), reduced to what the layer needs. The
+// edges of cloth that cross cloth triangles cut their surfaces along the intersection path; where
+// a cut separates a surface (its seams joining panels), the smaller side, which a loop or a path
+// from border to border encloses, is the region that must pass back through what it crosses.
+// Where no cut separates anything (a path between two sheets' borders), each crossing edge's end
+// nearer to its triangle's plane is such a region on its own. Of two regions that would pass
+// through each other (the two sides of one loop) only the smaller passes: either undoes the loop.
+struct ClothCrossings {
+  int pairs = 0;                               // distinct crossing (edge, triangle) pairs of cloth
+  std::vector<std::pair<int, int>> pushes;     // (vertex, triangle): a passing end of a crossing edge,
+                                               // the triangle it must pass, sorted
+};
+
+// Marks mesh.passing (resized to #V, or cleared when nothing crosses) for the regions above, of
+// the pairs in `pairs` (edge, triangle; any order, repeats allowed) whose edge and triangle both
+// lie on cloth (a surface neither kinematic nor `untangle`) and cross at x0.
+ClothCrossings find_cloth_crossings(CollisionMesh& mesh, const std::vector<std::pair<int, int>>& pairs);
+
 }  // namespace invfem::collisions

@@ -46,6 +46,10 @@ class ClothContactPotential final : public ContactPotential {
   void for_each_hessian(const std::function<void(const std::array<int, 4>&, const Mat12&)>& emit) const override;
   double max_step(const Points& x, const Points& dir) override;
   std::size_t active_pairs() const override { return pairs_.size(); }
+  // passing: per surface vertex (#V, or empty: none), a region passing back through the cloth it
+  // started the step crossing (the layer's find_cloth_crossings): no pair joins it to the cloth
+  // outside the region, in the barrier or the step filter (CollisionMesh::passing_pair).
+  void let_pass(const std::vector<char>& passing) { mesh_.passing = passing; }
   const ContactBarrierSettings& settings() const { return settings_; }
 
  private:

@@ -51,6 +51,12 @@ std::vector<std::pair<int, int>> crossing_pairs(const CollisionMesh& m, const st
   return out;
 }
 
+// A vertex of a cloth: a surface neither kinematic nor a solid's boundary (`untangle`).
+bool on_cloth(const CollisionMesh& m, int i) {
+  const auto& s = m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(i)])];
+  return !s.kinematic && !s.untangle;
+}
+
 }  // namespace
 
 int mark_tangles(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs, TangleAges& ages, double dt,
@@ -105,10 +111,7 @@ int mark_tangles(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs
 }
 
 int mark_body_crossings(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs) {
-  auto cloth = [&](int i) {
-    const auto& s = m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(i)])];
-    return !s.kinematic && !s.untangle;
-  };
+  auto cloth = [&](int i) { return on_cloth(m, i); };
   const auto crossing = crossing_pairs(m, pairs, [&](int e, int f) {
     const int a = m.edges(e, 0), t = m.tris(f, 0);
     return (cloth(a) && m.on_kinematic(t)) || (m.on_kinematic(a) && cloth(t));
@@ -122,90 +125,102 @@ int mark_body_crossings(CollisionMesh& m, const std::vector<std::pair<int, int>>
   return static_cast<int>(crossing.size());
 }
 
-ClothCrossings find_cloth_crossings(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs) {
-  auto cloth = [&](int i) {
-    const auto& s = m.surfaces[static_cast<std::size_t>(m.surface_of[static_cast<std::size_t>(i)])];
-    return !s.kinematic && !s.untangle;
-  };
-  const auto crossing = crossing_pairs(m, pairs, [&](int e, int f) { return cloth(m.edges(e, 0)) && cloth(m.tris(f, 0)); });
-  ClothCrossings out;
-  out.pairs = static_cast<int>(crossing.size());
-  m.passing.clear();
-  if (crossing.empty()) return out;
-  // The regions: cloth vertices joined by the edges that cross nothing and by the seams.
+namespace {
+
+// The regions the crossing edges cut the cloth into: per vertex its region's root (-1 off cloth),
+// per root the region's size in vertices. Cloth vertices are joined by the edges that cross
+// nothing and by the seams.
+struct CutRegions {
+  std::vector<int> root, size;
+};
+CutRegions cut_regions(const CollisionMesh& m, const std::vector<std::pair<int, int>>& crossing) {
   const auto n = static_cast<std::size_t>(m.num_vertices());
   std::vector<char> cut(static_cast<std::size_t>(m.edges.rows()), 0);
   for (const auto& [e, f] : crossing) cut[static_cast<std::size_t>(e)] = 1;
   UnionFind regions(n);
   for (Eigen::Index e = 0; e < m.edges.rows(); ++e)
-    if (!cut[static_cast<std::size_t>(e)] && cloth(m.edges(e, 0))) regions.unite(m.edges(e, 0), m.edges(e, 1));
+    if (!cut[static_cast<std::size_t>(e)] && on_cloth(m, m.edges(e, 0))) regions.unite(m.edges(e, 0), m.edges(e, 1));
   for (const Weld& w : m.welds) {
     regions.unite(w.i, w.j);
     if (w.k >= 0) regions.unite(w.i, w.k);
   }
-  std::vector<int> root(n, -1), size(n, 0);  // per cloth vertex its region's root; per root its size
+  CutRegions r{std::vector<int>(n, -1), std::vector<int>(n, 0)};
   for (std::size_t i = 0; i < n; ++i)
-    if (cloth(static_cast<int>(i))) ++size[static_cast<std::size_t>(root[i] = regions.find(static_cast<int>(i)))];
-  // The candidates to pass: per crossing edge whose ends lie in two regions, the smaller region
-  // (ties: the lower root), keyed by its size; where no edge separates anything, each crossing
-  // edge's end nearer to its triangle's plane on its own, keyed by that distance.
-  struct Candidate {
-    double key = 0;
-    int root = -1;    // a region's root, or
-    int vertex = -1;  // a single vertex
-    std::vector<std::pair<int, int>> pushes;
-  };
-  std::vector<Candidate> candidates;
-  std::vector<int> candidate_of(n, -1);  // per root or single vertex
+    if (on_cloth(m, static_cast<int>(i))) ++r.size[static_cast<std::size_t>(r.root[i] = regions.find(static_cast<int>(i)))];
+  return r;
+}
+
+// What may pass back: a region (root) or a single vertex, keyed by its size or its distance to
+// the plane it crosses, with its pushes (passing end of a crossing edge, the triangle it crosses).
+struct PassCandidate {
+  double key = 0;
+  int root = -1, vertex = -1;
+  std::vector<std::pair<int, int>> pushes;
+};
+
+// Per crossing edge whose ends lie in two regions, the smaller region (ties: the lower root);
+// where no edge separates anything, each crossing edge's end nearer to its triangle's plane.
+std::vector<PassCandidate> pass_candidates(const CollisionMesh& m, const std::vector<std::pair<int, int>>& crossing,
+                                           const CutRegions& r) {
+  std::vector<PassCandidate> out;
+  std::vector<int> index(r.root.size(), -1);  // per root or single vertex: its candidate
   auto add = [&](int id, double key, bool region, std::pair<int, int> push) {
-    int& c = candidate_of[static_cast<std::size_t>(id)];
+    int& c = index[static_cast<std::size_t>(id)];
     if (c < 0) {
-      c = static_cast<int>(candidates.size());
-      candidates.push_back({key, region ? id : -1, region ? -1 : id, {}});
+      c = static_cast<int>(out.size());
+      out.push_back({key, region ? id : -1, region ? -1 : id, {}});
     }
-    candidates[static_cast<std::size_t>(c)].pushes.push_back(push);
+    out[static_cast<std::size_t>(c)].pushes.push_back(push);
   };
   for (const auto& [e, f] : crossing) {
     const int a = m.edges(e, 0), b = m.edges(e, 1);
-    const int ra = root[static_cast<std::size_t>(a)], rb = root[static_cast<std::size_t>(b)];
+    const int ra = r.root[static_cast<std::size_t>(a)], rb = r.root[static_cast<std::size_t>(b)];
     if (ra == rb) continue;
-    const int sa = size[static_cast<std::size_t>(ra)], sb = size[static_cast<std::size_t>(rb)];
+    const int sa = r.size[static_cast<std::size_t>(ra)], sb = r.size[static_cast<std::size_t>(rb)];
     const bool a_passes = sa < sb || (sa == sb && ra < rb);
     add(a_passes ? ra : rb, a_passes ? sa : sb, true, {a_passes ? a : b, f});
   }
-  if (candidates.empty())
-    for (const auto& [e, f] : crossing) {
-      const Vec3 t0 = m.start(m.tris(f, 0)), t1 = m.start(m.tris(f, 1)), t2 = m.start(m.tris(f, 2));
-      const Vec3 normal = (t1 - t0).cross(t2 - t0).normalized();
-      const int a = m.edges(e, 0), b = m.edges(e, 1);
-      const double da = std::abs(normal.dot(m.start(a) - t0)), db = std::abs(normal.dot(m.start(b) - t0));
-      add(da <= db ? a : b, std::min(da, db), false, {da <= db ? a : b, f});
-    }
+  if (!out.empty()) return out;
+  for (const auto& [e, f] : crossing) {
+    const Vec3 t0 = m.start(m.tris(f, 0)), t1 = m.start(m.tris(f, 1)), t2 = m.start(m.tris(f, 2));
+    const Vec3 normal = (t1 - t0).cross(t2 - t0).normalized();
+    const int a = m.edges(e, 0), b = m.edges(e, 1);
+    const double da = std::abs(normal.dot(m.start(a) - t0)), db = std::abs(normal.dot(m.start(b) - t0));
+    add(da <= db ? a : b, std::min(da, db), false, {da <= db ? a : b, f});
+  }
+  return out;
+}
+
+}  // namespace
+
+ClothCrossings find_cloth_crossings(CollisionMesh& m, const std::vector<std::pair<int, int>>& pairs) {
+  const auto crossing =
+      crossing_pairs(m, pairs, [&](int e, int f) { return on_cloth(m, m.edges(e, 0)) && on_cloth(m, m.tris(f, 0)); });
+  ClothCrossings out;
+  out.pairs = static_cast<int>(crossing.size());
+  m.passing.clear();
+  if (crossing.empty()) return out;
+  const CutRegions regions = cut_regions(m, crossing);
+  std::vector<PassCandidate> candidates = pass_candidates(m, crossing, regions);
   // Smallest first, each unless it would pass through a region already passing or one already
   // passing would pass through it (two sides of one loop: either passing undoes it); the others
   // are found again at the next step's start, once these have passed.
-  std::vector<std::size_t> order(candidates.size());
-  for (std::size_t c = 0; c < order.size(); ++c) order[c] = c;
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t x, std::size_t y) { return candidates[x].key < candidates[y].key; });
+  std::stable_sort(candidates.begin(), candidates.end(), [](const auto& x, const auto& y) { return x.key < y.key; });
+  const auto n = static_cast<std::size_t>(m.num_vertices());
   m.passing.assign(n, 0);
   std::vector<char> crossed(n, 0);  // vertices of triangles a passing candidate passes through
   std::vector<int> members;
-  for (std::size_t c : order) {
-    const Candidate& k = candidates[c];
+  for (const PassCandidate& c : candidates) {
     members.clear();
-    if (k.vertex >= 0) {
-      members.push_back(k.vertex);
-    } else {
-      for (std::size_t i = 0; i < n; ++i)
-        if (root[i] == k.root) members.push_back(static_cast<int>(i));
-    }
+    if (c.vertex >= 0) members.push_back(c.vertex);
+    for (std::size_t i = 0; c.root >= 0 && i < n; ++i)
+      if (regions.root[i] == c.root) members.push_back(static_cast<int>(i));
     bool free = std::none_of(members.begin(), members.end(), [&](int i) { return crossed[static_cast<std::size_t>(i)]; });
-    for (const auto& [p, f] : k.pushes)
+    for (const auto& [p, f] : c.pushes)
       for (int j = 0; j < 3; ++j) free = free && !m.passing[static_cast<std::size_t>(m.tris(f, j))];
     if (!free) continue;
     for (int i : members) m.passing[static_cast<std::size_t>(i)] = 1;
-    for (const auto& [p, f] : k.pushes) {
+    for (const auto& [p, f] : c.pushes) {
       for (int j = 0; j < 3; ++j) crossed[static_cast<std::size_t>(m.tris(f, j))] = 1;
       out.pushes.push_back({p, f});
     }

@@ -182,6 +182,12 @@ struct CollisionMesh {
       return true;
     return !exempt_ee.empty() && std::binary_search(exempt_ee.begin(), exempt_ee.end(), c);
   }
+  // True when test(i) holds for one of the n vertices ids.
+  template <class Test> static bool any(const int* ids, int n, Test&& test) {
+    for (int k = 0; k < n; ++k)
+      if (test(ids[k])) return true;
+    return false;
+  }
   bool is_released(int i) const { return !released.empty() && released[static_cast<std::size_t>(i)]; }
   bool on_kinematic(int i) const {
     return surfaces[static_cast<std::size_t>(surface_of[static_cast<std::size_t>(i)])].kinematic;
@@ -190,11 +196,6 @@ struct CollisionMesh {
   // side and a kinematic body's vertex on the other (see `released`).
   bool released_pair(const int* a, int na, const int* b, int nb) const {
     if (released.empty()) return false;
-    auto any = [](const int* ids, int n, auto&& test) {
-      for (int k = 0; k < n; ++k)
-        if (test(ids[k])) return true;
-      return false;
-    };
     auto rel = [&](int i) { return is_released(i); };
     auto kin = [&](int i) { return on_kinematic(i); };
     return (any(a, na, rel) && any(b, nb, kin)) || (any(b, nb, rel) && any(a, na, kin));
@@ -204,11 +205,6 @@ struct CollisionMesh {
   // other none and no kinematic body's vertex (a region passes through cloth, never a body).
   bool passing_pair(const int* a, int na, const int* b, int nb) const {
     if (passing.empty()) return false;
-    auto any = [](const int* ids, int n, auto&& test) {
-      for (int k = 0; k < n; ++k)
-        if (test(ids[k])) return true;
-      return false;
-    };
     auto pass = [&](int i) { return is_passing(i); };
     auto held = [&](int i) { return is_passing(i) || on_kinematic(i); };
     return (any(a, na, pass) && !any(b, nb, held)) || (any(b, nb, pass) && !any(a, na, held));

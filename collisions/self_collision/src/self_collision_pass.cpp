@@ -284,6 +284,8 @@ void SelfCollisionPass::save_state(StateWriter& out) const {
     out.count(object.size());
     for (char f : object) out.pod(static_cast<std::uint8_t>(f));
   }
+  out.count(potential_rest_.size());
+  for (const Points& rest : potential_rest_) out.doubles(rest.data(), static_cast<std::size_t>(rest.size()));
 }
 
 void SelfCollisionPass::restore_state(StateReader& in, std::vector<SimObject>& objects) {
@@ -291,6 +293,7 @@ void SelfCollisionPass::restore_state(StateReader& in, std::vector<SimObject>& o
   built_ = false;
   resumed_.reset();
   passing_.clear();
+  potential_rest_.clear();
   if (in.at_end()) return;
   const std::string what = "the self-collision layer's state";
   Resumed r;
@@ -321,6 +324,17 @@ void SelfCollisionPass::restore_state(StateReader& in, std::vector<SimObject>& o
       for (std::uint64_t k = 0; k < vertices; ++k) passing_.back().push_back(static_cast<char>(in.pod<std::uint8_t>(what)));
     }
   }
+  // The contact potentials' reference positions, likewise (absent: made afresh, from the surfaces).
+  if (!in.at_end()) {
+    const std::uint64_t objects_rest = in.count(what);
+    for (std::uint64_t o = 0; o < objects_rest; ++o) {
+      const std::uint64_t m = in.count(what);
+      if (m % 3 != 0) throw StateError(what + ": " + std::to_string(m) + " coordinates are not whole points");
+      std::vector<double> rest;
+      for (std::uint64_t k = 0; k < m; ++k) rest.push_back(in.pod<double>(what));
+      potential_rest_.push_back(Eigen::Map<const Points>(rest.data(), static_cast<Eigen::Index>(m / 3), 3));
+    }
+  }
   resumed_ = std::move(r);
 }
 
@@ -332,10 +346,13 @@ ContactPotential* SelfCollisionPass::contact_potential(const SimObject& o, std::
     potential_versions_.resize(index + 1, 0);
   }
   auto& p = potentials_[index];
+  if (potential_rest_.size() <= index) potential_rest_.resize(index + 1);
   if (!p || potential_versions_[index] != o.topology_version) {
     ContactBarrierSettings s;
     s.distance = settings_.thickness;
-    p = std::make_unique<ClothContactPotential>(o.name, o.surface.tris, o.surface_nodes, o.surface.x, object_seams(o), s);
+    Points& rest = potential_rest_[index];
+    if (p || rest.rows() != o.surface.x.rows()) rest = o.surface.x;  // a first step, or a new topology
+    p = std::make_unique<ClothContactPotential>(o.name, o.surface.tris, o.surface_nodes, rest, object_seams(o), s);
     potential_versions_[index] = o.topology_version;
   }
   static const std::vector<char> none;

@@ -231,6 +231,10 @@ class SelfCollisionPass final : public StepPass {
   // Per object index: its contact potential (or null) and the topology_version it was made for.
   std::vector<std::unique_ptr<ClothContactPotential>> potentials_;
   std::vector<std::uint64_t> potential_versions_;
+  // Per object index: the positions its contact potential was made with (its edge mollifier's
+  // reference, ClothContactPotential's `rest`): the surface at its first step, kept in the
+  // checkpoint, so a resumed run's potential is the uninterrupted run's. Empty: none made yet.
+  std::vector<Points> potential_rest_;
 };
 
 }  // namespace invfem::collisions

@@ -32,6 +32,28 @@ SelfCollisionPass::SelfCollisionPass(SelfCollisionSettings settings,
 }
 
 namespace {
+// The layer's state in a checkpoint: point lists (#V x 3, row-major, as doubles) and per-item
+// flags (bytes), each with its count. Read element by element (not sized by the counts first): a
+// damaged count ends as "truncated".
+void write_points(StateWriter& out, const Points& x) { out.doubles(x.data(), static_cast<std::size_t>(x.size())); }
+Points read_points(StateReader& in, const std::string& what) {
+  const std::uint64_t n = in.count(what);
+  if (n % 3 != 0) throw StateError(what + ": " + std::to_string(n) + " coordinates are not whole points");
+  std::vector<double> values;
+  for (std::uint64_t k = 0; k < n; ++k) values.push_back(in.pod<double>(what));
+  return Eigen::Map<const Points>(values.data(), static_cast<Eigen::Index>(n / 3), 3);
+}
+void write_flags(StateWriter& out, const std::vector<char>& flags) {
+  out.count(flags.size());
+  for (char f : flags) out.pod(static_cast<std::uint8_t>(f));
+}
+std::vector<char> read_flags(StateReader& in, const std::string& what) {
+  std::vector<char> flags;
+  const std::uint64_t n = in.count(what);
+  for (std::uint64_t k = 0; k < n; ++k) flags.push_back(static_cast<char>(in.pod<std::uint8_t>(what)));
+  return flags;
+}
+
 // Every figure with its record key, in stats.jsonl order: the one list add_to and of share.
 template <class Figures, class Visit> void visit_figures(Figures& f, Visit&& visit) {
   visit("candidates", f.candidates);
@@ -269,7 +291,7 @@ void SelfCollisionPass::after_step(std::vector<SimObject>& objects, const StepPa
 
 void SelfCollisionPass::save_state(StateWriter& out) const {
   if (!built_) return;  // no step yet: nothing carries over
-  out.doubles(end_.data(), static_cast<std::size_t>(end_.size()));
+  write_points(out, end_);
   out.pod(static_cast<std::uint8_t>(left_crossable_));
   out.count(tangle_ages_.entries.size());
   for (const TangleAges::Entry& e : tangle_ages_.entries) {
@@ -277,15 +299,11 @@ void SelfCollisionPass::save_state(StateWriter& out) const {
     out.pod(static_cast<std::int64_t>(e.triangle));
     out.pod(e.seconds);
   }
-  out.count(recovering_tets_.size());
-  for (char f : recovering_tets_) out.pod(static_cast<std::uint8_t>(f));
+  write_flags(out, recovering_tets_);
   out.count(passing_.size());
-  for (const auto& object : passing_) {
-    out.count(object.size());
-    for (char f : object) out.pod(static_cast<std::uint8_t>(f));
-  }
+  for (const auto& object : passing_) write_flags(out, object);
   out.count(potential_rest_.size());
-  for (const Points& rest : potential_rest_) out.doubles(rest.data(), static_cast<std::size_t>(rest.size()));
+  for (const Points& rest : potential_rest_) write_points(out, rest);
 }
 
 void SelfCollisionPass::restore_state(StateReader& in, std::vector<SimObject>& objects) {
@@ -297,12 +315,7 @@ void SelfCollisionPass::restore_state(StateReader& in, std::vector<SimObject>& o
   if (in.at_end()) return;
   const std::string what = "the self-collision layer's state";
   Resumed r;
-  const std::uint64_t n = in.count(what);
-  if (n % 3 != 0) throw StateError(what + ": " + std::to_string(n) + " coordinates are not whole points");
-  // Element by element (not sized by the counts first): a damaged count ends as "truncated".
-  std::vector<double> end;
-  for (std::uint64_t k = 0; k < n; ++k) end.push_back(in.pod<double>(what));
-  r.end = Eigen::Map<const Points>(end.data(), static_cast<Eigen::Index>(n / 3), 3);  // row-major, as written
+  r.end = read_points(in, what);
   r.left_crossable = in.pod<std::uint8_t>(what) != 0;
   const std::uint64_t tangles = in.count(what);
   for (std::uint64_t k = 0; k < tangles; ++k) {
@@ -312,29 +325,14 @@ void SelfCollisionPass::restore_state(StateReader& in, std::vector<SimObject>& o
     e.seconds = in.pod<double>(what);
     r.tangle_ages.entries.push_back(e);
   }
-  const std::uint64_t tets = in.count(what);
-  for (std::uint64_t k = 0; k < tets; ++k) r.recovering_tets.push_back(static_cast<char>(in.pod<std::uint8_t>(what)));
-  // The passing regions, read straight into place: the first resumed step's potentials take them
-  // before the layer runs. Absent from a checkpoint written before they were kept: none.
-  if (!in.at_end()) {
-    const std::uint64_t objects_passing = in.count(what);
-    for (std::uint64_t o = 0; o < objects_passing; ++o) {
-      passing_.emplace_back();
-      const std::uint64_t vertices = in.count(what);
-      for (std::uint64_t k = 0; k < vertices; ++k) passing_.back().push_back(static_cast<char>(in.pod<std::uint8_t>(what)));
-    }
-  }
-  // The contact potentials' reference positions, likewise (absent: made afresh, from the surfaces).
-  if (!in.at_end()) {
-    const std::uint64_t objects_rest = in.count(what);
-    for (std::uint64_t o = 0; o < objects_rest; ++o) {
-      const std::uint64_t m = in.count(what);
-      if (m % 3 != 0) throw StateError(what + ": " + std::to_string(m) + " coordinates are not whole points");
-      std::vector<double> rest;
-      for (std::uint64_t k = 0; k < m; ++k) rest.push_back(in.pod<double>(what));
-      potential_rest_.push_back(Eigen::Map<const Points>(rest.data(), static_cast<Eigen::Index>(m / 3), 3));
-    }
-  }
+  r.recovering_tets = read_flags(in, what);
+  // The passing regions and the contact potentials' reference positions, read straight into
+  // place: the first resumed step's potentials take them before the layer runs. Absent from a
+  // checkpoint written before they were kept: none (the potentials made afresh, from the surfaces).
+  if (!in.at_end())
+    for (std::uint64_t o = in.count(what); o > 0; --o) passing_.push_back(read_flags(in, what));
+  if (!in.at_end())
+    for (std::uint64_t o = in.count(what); o > 0; --o) potential_rest_.push_back(read_points(in, what));
   resumed_ = std::move(r);
 }
 

@@ -31,7 +31,7 @@
 // intersections; then the end state is too (up to the fail-safe's iteration cap, reported).
 // Hence the tangle and crossing searches at x0 (edge-triangle tests over the whole surface,
 // most of the layer's cost on a scene without contact) run only when the last step let pairs go
-// (recovering tets, tangles, body crossings), left a step unresolved, or did not end where this step
+// (recovering tets, tangles, body or cloth crossings), left a step unresolved, or did not end where this step
 // starts (the first step, a rebuilt mesh, another pass moved the surfaces).
 #include <array>
 #include <cstdint>
@@ -174,8 +174,8 @@ class SelfCollisionPass final : public StepPass {
   // the nodes' velocities.
   void write_back(std::vector<SimObject>& objects, double dt, const Points& v_in, const Points& v, const Points& kick,
                   const ColliderKeepOut& keep_out) const;
-  // Hands each cloth's contact potential its passing vertices (mesh_.passing, kept in passing_ for
-  // the next step and the checkpoint).
+  // Keeps mesh_.passing per object (passing_), for the next step's contact potentials
+  // (contact_potential hands it over) and the checkpoint.
   void keep_passing();
   // end_: where the surfaces ended the step, as the next step's gather will read them.
   void record_end(const std::vector<SimObject>& objects, const StepPassInput& step);

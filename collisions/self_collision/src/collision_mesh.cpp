@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "invfem/core/integrate/force.hpp"
 #include "union_find.hpp"
 
 namespace invfem::collisions {
@@ -188,6 +189,19 @@ void sync_carried(const CollisionMesh& m, int node, Points& v) {
   if (!m.has_embedding()) return;
   for (int k = m.carry_offsets[static_cast<std::size_t>(node)]; k < m.carry_offsets[static_cast<std::size_t>(node) + 1]; ++k)
     sync_vertex(m, m.carry_vertices[static_cast<std::size_t>(k)], v);
+}
+
+void mark_open_welds(CollisionMesh& mesh, std::vector<char>& sewn) {
+  if (sewn.size() != mesh.welds.size()) sewn.assign(mesh.welds.size(), 0);
+  mesh.open_welds.clear();
+  for (std::size_t w = 0; w < mesh.welds.size(); ++w) {
+    const Weld& s = mesh.welds[w];
+    const Vec3 point = s.k < 0 ? mesh.start(s.j) : Vec3((1 - s.r) * mesh.start(s.j) + s.r * mesh.start(s.k));
+    if ((mesh.start(s.i) - point).norm() <= kStitchTolerance) sewn[w] = 1;
+    if (sewn[w]) continue;
+    if (mesh.open_welds.empty()) mesh.open_welds.assign(mesh.welds.size(), 0);
+    mesh.open_welds[w] = 1;
+  }
 }
 
 }  // namespace invfem::collisions

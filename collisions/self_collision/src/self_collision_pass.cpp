@@ -231,6 +231,7 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
     built_ = true;
     end_.resize(0, 3);  // a new mesh: its start is searched
     tangle_ages_.entries.clear();  // its edge and triangle ids are new
+    mark_open_welds(mesh_, sewn_);
     return;
   }
   for (std::size_t r = 0; r < mesh_.surfaces.size(); ++r) {
@@ -250,6 +251,7 @@ void SelfCollisionPass::gather(const std::vector<SimObject>& objects, const Step
       mesh_.v.middleRows(range.first_vertex, range.num_vertices) = (s->x - step.kinematic_start[b]) / dt;
     }
   }
+  mark_open_welds(mesh_, sewn_);
 }
 
 bool SelfCollisionPass::may_start_crossed() const {
@@ -304,6 +306,7 @@ void SelfCollisionPass::save_state(StateWriter& out) const {
   for (const auto& object : passing_) write_flags(out, object);
   out.count(potential_rest_.size());
   for (const Points& rest : potential_rest_) write_points(out, rest);
+  write_flags(out, sewn_);
 }
 
 void SelfCollisionPass::restore_state(StateReader& in, std::vector<SimObject>& objects) {
@@ -312,6 +315,7 @@ void SelfCollisionPass::restore_state(StateReader& in, std::vector<SimObject>& o
   resumed_.reset();
   passing_.clear();
   potential_rest_.clear();
+  sewn_.clear();
   if (in.at_end()) return;
   const std::string what = "the self-collision layer's state";
   Resumed r;
@@ -333,6 +337,9 @@ void SelfCollisionPass::restore_state(StateReader& in, std::vector<SimObject>& o
     for (std::uint64_t o = in.count(what); o > 0; --o) passing_.push_back(read_flags(in, what));
   if (!in.at_end())
     for (std::uint64_t o = in.count(what); o > 0; --o) potential_rest_.push_back(read_points(in, what));
+  // Which seams were sewn: absent from an older checkpoint, none (each closed one is found
+  // closed again at the first resumed step).
+  if (!in.at_end()) sewn_ = read_flags(in, what);
   resumed_ = std::move(r);
 }
 

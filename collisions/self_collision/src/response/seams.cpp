@@ -10,7 +10,9 @@ long long hold_seams(const CollisionMesh& mesh, const Points& v_in, Points& v, i
   long long applied = 0;
   for (int sweep = 0; sweep < sweeps; ++sweep) {
     long long this_sweep = 0;
-    for (const Weld& w : mesh.welds) {
+    for (std::size_t index = 0; index < mesh.welds.size(); ++index) {
+      if (!mesh.holds(index)) continue;
+      const Weld& w = mesh.welds[index];
       // Stencil: ids and coefficients of c = sum_k coef_k dv_k.
       const int ids[3] = {w.i, w.j, w.k};
       const double coef[3] = {1.0, w.k < 0 ? -1.0 : -(1.0 - w.r), w.k < 0 ? 0.0 : -w.r};

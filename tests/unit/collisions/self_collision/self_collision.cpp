@@ -26,6 +26,7 @@
 #include "invfem/collisions/self_collision/response/seams.hpp"
 #include "invfem/collisions/self_collision/response/zone_following.hpp"
 #include "invfem/collisions/self_collision/self_collision_pass.hpp"
+#include "invfem/core/integrate/force.hpp"
 #include "torn_cube.hpp"
 
 using namespace invfem;
@@ -558,6 +559,29 @@ TEST(Seams, HoldSeamsUndoesWhatOpensAStitchAndConservesMomentum) {
   EXPECT_EQ(hold_seams(m, v_in, v), 0);            // closed seams are left alone
 }
 
+TEST(Seams, AnOpenStitchIsNotHeld) {
+  // A stitch still being sewn, 2 cm open: the layer's impulse on one side is not passed to the
+  // other (they are two pieces of cloth until the seam closes); the same stitch closed is held.
+  Points x(6, 3);
+  x << 0, 0, 0, 0.01, 0, 0, 0, 0.01, 0, 0.005, 0.02, 0, 0.015, 0.02, 0, 0.005, 0.03, 0;
+  Tris t(2, 3);
+  t << 0, 1, 2, 3, 4, 5;
+  for (bool open : {true, false}) {
+    CollisionMesh m;
+    Points y = x;
+    if (!open) y.row(3) << 0.005, 0, 0;  // on the edge's midpoint
+    append_surface(m, "s", t, y, Points::Zero(6, 3), Eigen::VectorXd::Ones(6), false, {{3, 0, 1, 0.5}});
+    std::vector<char> sewn;
+    mark_open_welds(m, sewn);
+    Points v = m.v;
+    v.row(3) << 0, 0.5, 0;  // a repulsion pushed vertex 3 away
+    const Points pushed = v;
+    EXPECT_EQ(hold_seams(m, m.v, v), open ? 0 : 1);
+    if (open) EXPECT_EQ(v, pushed) << "nothing passed across an open stitch";
+    else EXPECT_LT((v.row(3) - 0.5 * (v.row(0) + v.row(1))).norm(), 1e-12) << "a closed seam moves as one";
+  }
+}
+
 TEST(ImpactZones, ASeamWithOneSideInAZoneIsNotTornOpen) {
   // Two cloth panels sewn along z = 0 (C-IPC's stitches: vertex a_m of the upper panel's edge
   // held at the midpoint of the lower panel's edge (b_m, b_m+1)), a kinematic triangle (a hand)
@@ -638,6 +662,109 @@ TEST(ImpactZones, ResolveEveryCollisionOfAFastCrossing) {
   EXPECT_TRUE(r.resolved);
   EXPECT_GE(r.zones, 1);
   EXPECT_EQ(colliding_pairs(m, v, dt, 1e-5), 0);
+}
+
+namespace {
+
+// Two n x n grids of side `width` in the plane y = height, one centred on the y axis and one
+// `apart` along x, as one surface: vertices 0 .. (n+1)^2 - 1 the first, the rest the second. Each
+// grid moves with its own velocity. welds (surface indices) join them.
+void append_two_grids(CollisionMesh& m, const std::string& name, int n, double width, double height, double apart,
+                      const Vec3& v_first, const Vec3& v_second, const std::vector<Weld>& welds = {}) {
+  const int per = (n + 1) * (n + 1);
+  Points x(2 * per, 3), v(2 * per, 3);
+  Tris t(4 * n * n, 3);
+  for (int g = 0, f = 0; g < 2; ++g) {
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        x.row(g * per + j * (n + 1) + i) << g * apart + width * (double(i) / n - 0.5), height,
+            width * (double(j) / n - 0.5);
+        v.row(g * per + j * (n + 1) + i) = (g == 0 ? v_first : v_second).transpose();
+      }
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const int a = g * per + j * (n + 1) + i;
+        t.row(f++) << a, a + n + 1, a + 1;
+        t.row(f++) << a + 1, a + n + 1, a + n + 2;
+      }
+  }
+  append_surface(m, name, t, x, v, Eigen::VectorXd::Ones(x.rows()), false, welds);
+}
+
+}  // namespace
+
+TEST(ImpactZones, AnOpenStitchJoinsNoZones) {
+  // Two garment pieces still to be sewn (a stitch from a corner of the first to an edge of the
+  // second, 0.5 m apart), each falling through a sheet of its own within the step and sliding
+  // toward the other: two impact zones, each closing the gap at its share of the sliding. Joined across the stitch they would be one rigid zone,
+  // keeping the stitch's gap as it was at the step's start for as long as the zone lasts.
+  const int n = 3, per = (n + 1) * (n + 1);
+  const double dt = 0.02, apart = 0.5;
+  auto pieces = [&]() {
+    CollisionMesh m;
+    append_two_grids(m, "lower", n, 0.3, 0.0, apart, Vec3(0, 0.5, 0), Vec3(0, 0.5, 0));
+    append_two_grids(m, "upper", n, 0.2, 0.02, apart, Vec3(0.3, -4.0, 0), Vec3(-0.3, -4.0, 0),
+                     {{n, per + 1, per + 2, 0.5}});
+    return m;
+  };
+  auto gap_at = [&](const CollisionMesh& m, const Points& v, double s) {
+    const Weld& w = m.welds[0];
+    return (m.position(w.i, v, s, dt) - 0.5 * (m.position(w.j, v, s, dt) + m.position(w.k, v, s, dt))).norm();
+  };
+  CcdSettings s;
+  s.min_distance = 1e-5;
+  for (bool marked : {true, false}) {
+    CollisionMesh m = pieces();
+    ASSERT_EQ(m.welds.size(), 1u);
+    std::vector<char> sewn;
+    mark_open_welds(m, sewn);
+    ASSERT_EQ(m.open_welds.size(), 1u);
+    EXPECT_EQ(m.open_welds[0], 1) << "0.5 m apart: open";
+    EXPECT_FALSE(m.holds(0));
+    if (!marked) m.open_welds.clear();  // the rule before: every weld joins the zones it touches
+    ASSERT_GT(colliding_pairs(m, m.v, dt, 1e-5), 0);
+    BroadPhase bp;
+    Points v = m.v;
+    const ImpactZoneReport r = resolve_impact_zones(m, bp, 1e-3, dt, s, 100, v);
+    ASSERT_TRUE(r.resolved);
+    EXPECT_EQ(colliding_pairs(m, v, dt, 1e-5), 0);
+    const double change = std::abs(gap_at(m, v, 1) - gap_at(m, v, 0));
+    if (marked) {
+      EXPECT_EQ(r.zones, 2) << "one zone per piece";
+      EXPECT_GT(change, 3e-3) << "the pieces' own motions close the stitch's gap";
+    } else {
+      EXPECT_EQ(r.zones, 1) << "joined across the stitch";
+      EXPECT_LT(change, 1e-9) << "one rigid motion: the gap is kept";
+    }
+  }
+}
+
+TEST(CollisionMesh, AStitchIsOpenUntilItFirstClosesAndHeldFromThenOn) {
+  // A vertex held at the midpoint of an edge (0, 1) and one held at vertex 2, off their points
+  // by 1.1, then 0.9, then again 1.1 times kStitchTolerance at three step starts.
+  Points x(5, 3);
+  x << 0, 0, 0, 0.02, 0, 0, 0.05, 0, 0, 0.01, 0, 0, 0.05, 0, 0;
+  Tris t(2, 3);
+  t << 0, 1, 3, 1, 2, 4;
+  CollisionMesh m;
+  append_surface(m, "s", t, x, Points::Zero(5, 3), Eigen::VectorXd::Ones(5), false, {{3, 0, 1, 0.5}, {4, 2, -1}});
+  std::vector<char> sewn;
+  for (double off : {1.1, 0.9, 1.1}) {
+    m.x0(3, 1) = off * kStitchTolerance;
+    m.x0(4, 2) = off * kStitchTolerance;
+    mark_open_welds(m, sewn);
+    ASSERT_EQ(sewn.size(), 2u);
+    if (off > 1 && sewn[0] == 0) {  // the first start: still being sewn
+      ASSERT_EQ(m.open_welds.size(), 2u);
+      EXPECT_FALSE(m.holds(0));
+      EXPECT_FALSE(m.holds(1));
+    } else {  // closed at the second start, and held when it opens again at the third
+      EXPECT_TRUE(m.open_welds.empty()) << "none open: no flags; offset " << off;
+      EXPECT_TRUE(m.holds(0));
+      EXPECT_TRUE(m.holds(1));
+    }
+  }
+  EXPECT_EQ(sewn, std::vector<char>({1, 1}));
 }
 
 namespace {

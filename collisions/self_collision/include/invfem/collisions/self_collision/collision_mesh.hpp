@@ -38,6 +38,17 @@
 //                        all-boundary tet instead lets boundaries cross (buddha_gears,
 //                        torus_puddle)
 //   welds                the surfaces' seam points (world.hpp Weld), global indices
+//   open_welds  #welds or empty   1: a weld still being sewn: its gap has not yet been within
+//                        kStitchTolerance at a step's start (mark_open_welds). The response
+//                        neither holds it (response/seams.hpp) nor joins impact zones across it:
+//                        an open stitch's two sides are two pieces of cloth, and joining them
+//                        into one rigid zone keeps their gap as it is for as long as the zone
+//                        lasts (a sewn dress's front seam stayed 5 cm open from the first half
+//                        second on). Once closed, a seam is held for good: a sewn seam that the
+//                        layer let go whenever it opened past the tolerance was torn 11 mm open
+//                        by the impulses on its sides (the dress dancing). Its vertices stay
+//                        joined (weld_partners) throughout: they are a seam's neighbours once it
+//                        closes
 //   surface_of  #V       which surface (index into `surfaces`) a vertex belongs to
 //   triangle_edges  #F x 3   the global edge id of each triangle's local edge k (corner k to
 //                        corner (k + 1) % 3)
@@ -130,6 +141,7 @@ struct CollisionMesh {
   Tris triangle_edges;
   std::vector<int> weld_offsets{0}, weld_partners;
   std::vector<Weld> welds;  // every surface's welds, in global vertex indices
+  std::vector<char> open_welds;
   std::vector<std::pair<int, int>> recovering;
   std::vector<int> surface_of;
   std::vector<VertexFaceCandidate> exempt_vf;
@@ -188,6 +200,8 @@ struct CollisionMesh {
       if (test(ids[k])) return true;
     return false;
   }
+  // True when weld w (an index into welds) holds at this step: it is not open (open_welds).
+  bool holds(std::size_t w) const { return open_welds.empty() || !open_welds[w]; }
   bool is_released(int i) const { return !released.empty() && released[static_cast<std::size_t>(i)]; }
   bool on_kinematic(int i) const {
     return surfaces[static_cast<std::size_t>(surface_of[static_cast<std::size_t>(i)])].kinematic;
@@ -237,6 +251,11 @@ void embedded_state(const SurfaceEmbedding& e, Points& x0, Points& v, Eigen::Vec
 void append_surface(CollisionMesh& mesh, const std::string& name, const Tris& tris, const Points& x0, const Points& v,
                     const Eigen::VectorXd& inv_mass, bool kinematic,
                     const std::vector<Weld>& welds = {}, const SurfaceEmbedding* embedding = nullptr);
+
+// Sets mesh.open_welds from the welds' gaps at x0 (empty when none is open). sewn: per weld, 1
+// once its gap was within kStitchTolerance at a step's start (updated here; reset to 0s when its
+// size is not the welds'), the state a run carries from step to step.
+void mark_open_welds(CollisionMesh& mesh, std::vector<char>& sewn);
 
 // v of every embedded vertex from its nodes' (the sum x0 takes), after the nodes' rows changed.
 void sync_embedded(const CollisionMesh& mesh, Points& v);

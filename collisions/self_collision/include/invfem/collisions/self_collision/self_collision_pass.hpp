@@ -235,6 +235,9 @@ class SelfCollisionPass final : public StepPass {
   // reference, ClothContactPotential's `rest`): the surface at its first step, kept in the
   // checkpoint, so a resumed run's potential is the uninterrupted run's. Empty: none made yet.
   std::vector<Points> potential_rest_;
+  // Per weld of mesh_: 1 once the seam was closed at a step's start (mark_open_welds); kept in the
+  // checkpoint.
+  std::vector<char> sewn_;
 };
 
 }  // namespace invfem::collisions

@@ -42,13 +42,11 @@
 //                        kStitchTolerance at a step's start (mark_open_welds). The response
 //                        neither holds it (response/seams.hpp) nor joins impact zones across it:
 //                        an open stitch's two sides are two pieces of cloth, and joining them
-//                        into one rigid zone keeps their gap as it is for as long as the zone
-//                        lasts (a sewn dress's front seam stayed 5 cm open from the first half
-//                        second on). Once closed, a seam is held for good: a sewn seam that the
-//                        layer let go whenever it opened past the tolerance was torn 11 mm open
-//                        by the impulses on its sides (the dress dancing). Its vertices stay
-//                        joined (weld_partners) throughout: they are a seam's neighbours once it
-//                        closes
+//                        into one rigid zone would keep their gap as it is for as long as the
+//                        zone lasts. Once closed, a seam is held for good, whatever its gap
+//                        later: a sewn seam let go whenever it opened past the tolerance is torn
+//                        further open by the impulses on its sides. Its vertices stay joined
+//                        (weld_partners) throughout: they are a seam's neighbours once it closes
 //   surface_of  #V       which surface (index into `surfaces`) a vertex belongs to
 //   triangle_edges  #F x 3   the global edge id of each triangle's local edge k (corner k to
 //                        corner (k + 1) % 3)

@@ -22,9 +22,9 @@
 namespace invfem::collisions {
 
 // Gauss-Seidel sweeps over the welds that hold (CollisionMesh::holds: not an open stitch) in
-// order (deterministic); a weld whose relative change is already below 1e-9 m/s is left alone. v_in, v: #V x 3. held: empty, or #V flags, 1 for a
-// vertex that the sweeps must not move (as if of infinite mass). Returns how many weld impulses
-// were applied.
+// order (deterministic); a weld whose relative change is already below 1e-9 m/s is left alone.
+// v_in, v: #V x 3. held: empty, or #V flags, 1 for a vertex that the sweeps must not move (as if
+// of infinite mass). Returns how many weld impulses were applied.
 long long hold_seams(const CollisionMesh& mesh, const Points& v_in, Points& v, int sweeps = 4,
                      const std::vector<char>& held = {});
 

@@ -696,8 +696,9 @@ void append_two_grids(CollisionMesh& m, const std::string& name, int n, double w
 TEST(ImpactZones, AnOpenStitchJoinsNoZones) {
   // Two garment pieces still to be sewn (a stitch from a corner of the first to an edge of the
   // second, 0.5 m apart), each falling through a sheet of its own within the step and sliding
-  // toward the other: two impact zones, each closing the gap at its share of the sliding. Joined across the stitch they would be one rigid zone,
-  // keeping the stitch's gap as it was at the step's start for as long as the zone lasts.
+  // toward the other: two impact zones, each closing the gap by its share of the sliding. Joined
+  // across the stitch they would be one rigid zone, keeping the stitch's gap as it was at the
+  // step's start for as long as the zone lasts.
   const int n = 3, per = (n + 1) * (n + 1);
   const double dt = 0.02, apart = 0.5;
   auto pieces = [&]() {

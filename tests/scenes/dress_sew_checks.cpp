@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cmath>
 
 #include "garment_checks.hpp"
 #include "invfem/core/io/obj_file.hpp"

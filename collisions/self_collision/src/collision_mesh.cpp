@@ -195,10 +195,13 @@ void mark_open_welds(CollisionMesh& mesh, std::vector<char>& sewn) {
   if (sewn.size() != mesh.welds.size()) sewn.assign(mesh.welds.size(), 0);
   mesh.open_welds.clear();
   for (std::size_t w = 0; w < mesh.welds.size(); ++w) {
+    if (sewn[w]) continue;  // held for good: its gap is not measured again
     const Weld& s = mesh.welds[w];
     const Vec3 point = s.k < 0 ? mesh.start(s.j) : Vec3((1 - s.r) * mesh.start(s.j) + s.r * mesh.start(s.k));
-    if ((mesh.start(s.i) - point).norm() <= kStitchTolerance) sewn[w] = 1;
-    if (sewn[w]) continue;
+    if ((mesh.start(s.i) - point).norm() <= kStitchTolerance) {
+      sewn[w] = 1;
+      continue;
+    }
     if (mesh.open_welds.empty()) mesh.open_welds.assign(mesh.welds.size(), 0);
     mesh.open_welds[w] = 1;
   }

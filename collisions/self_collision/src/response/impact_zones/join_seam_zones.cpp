@@ -8,9 +8,8 @@ namespace invfem::collisions {
 // stitch half in, torn open by its zone's motion); they follow the zone's side after the move
 // (hold_zone_seams).
 void join_seam_zones(ZoneLoop& loop) {
-  for (std::size_t index = 0; index < loop.m.welds.size(); ++index) {
-    if (!loop.m.holds(index)) continue;  // an open stitch: two pieces of cloth (collision_mesh.hpp open_welds)
-    const Weld& w = loop.m.welds[index];
+  // An open stitch joins nothing: its sides are two pieces of cloth (collision_mesh.hpp open_welds).
+  loop.m.for_each_held_weld([&](const Weld& w) {
     const int ids[3] = {w.i, w.j, w.k < 0 ? w.j : w.k};
     int first = -1;
     for (int i : ids) {
@@ -20,7 +19,7 @@ void join_seam_zones(ZoneLoop& loop) {
       else
         loop.zones.unite(first, i);
     }
-  }
+  });
 }
 
 }  // namespace invfem::collisions

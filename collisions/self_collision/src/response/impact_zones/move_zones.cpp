@@ -30,15 +30,13 @@ ZoneWork zone_work(ZoneLoop& loop, const std::vector<std::vector<int>>& list) {
     work.constraints[z].push_back(static_cast<int>(k));
     if (c.round == loop.iteration) work.fresh[z] = 1;
   }
-  for (std::size_t s = 0; s < loop.m.welds.size(); ++s) {
-    if (!loop.m.holds(s)) continue;
-    const Weld& w = loop.m.welds[s];
+  loop.m.for_each_held_weld([&](const Weld& w) {
     const int ids[3] = {w.i, w.j, w.k < 0 ? w.j : w.k};
     const int root = loop.in_zone[static_cast<std::size_t>(ids[0])] ? loop.zones.find(ids[0]) : -1;
     bool inside = root >= 0;
     for (int i : ids) inside = inside && loop.in_zone[static_cast<std::size_t>(i)] && loop.zones.find(i) == root;
     if (inside) work.welds[static_cast<std::size_t>(index[static_cast<std::size_t>(root)])].push_back(&w);
-  }
+  });
   return work;
 }
 

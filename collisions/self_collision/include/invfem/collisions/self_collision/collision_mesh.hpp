@@ -200,6 +200,11 @@ struct CollisionMesh {
   }
   // True when weld w (an index into welds) holds at this step: it is not open (open_welds).
   bool holds(std::size_t w) const { return open_welds.empty() || !open_welds[w]; }
+  // visit(weld) for each weld that holds, in order: the response's one loop over the seams.
+  template <class Visit> void for_each_held_weld(Visit&& visit) const {
+    for (std::size_t w = 0; w < welds.size(); ++w)
+      if (holds(w)) visit(welds[w]);
+  }
   bool is_released(int i) const { return !released.empty() && released[static_cast<std::size_t>(i)]; }
   bool on_kinematic(int i) const {
     return surfaces[static_cast<std::size_t>(surface_of[static_cast<std::size_t>(i)])].kinematic;

@@ -500,6 +500,9 @@ Scene parse_scene(const nlohmann::json& j, const std::filesystem::path& file, bo
   const Fields settle = root.object_or_empty("settle");
   settle_fields().reject_unknown(settle);
   settle_fields().read(settle, s);
+  if (s.solver.settle.gravity_ramp > 0 && s.solver.settle.gravity)
+    settle.fail("gravity_ramp", "0 while the settle has gravity (a ramp brings it back after a settle with "
+                                "`gravity` false)", format_number(s.solver.settle.gravity_ramp));
 
   const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
   std::set<std::string> names;

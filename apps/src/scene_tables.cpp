@@ -166,6 +166,9 @@ const FieldTable<Scene>& settle_fields() {
                       "their animation this much behind the run's clock; 0: no settle"},
       {.key = "gravity", .member = at<S>([](auto& s) -> auto& { return s.solver.settle.gravity; }),
        .description = "false: no gravity during the settle"},
+      {.key = "gravity_ramp", .member = at<S>([](auto& s) -> auto& { return s.solver.settle.gravity_ramp; }), .unit = "s", .range = {0, 1e5},
+       .description = "with `gravity` false: after the settle, gravity grows linearly from none to whole over "
+                      "this time (each step takes its end's share); 0: whole at once"},
   });
   return table;
 }

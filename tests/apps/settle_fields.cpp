@@ -42,6 +42,9 @@ TEST(SettleFields, FillTheWorldsSettingsAndAreWrittenBack) {
   const nlohmann::json back = to_json(s);
   EXPECT_EQ(back["settle"]["duration"], 1.5);
   EXPECT_EQ(back["settle"]["gravity"], false);
+  EXPECT_EQ(back["settle"]["gravity_ramp"], 0.0);
+  EXPECT_EQ(scene_with({{"settle", {{"duration", 1}, {"gravity", false}, {"gravity_ramp", 0.5}}}}).solver.settle.gravity_ramp,
+            0.5);
   EXPECT_EQ(scene_with(nlohmann::json::object(), {"settle.duration=2"}).solver.settle.duration, 2.0);
 }
 
@@ -51,6 +54,8 @@ TEST(SettleFields, BadValuesNameTheField) {
            {{{"settle", {{"duration", "2 s"}}}}, "$.settle.duration"},
            {{{"settle", {{"duration", 1e9}}}}, "$.settle.duration"},
            {{{"settle", {{"gravity", 0}}}}, "$.settle.gravity"},
+           {{{"settle", {{"gravity_ramp", -0.5}}}}, "$.settle.gravity_ramp"},
+           {{{"settle", {{"duration", 1}, {"gravity_ramp", 0.5}}}}, "$.settle.gravity_ramp"},
            {{{"settle", {{"duratoin", 1}}}}, "duratoin"},
            {{{"settle", 2}}, "settle"}}) {
     const std::string e = error_of(extra);

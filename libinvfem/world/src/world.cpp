@@ -92,6 +92,11 @@ World::World(WorldSettings settings, std::vector<SimObject> objects,
       collisions_(std::move(collisions)) {
   if (!(settings_.settle.duration >= 0) || !std::isfinite(settings_.settle.duration))
     throw std::invalid_argument("world: the settle duration must be a finite number >= 0 s");
+  if (!(settings_.settle.gravity_ramp >= 0) || !std::isfinite(settings_.settle.gravity_ramp))
+    throw std::invalid_argument("world: the settle's gravity ramp must be a finite number >= 0 s");
+  if (settings_.settle.gravity_ramp > 0 && settings_.settle.gravity)
+    throw std::invalid_argument("world: the settle's gravity ramp brings gravity back after a settle without it "
+                                "(settle.gravity false)");
   std::set<std::string> names;
   for (const SimObject& o : objects_) {
     if (!names.insert(o.name).second) throw std::invalid_argument("world: two objects are named \"" + o.name + "\"");
@@ -174,16 +179,25 @@ void World::place_bodies(double t, bool held) {
 }
 
 namespace {
-// The conditions of one settle step (WorldSettings::settle): every object starts it from rest,
-// and without gravity when the settle has none; each object's gravity comes back when the step is
-// done (the guard's end), whatever ends it.
+// One step's share of gravity in [0, 1] (WorldSettings::settle): none while a settle without
+// gravity lasts, then its ramp's share at the step's end t1.
+double gravity_share(const SettleSettings& settle, bool settling, double t1) {
+  if (settle.gravity) return 1;
+  if (settling) return 0;
+  if (!(settle.gravity_ramp > 0)) return 1;
+  return std::clamp((t1 - settle.duration) / settle.gravity_ramp, 0.0, 1.0);
+}
+
+// The conditions of one step of the settle or of its gravity's ramp (WorldSettings::settle): a
+// settle step starts from rest; every object's gravity is scaled by the step's share and comes
+// back whole when the step is done (the guard's end), whatever ends it.
 class SettleStep {
  public:
-  SettleStep(std::vector<SimObject>& objects, const SettleSettings& settle) : objects_(objects) {
+  SettleStep(std::vector<SimObject>& objects, bool from_rest, double gravity_share) : objects_(objects) {
     for (SimObject& o : objects_) {
-      o.body.v.setZero();
+      if (from_rest) o.body.v.setZero();
       gravity_.push_back(o.body.gravity);
-      if (!settle.gravity) o.body.gravity.setZero();
+      o.body.gravity *= gravity_share;
     }
   }
   ~SettleStep() {
@@ -211,7 +225,7 @@ void World::advance_to(double t_end, FrameReport& report) {
     // up to the settle's end are equal, and so are those after it.
     const bool settle = settling();
     std::optional<SettleStep> settle_step;
-    if (settle) settle_step.emplace(objects_, settings_.settle);
+    if (settle) settle_step.emplace(objects_, true, 1.0);
     const double stop = settle ? std::min(t_end, settings_.settle.duration) : t_end;
     const double left = stop - time_;
     double dt = equal_steps(frame, left, std::min({step_size(), left, frame.bounded_dt}));
@@ -219,6 +233,12 @@ void World::advance_to(double t_end, FrameReport& report) {
     std::vector<Points> kinematic_start;
     if (!passes_.empty() || frame.bounded) kinematic_start = kinematic_surfaces();
     if (frame.bounded) dt = bound_step_motion(frame, left, dt, kinematic_start, settle, report);
+    // The step's gravity, once its length is known (a retried step takes its new end's share).
+    const double share = gravity_share(settings_.settle, settle, time_ + dt);
+    if (share < 1) {
+      settle_step.reset();
+      settle_step.emplace(objects_, settle, share);
+    }
     ++frame.taken;
     StepStart start = start_step(frame, report);
     // 1. Kinematic bodies.

@@ -119,6 +119,29 @@ TEST_P(SettleBothIntegrators, WithoutGravityAFlatSheetStaysInPlaceThenFallsAfter
   EXPECT_LT(w.objects()[0].body.x(0, 1), 2.0 - 0.1);  // falls freely after it: g (0.2 s)^2 / 2 = 0.196 m
 }
 
+TEST_P(SettleBothIntegrators, GravityComesBackOverItsRampAfterASettleWithout) {
+  // A settle of 0.2 s without gravity, then a ramp of 0.1 s: each step of 0.01 s takes the share
+  // of its end, k / 10 at the k-th step after the settle. The free fall's velocity after the ramp
+  // is g dt (1 + 2 + ... + 10) / 10 = 0.55 g (0.1 s), about half the sudden switch's g (0.1 s).
+  World ramped = sheet_world(0.2, false, GetParam());
+  WorldSettings s;
+  s.max_dt = 0.01;
+  s.integrator = GetParam();
+  s.settle = {0.2, false, 0.1};
+  std::vector<SimObject> objects;
+  objects.push_back(sheet(2.0));
+  World w(s, std::move(objects), {}, nullptr);
+  FrameReport r, q;
+  w.advance_to(0.3, r);
+  ramped.advance_to(0.3, q);
+  const double g = 9.81, v_ramp = -w.objects()[0].body.v(0, 1), v_sudden = -ramped.objects()[0].body.v(0, 1);
+  EXPECT_NEAR(v_sudden, g * 0.1, 1e-9);
+  EXPECT_NEAR(v_ramp, 0.55 * g * 0.1, 1e-9);
+  EXPECT_EQ(w.objects()[0].body.gravity, Vec3(0, -9.81, 0));  // whole again between steps
+  w.advance_to(0.4, r);  // past the ramp: whole gravity, g dt a step
+  EXPECT_NEAR(-w.objects()[0].body.v(0, 1), (0.55 + 1.0) * g * 0.1, 1e-9);
+}
+
 INSTANTIATE_TEST_SUITE_P(Settle, SettleBothIntegrators, ::testing::Values(Integrator::ITF04, Integrator::Implicit),
                          [](const auto& info) { return info.param == Integrator::ITF04 ? "itf04" : "implicit"; });
 
@@ -193,6 +216,22 @@ TEST(Settle, AStateSavedDuringTheSettleResumesBitForBitAcrossItsEnd) {
     b.advance_to(0.1, r);
     EXPECT_EQ(a.objects()[0].body.x, b.objects()[0].body.x);
     EXPECT_EQ(a.objects()[0].body.v, b.objects()[0].body.v);
+  }
+}
+
+TEST(Settle, ABadGravityRampIsRefused) {
+  for (const SettleSettings& bad : {SettleSettings{1, false, -1}, SettleSettings{1, false, std::nan("")},
+                                    SettleSettings{1, true, 0.5}}) {
+    WorldSettings s;
+    s.settle = bad;
+    std::vector<SimObject> objects;
+    objects.push_back(sheet(2.0));
+    try {
+      World(s, std::move(objects), {}, nullptr);
+      ADD_FAILURE() << bad.gravity_ramp << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("gravity ramp"), std::string::npos) << e.what();
+    }
   }
 }
 

@@ -200,10 +200,13 @@ class StepPass {
 // scripted motions (kinematic bodies, moving pins) are held at their pose of time 0, at rest.
 // After it they play on a clock `duration` seconds behind the world's (World::script_time). No
 // step crosses the settle's end. Forces that change with time (a muscle's activation, a strength
-// track) keep the world's clock. duration 0: no settle.
+// track) keep the world's clock. duration 0: no settle. A settle without gravity may bring it
+// back over `gravity_ramp` seconds after its end, growing linearly (each step takes the share of
+// its end time): switched on at once, a garment's whole weight falls on it in one step.
 struct SettleSettings {
-  double duration = 0;  // [s]
+  double duration = 0;      // [s]
   bool gravity = true;
+  double gravity_ramp = 0;  // [s] >= 0; only without gravity during the settle
 };
 
 // itf04: ITF04 section 9 (explicit elasticity, implicit damping; CFL-limited), the reference.

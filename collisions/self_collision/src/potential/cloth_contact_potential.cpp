@@ -47,6 +47,14 @@ bool ClothContactPotential::straddles_seam(PairKind kind, const std::array<int, 
   return (on_seam(v[0]) || on_seam(v[1])) && (on_seam(v[2]) || on_seam(v[3]));
 }
 
+bool ClothContactPotential::touches(PairKind kind, const std::array<int, 4>& v, const Vec12& X) {
+  if (!touching_.empty() && touching_.count(v)) return true;
+  const double t = kTouching * settings_.distance;
+  if (!(pair_distance_squared(kind, X) < t * t)) return false;
+  touching_.insert(v);
+  return true;
+}
+
 void ClothContactPotential::load(const Points& x, Points& out) const {
   out.resize(static_cast<Eigen::Index>(nodes_.size()), 3);
   for (std::size_t s = 0; s < nodes_.size(); ++s) out.row(static_cast<Eigen::Index>(s)) = x.row(nodes_[s]);
@@ -54,6 +62,7 @@ void ClothContactPotential::load(const Points& x, Points& out) const {
 
 void ClothContactPotential::begin_step(const Points& x_start, const Eigen::VectorXd& mass) {
   (void)x_start;
+  touching_.clear();
   for (std::size_t s = 0; s < nodes_.size(); ++s) mass_(static_cast<Eigen::Index>(s)) = mass(nodes_[s]);
 }
 
@@ -90,6 +99,7 @@ void ClothContactPotential::evaluate(const Points& x) {
     p.params.distance = settings_.distance;
     const Vec12 X = coordinates(p);
     if (!(pair_distance_squared(kind, X) < settings_.distance * settings_.distance)) return;
+    if (touches(kind, v, X)) return;
     p.params.kappa = kappa(v);
     if (kind == PairKind::EdgeEdge) {
       Vec12 R;
@@ -130,19 +140,34 @@ double ClothContactPotential::max_step(const Points& x, const Points& dir) {
   CcdSettings ccd;
   ccd.min_distance = separation;
   ccd.max_iterations = kFilterBoxes;
-  // Each candidate's first time within the separation, in parallel; their minimum.
+  // Each candidate's first time within the separation, in parallel; their minimum. A pair
+  // touching at x is out (touches), marked here and kept out after the loop.
   const std::size_t nvf = candidates_.vf.size();
+  const double touch = kTouching * settings_.distance;
   std::vector<double> toi(candidates_.size(), 1.0);
+  std::vector<char> touching(candidates_.size(), 0);
   parallel_for_each(toi.size(), kGrain, [&](std::size_t i) {
     const bool ee = i >= nvf;
-    if (ee ? straddles_seam(PairKind::EdgeEdge, candidate_vertices(mesh_, candidates_.ee[i - nvf]))
-           : straddles_seam(PairKind::PointTriangle, candidate_vertices(mesh_, candidates_.vf[i])))
+    const PairKind kind = ee ? PairKind::EdgeEdge : PairKind::PointTriangle;
+    const std::array<int, 4> vv =
+        ee ? candidate_vertices(mesh_, candidates_.ee[i - nvf]) : candidate_vertices(mesh_, candidates_.vf[i]);
+    if (straddles_seam(kind, vv)) return;
+    if (!touching_.empty() && touching_.count(vv)) return;
+    Vec12 X;
+    for (int k = 0; k < 4; ++k) X.segment<3>(3 * k) = mesh_.x0.row(vv[static_cast<std::size_t>(k)]).transpose();
+    if (pair_distance_squared(kind, X) < touch * touch) {
+      touching[i] = 1;
       return;
+    }
     double t = 1;
     const bool hit = i < nvf ? candidate_ccd(mesh_, candidates_.vf[i], v, 1.0, ccd, t)
                              : candidate_ccd(mesh_, candidates_.ee[i - nvf], v, 1.0, ccd, t);
     if (hit) toi[i] = t;
   });
+  for (std::size_t i = 0; i < touching.size(); ++i)
+    if (touching[i])
+      touching_.insert(i >= nvf ? candidate_vertices(mesh_, candidates_.ee[i - nvf])
+                                : candidate_vertices(mesh_, candidates_.vf[i]));
   const double alpha = toi.empty() ? 1.0 : *std::min_element(toi.begin(), toi.end());
   return alpha;
 }

@@ -276,6 +276,42 @@ TEST(ClothContactPotential, StepFilterStopsASheetBeforeTheOtherAndLetsItLeave) {
   EXPECT_EQ(c.max_step(s.x, -down), 1.0);  // moving away: the whole step
 }
 
+// The upper sheet 2 mm above the lower, its middle vertex (13) moved onto the lower sheet (as a
+// held contact's catch moves a node onto a body through the cloth between): its pairs touch. They
+// are out of the barrier and the filter for the step, whose bound on a step carrying the sheet down
+// is then set by the pairs near vertex 13 that do not touch (a pair at distance 0 and closing would
+// have made it 0), and stay out when the vertex lifts 0.5 mm, where a new step's potential takes
+// them back.
+TEST(ClothContactPotential, APairFoundTouchingIsOutOfTheBarrierAndTheFilterUntilTheStepEnds) {
+  Sheets s = two_sheets(2e-3);
+  s.x(13, 2) = 0;
+  ClothContactPotential c = potential_of(s);
+  c.begin_step(s.x, Eigen::VectorXd::Constant(18, 1e-3));
+  c.evaluate(s.x);
+  EXPECT_FALSE(c.touching().empty());
+  EXPECT_TRUE(std::isfinite(c.energy()));
+  Points grad = Points::Zero(18, 3);
+  c.add_gradient(1.0, grad);
+  EXPECT_TRUE(grad.allFinite());
+  EXPECT_LT(grad.norm(), 1e3) << "no pair at distance 0 in the gradient";
+  Points down = Points::Zero(18, 3);
+  down.block(9, 2, 9, 1).setConstant(-1e-3);  // the upper sheet 1 mm down
+  const double alpha = c.max_step(s.x, down);
+  EXPECT_GT(alpha, 0.05);
+  EXPECT_LT(alpha, 1.0) << "the pairs that do not touch still bound it";
+  Points lifted = s.x;
+  lifted(13, 2) = 5e-4;
+  c.evaluate(lifted);
+  const std::size_t kept_out = c.active_pairs();
+  ClothContactPotential fresh = potential_of(s);
+  fresh.begin_step(lifted, Eigen::VectorXd::Constant(18, 1e-3));
+  fresh.evaluate(lifted);
+  EXPECT_TRUE(fresh.touching().empty());
+  EXPECT_GT(fresh.active_pairs(), kept_out) << "the next step's potential takes the lifted pairs back";
+  c.begin_step(lifted, Eigen::VectorXd::Constant(18, 1e-3));
+  EXPECT_TRUE(c.touching().empty());
+}
+
 long long crossings(const Sheets& s, const Points& x) {
   TriangleSurface surface;
   surface.x = x;

@@ -13,7 +13,17 @@
 // barrier's (core/integrate/body_barrier.hpp): a pair resting under its own weight sits where
 // |b'(d)| = g d^ / a, about 0.83 d^ for a = 10 g. The step filter keeps every pair at least
 // `separation` d^ apart along the step (or half its distance at the step's start when closer).
+//
+// A pair found touching (closer than kTouching d^) at an iterate is out of the barrier and the
+// filter for the rest of the step: no step of the filter's could move it, and its barrier's
+// gradient (growing as 1 / d) would swamp every other. Newton's own iterates never bring a pair
+// there (the filter keeps half its distance); the held body contacts' catches do, moving nodes onto
+// a body through the cloth between (two layers 1.4 mm apart pressed onto the dancer's torso: the
+// filter stopped every step of the dress at its first iterate). Such a pair is the after-step
+// layer's, whose CCD follows it from the step's start; kept out for the whole step, it is never
+// held by the barrier on the wrong side of a crossing.
 #include <array>
+#include <set>
 #include <vector>
 
 #include "invfem/core/integrate/contact_potential.hpp"
@@ -51,6 +61,10 @@ class ClothContactPotential final : public ContactPotential {
   // outside the region, in the barrier or the step filter (CollisionMesh::passing_pair).
   void let_pass(const std::vector<char>& passing) { mesh_.passing = passing; }
   const ContactBarrierSettings& settings() const { return settings_; }
+  // [d^] below this a pair touches (see the header).
+  static constexpr double kTouching = 1e-6;
+  // The pairs (candidate_vertices' order) found touching since the step began.
+  const std::set<std::array<int, 4>>& touching() const { return touching_; }
 
  private:
   struct Pair {
@@ -58,6 +72,9 @@ class ClothContactPotential final : public ContactPotential {
     std::array<int, 4> vertices{};  // surface vertices, candidate_vertices' order
   };
   bool straddles_seam(PairKind kind, const std::array<int, 4>& vertices) const;
+  // True (and the pair kept out until the step's end) when it is out already or within kTouching d^
+  // at X (its coordinates, candidate_vertices' order).
+  bool touches(PairKind kind, const std::array<int, 4>& vertices, const Vec12& X);
   void load(const Points& x, Points& out) const;  // body rows -> surface rows
   Vec12 coordinates(const Pair& p) const;          // at the last evaluation
   std::array<int, 4> nodes_of(const Pair& p) const;
@@ -73,6 +90,7 @@ class ClothContactPotential final : public ContactPotential {
   Points zero_;           // #V x 3 zeros: the evaluation's velocities
   Points evaluated_;      // #V x 3: the positions of the last evaluation (mesh_.x0 is the queries')
   std::vector<Pair> pairs_;
+  std::set<std::array<int, 4>> touching_;  // out of the barrier and the filter until begin_step
   double energy_ = 0;
 };
 

@@ -18,10 +18,10 @@
 // filter for the rest of the step: no step of the filter's could move it, and its barrier's
 // gradient (growing as 1 / d) would swamp every other. Newton's own iterates never bring a pair
 // there (the filter keeps half its distance); the held body contacts' catches do, moving nodes onto
-// a body through the cloth between (two layers 1.4 mm apart pressed onto the dancer's torso: the
-// filter stopped every step of the dress at its first iterate). Such a pair is the after-step
-// layer's, whose CCD follows it from the step's start; kept out for the whole step, it is never
-// held by the barrier on the wrong side of a crossing.
+// a body through the cloth between (a garment's two layers pressed together onto a torso: the
+// filter then bounded every step at 0). Such a pair is the after-step layer's, whose CCD follows
+// it from the step's start; kept out for the whole step, it is never held by the barrier on the
+// wrong side of a crossing.
 #include <array>
 #include <set>
 #include <vector>

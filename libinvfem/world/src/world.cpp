@@ -180,7 +180,7 @@ void World::place_bodies(double t, bool held) {
 
 namespace {
 // One step's share of gravity in [0, 1] (WorldSettings::settle): none while a settle without
-// gravity lasts, then its ramp's share at the step's end t1.
+// gravity lasts, then its ramp's share at the step's end t1 (unused while settling).
 double gravity_share(const SettleSettings& settle, bool settling, double t1) {
   if (settle.gravity) return 1;
   if (settling) return 0;
@@ -225,7 +225,7 @@ void World::advance_to(double t_end, FrameReport& report) {
     // up to the settle's end are equal, and so are those after it.
     const bool settle = settling();
     std::optional<SettleStep> settle_step;
-    if (settle) settle_step.emplace(objects_, true, 1.0);
+    if (settle) settle_step.emplace(objects_, true, gravity_share(settings_.settle, true, time_));
     const double stop = settle ? std::min(t_end, settings_.settle.duration) : t_end;
     const double left = stop - time_;
     double dt = equal_steps(frame, left, std::min({step_size(), left, frame.bounded_dt}));
@@ -233,11 +233,11 @@ void World::advance_to(double t_end, FrameReport& report) {
     std::vector<Points> kinematic_start;
     if (!passes_.empty() || frame.bounded) kinematic_start = kinematic_surfaces();
     if (frame.bounded) dt = bound_step_motion(frame, left, dt, kinematic_start, settle, report);
-    // The step's gravity, once its length is known (a retried step takes its new end's share).
-    const double share = gravity_share(settings_.settle, settle, time_ + dt);
-    if (share < 1) {
-      settle_step.reset();
-      settle_step.emplace(objects_, settle, share);
+    // A step of the gravity's ramp takes its end's share, once its length is known (a retried step
+    // its new end's); the motion bound above took whole gravity, which bounds it.
+    if (!settle) {
+      const double share = gravity_share(settings_.settle, false, time_ + dt);
+      if (share < 1) settle_step.emplace(objects_, false, share);
     }
     ++frame.taken;
     StepStart start = start_step(frame, report);

@@ -47,10 +47,14 @@ bool ClothContactPotential::straddles_seam(PairKind kind, const std::array<int, 
   return (on_seam(v[0]) || on_seam(v[1])) && (on_seam(v[2]) || on_seam(v[3]));
 }
 
-bool ClothContactPotential::touches(PairKind kind, const std::array<int, 4>& v, const Vec12& X) {
+bool ClothContactPotential::is_out(PairKind kind, const std::array<int, 4>& v, const Vec12& X) const {
   if (!touching_.empty() && touching_.count(v)) return true;
   const double t = kTouching * settings_.distance;
-  if (!(pair_distance_squared(kind, X) < t * t)) return false;
+  return pair_distance_squared(kind, X) < t * t;
+}
+
+bool ClothContactPotential::touches(PairKind kind, const std::array<int, 4>& v, const Vec12& X) {
+  if (!is_out(kind, v, X)) return false;
   touching_.insert(v);
   return true;
 }
@@ -140,10 +144,9 @@ double ClothContactPotential::max_step(const Points& x, const Points& dir) {
   CcdSettings ccd;
   ccd.min_distance = separation;
   ccd.max_iterations = kFilterBoxes;
-  // Each candidate's first time within the separation, in parallel; their minimum. A pair
-  // touching at x is out (touches), marked here and kept out after the loop.
+  // Each candidate's first time within the separation, in parallel; their minimum. A pair out
+  // (is_out) is marked here and kept out after the loop (the set is read only inside it).
   const std::size_t nvf = candidates_.vf.size();
-  const double touch = kTouching * settings_.distance;
   std::vector<double> toi(candidates_.size(), 1.0);
   std::vector<char> touching(candidates_.size(), 0);
   parallel_for_each(toi.size(), kGrain, [&](std::size_t i) {
@@ -152,10 +155,9 @@ double ClothContactPotential::max_step(const Points& x, const Points& dir) {
     const std::array<int, 4> vv =
         ee ? candidate_vertices(mesh_, candidates_.ee[i - nvf]) : candidate_vertices(mesh_, candidates_.vf[i]);
     if (straddles_seam(kind, vv)) return;
-    if (!touching_.empty() && touching_.count(vv)) return;
     Vec12 X;
     for (int k = 0; k < 4; ++k) X.segment<3>(3 * k) = mesh_.x0.row(vv[static_cast<std::size_t>(k)]).transpose();
-    if (pair_distance_squared(kind, X) < touch * touch) {
+    if (is_out(kind, vv, X)) {
       touching[i] = 1;
       return;
     }

@@ -72,8 +72,10 @@ class ClothContactPotential final : public ContactPotential {
     std::array<int, 4> vertices{};  // surface vertices, candidate_vertices' order
   };
   bool straddles_seam(PairKind kind, const std::array<int, 4>& vertices) const;
-  // True (and the pair kept out until the step's end) when it is out already or within kTouching d^
-  // at X (its coordinates, candidate_vertices' order).
+  // True when the pair is out for this step: found touching before, or within kTouching d^ at X
+  // (its coordinates, candidate_vertices' order).
+  bool is_out(PairKind kind, const std::array<int, 4>& vertices, const Vec12& X) const;
+  // is_out, and the pair kept out until the step's end when it is.
   bool touches(PairKind kind, const std::array<int, 4>& vertices, const Vec12& X);
   void load(const Points& x, Points& out) const;  // body rows -> surface rows
   Vec12 coordinates(const Pair& p) const;          // at the last evaluation

@@ -369,6 +369,16 @@ std::string stats_record(int frame, const World& world, const FrameReport& r, co
     }
     record += "},";
   }
+  // Per object, its steps' CG and Newton iterations.
+  record += "\"objects\":{";
+  for (std::size_t k = 0; k < world.objects().size(); ++k) {
+    auto at = [k](const std::vector<long>& v) { return k < v.size() ? v[k] : 0L; };
+    std::snprintf(line, sizeof line, ":{\"cg_iterations\":%ld,\"newton_iterations\":%ld}",
+                  at(r.object_cg_iterations), at(r.object_newton_iterations));
+    if (k) record += ',';
+    record += nlohmann::json(world.objects()[k].name).dump() + line;
+  }
+  record += "},";
   std::snprintf(line, sizeof line, "\"seconds\":{\"simulate\":%.6f,", t.simulate);
   record += line;
   for (const PassRecord& p : r.passes)

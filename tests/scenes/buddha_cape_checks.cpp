@@ -102,6 +102,7 @@ TEST(BuddhaCape, SomeTetsInvertAndRecover) {
 // stats.jsonl splits each frame's simulation time per object (the share of time in solid, cloth
 // and collisions): the Buddha and the cape both take time in every simulated frame, and
 // the objects, the coupling and the self-collision layer fit inside the frame's simulate seconds.
+// Their CG and Newton iterations ("objects") add up to the frame's.
 TEST(BuddhaCape, StatsSplitTheTimePerObject) {
   std::ifstream in(kOut / "stats.jsonl");
   ASSERT_TRUE(in) << "stats.jsonl";
@@ -114,6 +115,10 @@ TEST(BuddhaCape, StatsSplitTheTimePerObject) {
     ASSERT_EQ(obj.size(), 2u) << line;
     const double buddha = obj["buddha"].get<double>(), cape = obj["cape"].get<double>();
     const double parts = buddha + cape + sec["coupling"].get<double>() + sec["self_collision"].get<double>();
+    ASSERT_TRUE(r.contains("objects")) << line;
+    const auto& counts = r["objects"];
+    for (const char* key : {"cg_iterations", "newton_iterations"})
+      EXPECT_EQ(counts["buddha"][key].get<long>() + counts["cape"][key].get<long>(), r[key].get<long>()) << key << ": " << line;
     if (r["frame"].get<int>() == 0) {
       EXPECT_EQ(parts, 0.0);  // frame 0 is the initial state: nothing stepped
       continue;
@@ -121,6 +126,8 @@ TEST(BuddhaCape, StatsSplitTheTimePerObject) {
     ++frames;
     EXPECT_GT(buddha, 0.0) << line;
     EXPECT_GT(cape, 0.0) << line;
+    EXPECT_GT(counts["buddha"]["newton_iterations"].get<long>(), 0) << line;
+    EXPECT_GT(counts["cape"]["newton_iterations"].get<long>(), 0) << line;
     EXPECT_LE(parts, sec["simulate"].get<double>() * (1 + 1e-9) + 1e-6) << line;
   }
   EXPECT_GT(frames, 0);

@@ -218,6 +218,8 @@ void World::advance_to(double t_end, FrameReport& report) {
   frame.bounded = motion_bounded(frame.motion_limit);
   for (ImplicitWorkspace& ws : implicit_) ws.restart_preconditioner();
   report.object_seconds.resize(objects_.size(), 0.0);
+  report.object_cg_iterations.resize(objects_.size(), 0);
+  report.object_newton_iterations.resize(objects_.size(), 0);
   // Land exactly on t_end: the steps of a frame are equal, each within every object's stable
   // step (ITF04's scheme takes a variable dt).
   while (before(time_, t_end)) {

@@ -55,6 +55,8 @@ void World::step_object(std::size_t k, double dt, FrameReport& report) {
           : implicit_step(o.body, o.force_pointers(), collisions_.get(), held, time_, dt, implicit_settings(o),
                           implicit_[k], contact_potential(k));
   report.object_seconds[k] += seconds_since(t0);
+  report.object_cg_iterations[k] += s.cg_iterations;
+  report.object_newton_iterations[k] += s.newton_iterations;
   add_step_stats(s, report);
 }
 

@@ -287,6 +287,8 @@ struct FrameReport {
   // with the collider and attachment processing inside it; and the refit of the solids' surfaces
   // as colliders for the cloths (one-way coupling, stage 2b).
   std::vector<double> object_seconds;
+  // Per object (objects() order), its steps' CG and Newton iterations (of the tries that stood).
+  std::vector<long> object_cg_iterations, object_newton_iterations;
   double coupling_seconds = 0;
   // Motion-bounded steps (WorldSettings::max_step_motion): the frame's steps that were shortened
   // because something would have moved further than its limit in them, and of the one furthest

@@ -1,8 +1,10 @@
 // The element-work units: the tet force pass on a deformed cube (1 and 2 threads), the same with
-// stiffness matrices (waiting for their API), and the invertible 3x3 SVD alone.
+// stiffness matrices (waiting for their API), and the invertible 3x3 SVD alone (double and single
+// precision).
 #include <tbb/global_control.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <random>
 #include <stdexcept>
 
@@ -149,19 +151,18 @@ template <class Diag> double ns_per_F(const std::vector<Mat3>& F, Diag diag) {
   return 1e9 * s / F.size();
 }
 
-UnitResult svd(const RunOptions& o) {
-  constexpr int kCount = 1000000;
-  const std::vector<Mat3> F = random_F(kCount);
-  std::vector<Diagonalization3> out(F.size());
-  // The batched SIMD diagonalization (diagonalize_batch.hpp) over the whole array, 1 thread; the
-  // sum of the smallest singular values keeps the work and is checked to be finite.
+// One figure a run: ns per F of diag(F, out) over the whole array, 1 thread (after a warm-up); the
+// sum of the smallest singular values keeps the work and is checked to be finite (`who` names diag).
+template <class Batch>
+UnitResult batch_runs(const RunOptions& o, const std::vector<Mat3>& F, std::vector<Diagonalization3>& out,
+                      const char* who, Batch diag) {
   auto batch = [&] {
     const auto t0 = Clock::now();
-    diagonalize_batch(F.data(), F.size(), out.data());
+    diag(F.data(), F.size(), out.data());
     const double s = seconds_since(t0);
     double sum = 0;
     for (const Diagonalization3& d : out) sum += d.sigma(2);
-    if (!std::isfinite(sum)) throw std::runtime_error("diagonalize_batch gave a non-finite singular value");
+    if (!std::isfinite(sum)) throw std::runtime_error(std::string(who) + " gave a non-finite singular value");
     return 1e9 * s / static_cast<double>(F.size());
   };
   batch();  // warm-up
@@ -171,10 +172,41 @@ UnitResult svd(const RunOptions& o) {
     r.samples.push_back(batch());
     o.progress(strf("run %d/%d: %.1f ns per F", run + 1, runs, r.samples.back()));
   }
+  return r;
+}
+
+constexpr int kSvdCount = 1000000;
+
+UnitResult svd(const RunOptions& o) {
+  const std::vector<Mat3> F = random_F(kSvdCount);
+  std::vector<Diagonalization3> out(F.size());
+  // The batched SIMD diagonalization (diagonalize_batch.hpp) over the whole array.
+  UnitResult r = batch_runs(o, F, out, "diagonalize_batch", [](const Mat3* f, std::size_t n, Diagonalization3* d) {
+    diagonalize_batch(f, n, d);
+  });
   const double scalar = ns_per_F(F, [](const Mat3& f) { return diagonalize(f); });
   const double jacobi = ns_per_F(F, [](const Mat3& f) { return diagonalize_jacobi(f); });
   r.note = "invfem::diagonalize_batch (SIMD, branch-free), 1 thread, 1M random F (1 in 4 inverted, s_i in [0.05, 3]); " +
            strf("here the scalar diagonalize: %.0f ns, the JacobiSVD reference path: %.0f ns", scalar, jacobi);
+  return r;
+}
+
+// The single-precision path (diagonalize_batch_single) on svd's F; the note gives its float lanes
+// and its largest singular-value error against the double path over these F, relative to s1.
+UnitResult svd_single(const RunOptions& o) {
+  const std::vector<Mat3> F = random_F(kSvdCount);
+  std::vector<Diagonalization3> out(F.size());
+  UnitResult r = batch_runs(o, F, out, "diagonalize_batch_single", [](const Mat3* f, std::size_t n, Diagonalization3* d) {
+    diagonalize_batch_single(f, n, d);
+  });
+  std::vector<Diagonalization3> twin(F.size());
+  diagonalize_batch(F.data(), F.size(), twin.data());
+  double worst = 0;
+  for (std::size_t i = 0; i < F.size(); ++i)
+    worst = std::max(worst, (out[i].sigma - twin[i].sigma).cwiseAbs().maxCoeff() / twin[i].sigma(0));
+  r.note = strf("invfem::diagonalize_batch_single (SIMD, float arithmetic, %d float lanes a vector), 1 thread, svd's 1M F; "
+                "max |s_i - s_i(double)| / s1 = %.2g",
+                diagonalize_batch_single_lanes(), worst);
   return r;
 }
 
@@ -190,6 +222,8 @@ std::vector<Unit> force_units() {
                force_stiffness_pass});
   u.push_back({"svd", "ns/F", false, 340.0, "scalar McAdams 2011 port (Eigen JacobiSVD: 739)", "<= 50 ns/F per core", "",
                svd});
+  u.push_back({"svd_single", "ns/F", false, 340.0, "scalar McAdams 2011 port (Eigen JacobiSVD: 739)",
+               "<= 20 ns/F per core", "", svd_single});
   return u;
 }
 

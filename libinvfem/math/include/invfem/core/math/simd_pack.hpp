@@ -1,9 +1,9 @@
 #pragma once
-// The SIMD vocabulary of the batched kernels (diagonalize_batch.cpp, tet_kernel_batch.cpp,
-// element_blocks_batch.cpp, block_sparse_multiply.cpp):
-// GCC vector extensions, one lane per element, each quantity of a kernel one Pack; selects are
-// `mask ? a : b` on whole Packs, so there is no branch to vectorize away and no reliance on the
-// auto-vectorizer.
+// The SIMD vocabulary of the batched kernels (diagonalize_batch.cpp, diagonalize_batch_single.cpp,
+// tet_kernel_batch.cpp, element_blocks_batch.cpp, block_sparse_multiply.cpp):
+// GCC vector extensions, one lane per element, each quantity of a kernel one Pack (doubles) or
+// PackF (floats, twice the lanes in the same registers); selects are `mask ? a : b` on whole
+// Packs, so there is no branch to vectorize away and no reliance on the auto-vectorizer.
 //
 // Only for the files compiled with INVFEM_SIMD_KERNEL_OPTIONS (libinvfem/CMakeLists.txt: -march=native,
 // -fno-math-errno): the width follows the target, so a file built for another target would see other
@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 #include <utility>
 
 #if defined(__AVX512F__)
@@ -43,12 +44,27 @@ constexpr int kLanes = 2;
 using Pack = double __attribute__((vector_size(kLanes * sizeof(double))));
 using Mask = std::int64_t __attribute__((vector_size(kLanes * sizeof(double))));  // -1 true, 0 false
 
+// Floats per vector: the same registers as Pack, twice the lanes (AVX-512: 16).
+constexpr int kLanesF = 2 * kLanes;
+using PackF = float __attribute__((vector_size(kLanes * sizeof(double))));
+using MaskF = std::int32_t __attribute__((vector_size(kLanes * sizeof(double))));  // -1 true, 0 false
+
+// The lane type of a Pack or PackF (double, float) and its mask type (Mask, MaskF): the helpers
+// below that mean the same for both are templates over the pack type.
+template <class P> using LaneOf = std::remove_cvref_t<decltype(P{}[0])>;
+template <class P> using MaskOf = decltype(P{} < P{});
+
 inline Pack splat(double x) { return Pack{} + x; }
-inline Pack vsqrt(Pack x) {
-  // kLanes scalar square roots that the compiler merges into one vsqrtpd (with -fno-math-errno);
-  // GCC has no generic vector square root builtin.
-  Pack r;
-  for (int i = 0; i < kLanes; ++i) r[i] = __builtin_sqrt(x[i]);
+inline PackF splat(float x) { return PackF{} + x; }
+template <class P> inline P vsqrt(P x) {
+  // One scalar square root a lane, which the compiler merges into one vsqrtpd or vsqrtps (with
+  // -fno-math-errno); GCC has no generic vector square root builtin.
+  constexpr int lanes = sizeof(P) / sizeof(LaneOf<P>);
+  P r;
+  for (int i = 0; i < lanes; ++i) {
+    if constexpr (std::is_same_v<LaneOf<P>, float>) r[i] = __builtin_sqrtf(x[i]);
+    else r[i] = __builtin_sqrt(x[i]);
+  }
   return r;
 }
 // 1 / sqrt(x) for x > 0 normal, to a few ulps. AVX-512: the 14-bit estimate vrsqrt14pd and two
@@ -58,25 +74,56 @@ inline Pack vsqrt(Pack x) {
 // The estimate's bits are the CPU's own (Intel's and AMD's may differ within 2^-14), so the
 // result's last bits may differ between machines; on one machine it is a pure function of x.
 // Elsewhere: 1 / sqrt(x), a square root and a division.
-inline Pack vrsqrt(Pack x) {
+// half_x must be x / 2 (exactly: a caller that has it spares the multiplication). A lane where x
+// is 0, subnormal or not finite comes out inf or NaN: callers select such lanes away.
+inline Pack vrsqrt(Pack x, Pack half_x) {
 #if defined(__AVX512F__)
   static_assert(sizeof(Pack) == sizeof(__m512d));
   Pack k = (Pack)_mm512_rsqrt14_pd((__m512d)x);
-  const Pack half_x = 0.5 * x;
   k = k * (1.5 - half_x * (k * k));
   k = k * (1.5 - half_x * (k * k));
   return k;
 #else
+  (void)half_x;
   return 1 / vsqrt(x);
 #endif
 }
-constexpr std::int64_t kSignBit = std::numeric_limits<std::int64_t>::min();
-inline Pack vabs(Pack x) { return (Pack)((Mask)x & ~kSignBit); }
-inline Pack vcopysign(Pack magnitude, Pack sign) {
-  return (Pack)(((Mask)magnitude & ~kSignBit) | ((Mask)sign & kSignBit));
+// The same for floats, to a few float ulps: AVX-512's estimate vrsqrt14ps (2^-14) and one Newton
+// step (2^-28, below float rounding). Elsewhere 1 / sqrt(x).
+inline PackF vrsqrt(PackF x, PackF half_x) {
+#if defined(__AVX512F__)
+  static_assert(sizeof(PackF) == sizeof(__m512));
+  PackF k = (PackF)_mm512_rsqrt14_ps((__m512)x);
+  return k * (1.5f - half_x * (k * k));
+#else
+  (void)half_x;
+  return 1 / vsqrt(x);
+#endif
 }
-inline Pack vmax(Pack a, Pack b) { return a < b ? b : a; }
-inline Pack vmin(Pack a, Pack b) { return b < a ? b : a; }
+template <class P> inline P vrsqrt(P x) { return vrsqrt(x, LaneOf<P>(0.5) * x); }
+template <class P> constexpr LaneOf<MaskOf<P>> kSignBitOf = std::numeric_limits<LaneOf<MaskOf<P>>>::min();
+constexpr std::int64_t kSignBit = kSignBitOf<Pack>;
+template <class P> inline P vabs(P x) { return (P)((MaskOf<P>)x & ~kSignBitOf<P>); }
+template <class P> inline P vcopysign(P magnitude, P sign) {
+  return (P)(((MaskOf<P>)magnitude & ~kSignBitOf<P>) | ((MaskOf<P>)sign & kSignBitOf<P>));
+}
+// a < b ? b : a and b < a ? b : a, NaN and signed zeros included. With AVX-512 by vmaxp/vminp with
+// the operands swapped (max(b, a) = b > a ? b : a), the same results, which GCC does not see for
+// vector selects: it compares and blends, twice the instructions.
+template <class P> inline P vmax(P a, P b) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_same_v<P, Pack>) return (Pack)_mm512_max_pd((__m512d)b, (__m512d)a);
+  if constexpr (std::is_same_v<P, PackF>) return (PackF)_mm512_max_ps((__m512)b, (__m512)a);
+#endif
+  return a < b ? b : a;
+}
+template <class P> inline P vmin(P a, P b) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_same_v<P, Pack>) return (Pack)_mm512_min_pd((__m512d)b, (__m512d)a);
+  if constexpr (std::is_same_v<P, PackF>) return (PackF)_mm512_min_ps((__m512)b, (__m512)a);
+#endif
+  return b < a ? b : a;
+}
 
 inline Pack load_pack(const double* p) {
   Pack x;
@@ -84,6 +131,35 @@ inline Pack load_pack(const double* p) {
   return x;
 }
 inline void store_pack(double* p, Pack x) { std::memcpy(p, &x, sizeof x); }
+
+// Between precisions, rounding to nearest: the floats of a (low lanes) and b (high lanes), and
+// back the doubles of a PackF's low or high half.
+using HalfF = float __attribute__((vector_size(kLanes * sizeof(float))));
+template <std::size_t... L> inline PackF join_halves(HalfF a, HalfF b, std::index_sequence<L...>) {
+  return __builtin_shufflevector(a, b, L...);
+}
+inline PackF to_floats(Pack a, Pack b) {
+  return join_halves(__builtin_convertvector(a, HalfF), __builtin_convertvector(b, HalfF),
+                     std::make_index_sequence<kLanesF>{});
+}
+template <std::size_t First, std::size_t... L> inline Pack half_to_doubles(PackF x, std::index_sequence<L...>) {
+  return __builtin_convertvector(__builtin_shufflevector(x, x, (First + L)...), Pack);
+}
+// (AVX-512: one vcvtps2pd from the register's low half, GCC's generic conversion would split it.)
+inline Pack low_doubles(PackF x) {
+#if defined(__AVX512F__)
+  return (Pack)_mm512_cvtps_pd(_mm512_castps512_ps256((__m512)x));
+#else
+  return half_to_doubles<0>(x, std::make_index_sequence<kLanes>{});
+#endif
+}
+inline Pack high_doubles(PackF x) {
+#if defined(__AVX512F__)
+  return (Pack)_mm512_cvtps_pd(_mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd((__m512)x), 1)));
+#else
+  return half_to_doubles<kLanes>(x, std::make_index_sequence<kLanes>{});
+#endif
+}
 
 // The Pack of entries rows[l][k] of kLanes records (lane l from rows[l]), built in registers
 // (scalar loads and inserts). Filling a Pack lane by lane through memory instead stores kLanes

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <random>
@@ -113,6 +114,13 @@ inline Vec3 expected_sigma(Vec3 s) {
 }
 
 using Results = std::vector<Diagonalization3>;
+
+// Every bit of U, V and sigma equal.
+inline bool same_bits(const Diagonalization3& a, const Diagonalization3& b) {
+  return std::memcmp(a.U.data(), b.U.data(), sizeof(Mat3)) == 0 &&
+         std::memcmp(a.V.data(), b.V.data(), sizeof(Mat3)) == 0 &&
+         std::memcmp(a.sigma.data(), b.sigma.data(), sizeof(Vec3)) == 0;
+}
 
 struct CaseGroup {
   std::vector<Mat3> F;

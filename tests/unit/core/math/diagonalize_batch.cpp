@@ -28,12 +28,6 @@ Results batch(const std::vector<Mat3>& F) {
   return d;
 }
 
-bool same_bits(const Diagonalization3& a, const Diagonalization3& b) {
-  return std::memcmp(a.U.data(), b.U.data(), sizeof(Mat3)) == 0 &&
-         std::memcmp(a.V.data(), b.V.data(), sizeof(Mat3)) == 0 &&
-         std::memcmp(a.sigma.data(), b.sigma.data(), sizeof(Vec3)) == 0;
-}
-
 // The whole group in one call, then each matrix alone (a block of one plus padding): the
 // checks on the first, the same bits from the second.
 void run(const CaseGroup& g) {

@@ -47,12 +47,6 @@ Results twin(const std::vector<Mat3>& F) {
   return d;
 }
 
-bool same_bits(const Diagonalization3& a, const Diagonalization3& b) {
-  return std::memcmp(a.U.data(), b.U.data(), sizeof(Mat3)) == 0 &&
-         std::memcmp(a.V.data(), b.V.data(), sizeof(Mat3)) == 0 &&
-         std::memcmp(a.sigma.data(), b.sigma.data(), sizeof(Vec3)) == 0;
-}
-
 struct Worst {
   double sigma = 0, recon = 0, ortho = 0;
   int failures = 0;

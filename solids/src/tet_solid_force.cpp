@@ -143,19 +143,22 @@ void TetSolidForce::update(const Points& x, double time, bool allow_flow) {
   }
   // With no plasticity and Fp = Id (the common case) the Fp^-1 products are skipped.
   const bool plain = !plasticity && plastic_identity_;
+  const bool single = material_.force_precision == ForcePrecision::Single;
   std::visit(
       [&](const auto& mdl) {
         if (plain && !fiber) {  // the plain ITF04 force, diagonalized kChunk elements at a time
           parallel_for_ranges(static_cast<std::size_t>(m), kChunk, [&](std::size_t e0, std::size_t end) {
             const std::size_t count = end - e0;
             std::array<Vec3, kChunk> p_hat;  // P^ = dPsi/dsigma of each element
-            tet_diagonalize_batch(rest_, x, e0, count, &diag_[e0], &det_F_[e0]);
+            if (single) tet_diagonalize_batch_single(rest_, x, e0, count, &diag_[e0], &det_F_[e0]);
+            else tet_diagonalize_batch(rest_, x, e0, count, &diag_[e0], &det_F_[e0]);
             for (std::size_t j = 0; j < count; ++j) {
               Diagonalization3& d = diag_[e0 + j];
               to_diagonal_frame(mdl, d);  // plain SVD for the corotated baseline (elasticity.hpp)
               p_hat[j] = mdl.template psi_gradient<3>(d.sigma);
             }
-            tet_forces_batch(rest_, e0, count, &diag_[e0], p_hat.data(), &G_[e0]);
+            if (single) tet_forces_batch_single(rest_, e0, count, &diag_[e0], p_hat.data(), &G_[e0]);
+            else tet_forces_batch(rest_, e0, count, &diag_[e0], p_hat.data(), &G_[e0]);
           }, kGrain / kChunk);
           return;
         }

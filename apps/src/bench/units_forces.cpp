@@ -1,4 +1,5 @@
-// The element-work units: the tet force pass on a deformed cube (1 and 2 threads), the same with
+// The element-work units: the tet force pass on a deformed cube (1 and 2 threads; in double and in
+// single precision on 1), the same with
 // stiffness matrices (waiting for their API), and the invertible 3x3 SVD alone (double and single
 // precision).
 #include <tbb/global_control.h>
@@ -7,6 +8,7 @@
 #include <algorithm>
 #include <random>
 #include <stdexcept>
+#include <variant>
 
 #include "bench/bench_unit.hpp"
 #include "bench/tet_cube.hpp"
@@ -14,6 +16,7 @@
 #include "invfem/core/integrate/material_choice.hpp"
 #include "invfem/core/math/diagonalize.hpp"
 #include "invfem/core/math/diagonalize_batch.hpp"
+#include "invfem/core/math/elasticity.hpp"
 #include "invfem/core/math/tet_kernel.hpp"
 #include "invfem/solids/tet_solid_force.hpp"
 
@@ -31,11 +34,12 @@ constexpr std::uint64_t kCubeSeed = 20040101;
 
 // Neo-Hookean, E = 1e6 Pa, nu = 0.45, inversion threshold (compression_limit) 0.1; no damping, as
 // the pass times elastic forces only.
-TetMaterial cube_material() {
+TetMaterial cube_material(ForcePrecision precision = ForcePrecision::Double) {
   TetMaterial m;
   m.model = make_isotropic_model(MaterialChoice{.model = ModelKind::NeoHookean, .young = 1e6, .poisson = 0.45,
                                                 .compression_limit = 0.1});
   m.cfl = 0.5;
+  m.force_precision = precision;
   return m;
 }
 
@@ -45,11 +49,11 @@ struct DeformedCube {
   long long tets = 0;
 };
 
-DeformedCube make_deformed_cube() {
+DeformedCube make_deformed_cube(ForcePrecision precision = ForcePrecision::Double) {
   const TetMesh cube = make_tet_cube(kCubeCells, kCubeSize);
   Points x = deform_cube(cube, kCubeCells, kCubeSize, kTwist, kSquash, kJitter, kCubeSeed);
   const long long tets = cube.tets.rows();
-  return {TetSolidForce(make_tet_rest(cube.X, cube.tets), cube_material()), std::move(x),
+  return {TetSolidForce(make_tet_rest(cube.X, cube.tets), cube_material(precision)), std::move(x),
           tets};
 }
 
@@ -59,11 +63,52 @@ std::string cube_note(const DeformedCube& c) {
          strf("%.1f%%", 100.0 * inverted / c.tets) + "), neo-Hookean E = 1e6, nu = 0.45, c = 0.1";
 }
 
+// The element forces G of the plain pass in `precision`, as TetSolidForce runs it (both halves of
+// tet_kernel.hpp with the model's P^ between them).
+std::vector<Mat3> element_forces(const DeformedCube& c, ForcePrecision precision) {
+  const TetRest& rest = c.force.rest();
+  const std::size_t m = rest.volume.size();
+  const auto model = std::get<NeoHookean>(cube_material().model);
+  std::vector<Diagonalization3> diag(m);
+  std::vector<double> det(m);
+  std::vector<Vec3> p_hat(m);
+  std::vector<Mat3> G(m);
+  const bool single = precision == ForcePrecision::Single;
+  if (single) tet_diagonalize_batch_single(rest, c.x, 0, m, diag.data(), det.data());
+  else tet_diagonalize_batch(rest, c.x, 0, m, diag.data(), det.data());
+  for (std::size_t e = 0; e < m; ++e) {
+    to_diagonal_frame(model, diag[e]);
+    p_hat[e] = model.psi_gradient<3>(diag[e].sigma);
+  }
+  if (single) tet_forces_batch_single(rest, 0, m, diag.data(), p_hat.data(), G.data());
+  else tet_forces_batch(rest, 0, m, diag.data(), p_hat.data(), G.data());
+  return G;
+}
+
+// The single pass's error against the double one on the cube: per tet, max_entry |dG| over
+// max_entry |G| (largest, 99th percentile, median), and of the summed nodal forces, max |df| / max |f|.
+std::string single_error_note(const DeformedCube& c) {
+  const std::vector<Mat3> G = element_forces(c, ForcePrecision::Single), twin = element_forces(c, ForcePrecision::Double);
+  std::vector<double> error;
+  for (std::size_t e = 0; e < G.size(); ++e)
+    if (const double scale = twin[e].cwiseAbs().maxCoeff(); scale > 0)
+      error.push_back((G[e] - twin[e]).cwiseAbs().maxCoeff() / scale);
+  std::sort(error.begin(), error.end());
+  Points f = Points::Zero(c.x.rows(), 3), f_twin = Points::Zero(c.x.rows(), 3);
+  scatter_tet_forces(c.force.rest().tets, G, f);
+  scatter_tet_forces(c.force.rest().tets, twin, f_twin);
+  return strf("%d float lanes a vector; against the double pass, per tet max |dG| / max |G| = %.2g (p99 %.2g, p50 %.2g), "
+              "nodal max |df| / max |f| = %.2g",
+              diagonalize_batch_single_lanes(), error.back(), error[error.size() * 99 / 100], error[error.size() / 2],
+              (f - f_twin).cwiseAbs().maxCoeff() / f_twin.cwiseAbs().maxCoeff());
+}
+
 // update_positions (F, its diagonalization, P^, G per element) + add_elastic_forces (the
-// scatter), `passes` times a repetition; the figure is tets per second.
-UnitResult force_pass(const RunOptions& o, int threads) {
+// scatter), `passes` times a repetition, in the material's `precision`; the figure is tets per
+// second.
+UnitResult force_pass(const RunOptions& o, int threads, ForcePrecision precision = ForcePrecision::Double) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  DeformedCube c = make_deformed_cube();
+  DeformedCube c = make_deformed_cube(precision);
   Points f(c.x.rows(), 3);
   auto pass = [&] {
     f.setZero();
@@ -82,6 +127,7 @@ UnitResult force_pass(const RunOptions& o, int threads) {
     o.progress(strf("run %d/%d: %.2f M tets/s", run + 1, runs, r.samples.back() / 1e6));
   }
   r.note = cube_note(c) + strf("; %d thread%s, %d passes a run", threads, threads > 1 ? "s" : "", passes);
+  if (precision == ForcePrecision::Single) r.note += "; single precision (tet_forces_batch_single), " + single_error_note(c);
   return r;
 }
 
@@ -216,6 +262,8 @@ std::vector<Unit> force_units() {
   std::vector<Unit> u;
   u.push_back({"force_pass_1t", "tets/s", true, 2.06e6, "VegaFEM 4.0, 1 thread", ">= 10 M tets/s", "",
                [](const RunOptions& o) { return force_pass(o, 1); }});
+  u.push_back({"force_pass_1t_single", "tets/s", true, 2.06e6, "VegaFEM 4.0, 1 thread", ">= 20 M tets/s", "",
+               [](const RunOptions& o) { return force_pass(o, 1, ForcePrecision::Single); }});
   u.push_back({"force_pass_2t", "tets/s", true, 2.06e6, "VegaFEM 4.0, 1 thread", ">= 18 M tets/s", "",
                [](const RunOptions& o) { return force_pass(o, 2); }});
   u.push_back({"force_stiffness_1t", "tets/s", true, 0.68e6, "VegaFEM 4.0, 1 thread", ">= 3 M tets/s", "",

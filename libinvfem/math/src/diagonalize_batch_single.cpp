@@ -53,37 +53,13 @@ struct SingleTuning {
 
 // Two vectors of kLanesF matrices interleaved, as the double kernel does (svd_block.hpp kStreams);
 // three were faster on arrays within the caches but slower on arrays beyond them.
-constexpr int kBlock = kStreams * kLanesF;  // matrices a block: 32 with AVX-512
+constexpr int kBlock = kSvdBlockF;  // matrices a block: 32 with AVX-512
 constexpr int kHalves = 2 * kStreams;       // vectors of doubles a block
 
 // The results are written as kRecord consecutive doubles a matrix (svd_scale.hpp's order).
 static_assert(std::is_standard_layout_v<Diagonalization3> && sizeof(Diagonalization3) == kRecord * sizeof(double) &&
               offsetof(Diagonalization3, sigma) == 9 * sizeof(double) &&
               offsetof(Diagonalization3, V) == 12 * sizeof(double));
-
-// The N numbers of kLanes consecutive records of N doubles (record l at p + l N) as N Packs, lane
-// l from record l: kLanes entries at a time, one vector a record transposed in registers; the
-// last group starts at N - kLanes when kLanes does not divide N (its overlap is dropped).
-template <int N> inline void load_records(const char* p, Pack (&x)[N]) {
-  for (int k = 0; k < N; k += kLanes) {
-    const int at = std::min(k, N - kLanes);
-    Pack rows[kLanes];
-    for (int l = 0; l < kLanes; ++l) std::memcpy(&rows[l], p + (l * N + at) * sizeof(double), sizeof(Pack));
-    transpose(rows);
-    for (int e = 0; e < kLanes; ++e)
-      if (at + e >= k) x[at + e] = rows[e];
-  }
-}
-// The reverse: N Packs to kLanes records (the overlap is written twice, the same bits).
-template <int N> inline void store_records(const Pack (&x)[N], char* p) {
-  for (int k = 0; k < N; k += kLanes) {
-    const int at = std::min(k, N - kLanes);
-    Pack rows[kLanes];
-    for (int e = 0; e < kLanes; ++e) rows[e] = x[at + e];
-    transpose(rows);
-    for (int l = 0; l < kLanes; ++l) std::memcpy(p + (l * N + at) * sizeof(double), &rows[l], sizeof(Pack));
-  }
-}
 
 // kLanesF matrices: their factors in float, and per half (kLanes matrices, in double) the scale
 // and det of the unit-scale F.
@@ -149,7 +125,13 @@ void diagonalize_block_single(const Mat3* F, Diagonalization3* out, int count, s
   std::int64_t all = -1;
   for (int l = 0; l < kLanes; ++l) all &= finite[l];
   if (!all) throw_non_finite(F, count, first, who);
+  diagonalize_packs_single(f, out, count, first, who);
+}
 
+}  // namespace
+
+void diagonalize_packs_single(Pack (&f)[kStreams][2][9], Diagonalization3* out, int count, std::size_t first,
+                              const char* who) {
   LanesF lanes[kStreams];
   static_assert(kStreams == 2);
   load(lanes[0], f[0]);
@@ -172,7 +154,6 @@ void diagonalize_block_single(const Mat3* F, Diagonalization3* out, int count, s
   }
 }
 
-}  // namespace
 }  // namespace simd
 
 int diagonalize_batch_single_lanes() { return simd::kLanesF; }

@@ -36,4 +36,13 @@ void check_finite(const SvdIn& in, int count, std::size_t first, const char* who
 // when its largest singular value overflows a double.
 void store_results(const SvdOut& res, int count, Diagonalization3* out, std::size_t first, const char* who);
 
+// The single-precision kernel (diagonalize_batch_single.cpp) on one block of kSvdBlockF matrices
+// that the caller holds in registers: f[s][h][k] is entry k (column-major) of matrices
+// (2 s + h) kLanes + l, lane l, in double and finite; rescaled in place. out receives kSvdBlockF
+// records: the first `count` are the results, the rest (padding, finite F all the same) are
+// scratch. Throws as store_results does.
+constexpr int kSvdBlockF = kStreams * kLanesF;  // matrices per block: 32 with AVX-512
+void diagonalize_packs_single(Pack (&f)[kStreams][2][9], Diagonalization3* out, int count, std::size_t first,
+                              const char* who);
+
 }  // namespace invfem::simd

@@ -42,6 +42,12 @@ struct TetMaterial {
   double damping = 0;              // Rayleigh-like coefficient k [s]: alpha = k lambda, beta = k mu
   DampingModel damping_model = DampingModel::Rotated;
   double cfl = 0.5;                // fraction of the elastic wave crossing time used as dt bound
+  // The plain elastic pass's arithmetic (no plasticity, no fiber; tet_kernel.hpp): Double, or
+  // Single for float round-off in the forces (tet_forces_batch_single's bounds). Other paths and
+  // the damping, energy and stiffness run in double, the last three on the pass's diagonalization
+  // (with Single, float-accurate: diagonalize_batch_single's bounds). Not a scene field yet: the
+  // force bench selects it.
+  ForcePrecision force_precision = ForcePrecision::Double;
 
   std::optional<PlasticParams> plasticity{};          // ITF04 6.3, off when empty
   std::vector<Mat3> plastic_goal_log{};               // ITF04 7: per element L_goal (plasticity_control.hpp), empty = no control

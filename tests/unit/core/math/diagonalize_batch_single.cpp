@@ -17,12 +17,10 @@
 #include <vector>
 
 #include "diagonalize_cases.hpp"
-#include "invfem/core/io/surface_io.hpp"
+#include "scramble_ball.hpp"
 #include "invfem/core/math/diagonalize_batch.hpp"
 #include "invfem/core/math/tet_kernel.hpp"
-#include "invfem/solids/bcc_mesher.hpp"
 #include "invfem/solids/scramble.hpp"
-#include "invfem/solids/tet_mesh_checks.hpp"
 
 namespace invfem {
 namespace {
@@ -111,12 +109,7 @@ TEST(DiagonalizeBatchSingle, BenchRandomFWithinBoundsOfDouble) {
 // the F of its inverted elements. Line and plane scrambles leave F of rank 1 and 2 whose det is
 // round-off: their sign is not checked (kSignedDet).
 TEST(DiagonalizeBatchSingle, ScrambledInvertedElementsWithinBoundsOfDouble) {
-  BccMeshOptions options;
-  options.resolution = 4;
-  options.compress_boundary = false;
-  TetMesh mesh = bcc_mesh(load_triangle_surface(std::string(INVFEM_SOURCE_DIR) + "/apps/scenes/data/sphere1K_cipc.obj"),
-                          options).mesh;
-  validate_and_orient(mesh);
+  const TetMesh mesh = test::scramble_ball();
   const TetRest rest = make_tet_rest(mesh.X, mesh.tets);
   const double size = (mesh.X.colwise().maxCoeff() - mesh.X.colwise().minCoeff()).maxCoeff();
   const ScrambleKind kinds[] = {ScrambleKind::Line, ScrambleKind::Plane, ScrambleKind::Mirror, ScrambleKind::Box};

@@ -18,6 +18,7 @@
 #error "simd_pack.hpp is for the files compiled with INVFEM_SIMD_KERNEL_OPTIONS (libinvfem/CMakeLists.txt)"
 #endif
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -200,6 +201,32 @@ inline void transpose(Pack (&r)[kLanes]) {
   if constexpr (kLanes > 2) transpose_round<2>(r);
   if constexpr (kLanes > 4) transpose_round<4>(r);
   static_assert(kLanes <= 8, "transpose: two, four or eight lanes");
+}
+
+// The N numbers of kLanes consecutive records of N doubles (record l at p + l N) as N Packs, lane
+// l from record l: kLanes entries at a time, one vector a record transposed in registers; the
+// last group starts at N - kLanes when kLanes does not divide N (its overlap is dropped); N >= kLanes.
+template <int N> inline void load_records(const char* p, Pack (&x)[N]) {
+  static_assert(N >= kLanes);
+  for (int k = 0; k < N; k += kLanes) {
+    const int at = std::min(k, N - kLanes);
+    Pack rows[kLanes];
+    for (int l = 0; l < kLanes; ++l) std::memcpy(&rows[l], p + (l * N + at) * sizeof(double), sizeof(Pack));
+    transpose(rows);
+    for (int e = 0; e < kLanes; ++e)
+      if (at + e >= k) x[at + e] = rows[e];
+  }
+}
+// The reverse: N Packs to kLanes records (the overlap is written twice, the same bits).
+template <int N> inline void store_records(const Pack (&x)[N], char* p) {
+  static_assert(N >= kLanes);
+  for (int k = 0; k < N; k += kLanes) {
+    const int at = std::min(k, N - kLanes);
+    Pack rows[kLanes];
+    for (int e = 0; e < kLanes; ++e) rows[e] = x[at + e];
+    transpose(rows);
+    for (int l = 0; l < kLanes; ++l) std::memcpy(p + (l * N + at) * sizeof(double), &rows[l], sizeof(Pack));
+  }
 }
 
 // A sum of three terms in each of the two orders Eigen's SSE2 code uses (per kernel file comment:

@@ -52,6 +52,30 @@ void tet_diagonalize_batch(const TetRest& rest, const Points& x, std::size_t fir
 void tet_forces_batch(const TetRest& rest, std::size_t first, std::size_t n, const Diagonalization3* diag,
                       const Vec3* p_hat, Mat3* G);
 
+// The same two halves with single-precision arithmetic (tet_kernel_batch_single.cpp), for callers
+// that can take float round-off in the forces (ForcePrecision::Single), with the same inputs,
+// outputs and errors: Ds, F and det F in double as above (the same bits: det F's sign, so the
+// inverted elements, agree with the double pass's); F's diagonalization by
+// diagonalize_batch_single's kernel (diagonalize_batch.hpp: its bounds against the double path);
+// G formed in float lanes (16 elements a vector with AVX-512) from the p_hat the caller computes
+// from diag, in double, as for tet_forces_batch. Against the double pass with the same model
+// (neo-Hookean), over the force bench's jittered, twisted 118,098-tet cube (every tet) and the
+// scramble harness's inverted elements (tests/unit/core/math/tet_kernel_batch_single.cpp holds the
+// latter to these):
+//   per tet, e = max_entry |G - G(double)| / max_entry |G(double)|:
+//     max e <= 1e-4, 99th percentile <= 1e-5, median <= 1e-6;
+//   summed nodal forces: max_node |f - f(double)| / max_node |f(double)| <= 1e-5.
+// That holds where P is well-posed: not where an inverted element's |s3| is within 1e-3 s1 of s2
+// (diagonalize_batch.hpp: ITF04's P jumps as the inversion moves between those axes). There, as
+// on a mesh mirrored from rest (s1 = s2 = |s3|) or collapsed to a line (s2 = |s3| = 0), the two
+// passes may choose different valid frames, and their G (and nodal sums) differ by O(|G|).
+void tet_diagonalize_batch_single(const TetRest& rest, const Points& x, std::size_t first, std::size_t n,
+                                  Diagonalization3* diag, double* det_F);
+void tet_forces_batch_single(const TetRest& rest, std::size_t first, std::size_t n, const Diagonalization3* diag,
+                             const Vec3* p_hat, Mat3* G);
+// Which pair of halves a force pass runs: Double (the default, the bits above) or Single.
+enum class ForcePrecision { Double, Single };
+
 // The rotated damping's element forces (ITF04 6.2, rotated_damping.hpp) of elements first ..
 // first + n - 1 at nodal velocities v, in SIMD lanes: G[i] = damping_stress({alpha, beta}, diag[i],
 // F_dot) Bm with F_dot = deformation_gradient of v, bit for bit (Eigen's orders of sums; the test
